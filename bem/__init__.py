@@ -1,0 +1,12 @@
+"""Full elastic half-space contact by FFT boundary elements: the exact reference.
+
+Conventions (shared with the whole project, THEORY.md): frictionless normal contact of a rough
+surface against a rigid plane; pressure positive in compression; gap >= 0; separation d measured
+from the rigid plane to the mean plane of the heights in the far field; a point force P at
+distance r lowers the surface by P / (pi E* r). Lengths in any consistent unit, pressures in the
+unit of E*.
+"""
+
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+
+__all__ = ["ContactCurve", "CURVE_QUANTITIES"]

@@ -1,0 +1,128 @@
+"""The contact curve: the one record every model returns.
+
+Every model of the project (Greenwood-Williamson, improved GW, the discrete asperity model and
+the boundary-element reference) answers the same question, "what happens at these separations
+or loads?", with a :class:`ContactCurve`. The validation package compares curves field by field
+without adapters.
+
+Units and conventions (THEORY.md, "Conventions used everywhere")
+------------------------------------------------------------------
+* ``separation`` d [length]: rigid plane to the mean plane of the surface heights, in the far
+  field.
+* ``load`` W [force]: total normal force on the nominal area.
+* ``area`` [length^2]: real contact area.
+* ``contacts`` [-]: number of contact spots (asperities in contact, or connected contact patches
+  for the boundary-element solver).
+* ``stiffness`` S = -dW/dd [force/length].
+* ``conductance`` = 2 S / E* [length]: the constriction conductance times the resistivity rho
+  (C rho, Barber's analogy).
+* ``mean_pressure`` = W / A_nominal [pressure].
+
+Fields a model did not compute (not asked for) are ``None``. Model-specific arrays (for example
+the effective separation d1 of the improved GW theory, or per-asperity contact radii) live in
+``extras`` and are also readable as attributes (``curve.effective_separation``).
+
+This module lives in ``bem`` because ``bem`` imports nothing else of the project, while both
+``asperity`` and ``validation`` may import ``bem``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, fields
+from types import MappingProxyType
+from typing import Any, Mapping
+
+import numpy as np
+
+__all__ = ["ContactCurve", "CURVE_QUANTITIES"]
+
+#: The quantities a contact curve may carry, in the order they are tabulated.
+CURVE_QUANTITIES = ("separation", "load", "area", "contacts", "stiffness", "conductance",
+                    "mean_pressure")
+
+
+def _frozen_array(value: Any) -> np.ndarray | None:
+    if value is None:
+        return None
+    array = np.array(value, dtype=float, copy=True)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, eq=False)
+class ContactCurve:
+    """Contact quantities along a path of separations or loads (one entry per point).
+
+    Parameters
+    ----------
+    separation, load, area, mean_pressure : array_like
+        See the module docstring for units. All arrays share one shape.
+    contacts, stiffness, conductance : array_like or None
+        ``None`` when the model was not asked for them.
+    nominal_area : float
+        Nominal contact area A = L^2 [length^2].
+    e_star : float
+        Composite modulus E* [pressure].
+    extras : mapping of str to array_like
+        Model-specific results, readable as attributes.
+    """
+
+    separation: np.ndarray
+    load: np.ndarray
+    area: np.ndarray
+    mean_pressure: np.ndarray
+    nominal_area: float
+    e_star: float
+    contacts: np.ndarray | None = None
+    stiffness: np.ndarray | None = None
+    conductance: np.ndarray | None = None
+    extras: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        shape = None
+        for f in fields(self):
+            if f.name in ("nominal_area", "e_star", "extras"):
+                continue
+            array = _frozen_array(getattr(self, f.name))
+            if array is not None:
+                if shape is None:
+                    shape = array.shape
+                elif array.shape != shape:
+                    raise ValueError(
+                        f"ContactCurve field {f.name!r} has shape {array.shape}, expected {shape}"
+                    )
+            object.__setattr__(self, f.name, array)
+        for name in ("nominal_area", "e_star"):
+            value = float(getattr(self, name))
+            if not np.isfinite(value) or value <= 0:
+                raise ValueError(f"ContactCurve {name} must be finite and > 0, got {value!r}")
+            object.__setattr__(self, name, value)
+        extras = {}
+        for key, value in dict(self.extras).items():
+            if isinstance(value, np.ndarray):
+                value = value.copy()
+                value.setflags(write=False)
+            extras[key] = value
+        object.__setattr__(self, "extras", MappingProxyType(extras))
+
+    def __getattr__(self, name: str) -> Any:
+        # Only called when normal lookup fails: expose model-specific extras as attributes.
+        extras = self.__dict__.get("extras")
+        if extras is not None and name in extras:
+            return extras[name]
+        raise AttributeError(f"{type(self).__name__!s} has no field or extra {name!r}")
+
+    def __len__(self) -> int:
+        return int(np.size(self.load))
+
+    @property
+    def area_fraction(self) -> np.ndarray:
+        """Real contact area over nominal area, A_real / A [-]."""
+        return self.area / self.nominal_area
+
+    def quantity(self, name: str) -> np.ndarray:
+        """Return a field or an extra by name; raise ``ValueError`` if it was not computed."""
+        value = getattr(self, name, None)
+        if value is None:
+            raise ValueError(f"quantity {name!r} was not computed for this curve")
+        return value
