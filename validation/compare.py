@@ -1,0 +1,159 @@
+"""Errors of a model against the reference at equal load, and the ranges where a model holds.
+
+Error measures (at equal total load W, realization by realization):
+
+* area and conductance (and stiffness, contacts): relative error ``q_model / q_reference - 1``;
+* separation: ``(d_model - d_reference) / sigma`` with sigma the standard deviation of the
+  summit heights of that realization (the paper's unit of separation).
+
+A model *holds* at a load when the magnitude of its mean error over realizations is within the
+tolerance. :func:`validity_range` returns the longest contiguous run of load points where it
+holds, with the load and area-fraction ranges it spans.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from bem.curve import ContactCurve
+
+__all__ = ["RELATIVE_QUANTITIES", "ABSOLUTE_QUANTITIES", "curve_errors", "validity_range",
+           "ValidityRange", "ErrorSummary", "summarise_errors"]
+
+#: Quantities compared by relative error.
+RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
+#: Quantities compared by absolute error in units of sigma.
+ABSOLUTE_QUANTITIES = ("separation",)
+
+
+def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
+                 quantities: tuple[str, ...], *, load_rtol: float = 1e-6) -> dict[str, np.ndarray]:
+    """Errors of ``model`` against ``reference`` at the same loads.
+
+    Parameters
+    ----------
+    model, reference : ContactCurve
+        Curves on the same load points (checked to ``load_rtol``).
+    sigma : float
+        Standard deviation of the summit heights [length], the unit of separation errors.
+    quantities : tuple of str
+        Which errors to compute; quantities missing from either curve are skipped.
+
+    Returns
+    -------
+    dict of str to ndarray
+        One error array per quantity (NaN where the reference value is zero).
+    """
+    if model.load.shape != reference.load.shape or not np.allclose(
+            model.load, reference.load, rtol=load_rtol, atol=0.0):
+        raise ValueError("model and reference curves must be evaluated at the same loads")
+    errors: dict[str, np.ndarray] = {}
+    for name in quantities:
+        if name in ABSOLUTE_QUANTITIES:
+            errors[name] = (model.separation - reference.separation) / sigma
+        elif name in RELATIVE_QUANTITIES:
+            got, want = getattr(model, name), getattr(reference, name)
+            if got is None or want is None:
+                continue
+            with np.errstate(divide="ignore", invalid="ignore"):
+                errors[name] = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
+    return errors
+
+
+@dataclass(frozen=True)
+class ValidityRange:
+    """Where a model holds: the contiguous load points with ``|mean error| <= tolerance``."""
+
+    tolerance: float
+    first: int | None            # index of the first load point of the range (None: nowhere)
+    last: int | None             # index of the last load point of the range
+    load_min: float = float("nan")
+    load_max: float = float("nan")
+    area_fraction_min: float = float("nan")
+    area_fraction_max: float = float("nan")
+    points: int = 0              # load points in the range
+    total: int = 0               # load points compared
+
+    @property
+    def holds_anywhere(self) -> bool:
+        return self.first is not None
+
+    def describe(self, load_format: str = ".2e") -> str:
+        """Human-readable range, e.g. ``Load 1.0e-05 - 3.2e-03 (area 0.02 % - 5.1 %)``."""
+        if not self.holds_anywhere:
+            return "nowhere"
+        text = f"{self.load_min:{load_format}} – {self.load_max:{load_format}}"
+        if np.isfinite(self.area_fraction_min):
+            text += f" (area {100 * self.area_fraction_min:.3g} % – {100 * self.area_fraction_max:.3g} %)"
+        if self.points == self.total:
+            text += " [whole range]"
+        return text
+
+
+def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
+                   area_fraction: np.ndarray | None = None) -> ValidityRange:
+    """Longest contiguous run of load points where ``|errors| <= tolerance``.
+
+    Parameters
+    ----------
+    loads : array, shape (k,)
+        Load points, increasing (any unit; the paper's Load = W/(E* L^2) in reports).
+    errors : array, shape (k,)
+        Mean error at each load point (NaN counts as not holding).
+    tolerance : float
+        Error bound (> 0).
+    area_fraction : array, shape (k,), optional
+        Reference area fraction at each load point, to report the area range too.
+
+    Ties between runs of equal length go to the run at lower load.
+    """
+    loads = np.asarray(loads, dtype=float)
+    errors = np.asarray(errors, dtype=float)
+    if loads.shape != errors.shape or loads.ndim != 1:
+        raise ValueError("loads and errors must be 1-D arrays of one length")
+    if not tolerance > 0:
+        raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
+    with np.errstate(invalid="ignore"):
+        holds = np.abs(errors) <= tolerance
+    best_first, best_length, start = None, 0, None
+    for index, ok in enumerate(np.append(holds, False)):
+        if ok and start is None:
+            start = index
+        elif not ok and start is not None:
+            if index - start > best_length:
+                best_first, best_length = start, index - start
+            start = None
+    if best_first is None:
+        return ValidityRange(tolerance, None, None, total=loads.size)
+    last = best_first + best_length - 1
+    area_min = area_max = float("nan")
+    if area_fraction is not None:
+        area_fraction = np.asarray(area_fraction, dtype=float)
+        area_min, area_max = float(area_fraction[best_first]), float(area_fraction[last])
+    return ValidityRange(tolerance, best_first, last, float(loads[best_first]), float(loads[last]),
+                         area_min, area_max, best_length, loads.size)
+
+
+@dataclass(frozen=True)
+class ErrorSummary:
+    """Mean and scatter over realizations of one model's error in one quantity."""
+
+    quantity: str
+    mean: np.ndarray      # shape (points,)
+    std: np.ndarray       # sample standard deviation over realizations (0 for one)
+    count: int            # realizations
+
+
+def summarise_errors(quantity: str, per_realization: list[np.ndarray]) -> ErrorSummary:
+    """Mean and sample standard deviation over realizations (ignoring NaN entries)."""
+    stack = np.vstack(per_realization)
+    finite = np.isfinite(stack)
+    count = finite.sum(axis=0)
+    filled = np.where(finite, stack, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.where(count > 0, filled.sum(axis=0) / np.maximum(count, 1), np.nan)
+        deviation = np.where(finite, stack - mean, 0.0)
+        std = np.where(count > 1, np.sqrt((deviation**2).sum(axis=0) / np.maximum(count - 1, 1)), 0.0)
+    return ErrorSummary(quantity, mean, std, stack.shape[0])
