@@ -105,6 +105,13 @@ class ContactCurve:
             extras[key] = value
         object.__setattr__(self, "extras", MappingProxyType(extras))
 
+    def __reduce__(self):
+        # The extras mapping is a read-only proxy, which pickle cannot store: rebuild from a dict
+        # (curves travel between processes when realizations fan out over an executor).
+        state = {f.name: getattr(self, f.name) for f in fields(self)}
+        state["extras"] = dict(self.extras)
+        return (_rebuild_curve, (state,))
+
     def __getattr__(self, name: str) -> Any:
         # Only called when normal lookup fails: expose model-specific extras as attributes.
         extras = self.__dict__.get("extras")
@@ -126,3 +133,7 @@ class ContactCurve:
         if value is None:
             raise ValueError(f"quantity {name!r} was not computed for this curve")
         return value
+
+
+def _rebuild_curve(state: dict) -> ContactCurve:
+    return ContactCurve(**state)
