@@ -1,28 +1,118 @@
-"""Command-line interface of the validation package."""
+"""Command line: ``python -m validation {report,list,show}``.
+
+``report`` with no scene runs the default scenes in quick mode (fewer realizations, a coarser
+grid, fewer load points; about three minutes on two cores); ``--full`` runs them as written
+(the paper's 25 realizations).
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
 
-from validation.surfaces import surface_statistics, wm_surface
+from validation.cache import default_cache_dir
+from validation.scene import SceneError, builtin_scenes, load_scene
+
+#: Scenes of the default report, in report order.
+DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")
+
+
+def _worker_init(threads: int) -> None:
+    # Each worker process gets its share of the cores for its FFTs and BLAS.
+    os.environ["OMP_NUM_THREADS"] = str(threads)
+    os.environ["OPENBLAS_NUM_THREADS"] = str(threads)
+    os.environ["ASPERITY_FFT_THREADS"] = str(threads)
+
+
+def _executor(args: argparse.Namespace):
+    if args.scheduler:
+        try:
+            from dask.distributed import Client
+        except ImportError:
+            raise SystemExit("--scheduler needs dask.distributed: pip install 'dask[distributed]'")
+        client = Client(args.scheduler)
+        return client.get_executor(), client.close
+    if args.jobs <= 1:
+        return None, lambda: None
+    cores = os.cpu_count() or 1
+    pool = ProcessPoolExecutor(max_workers=args.jobs, initializer=_worker_init,
+                               initargs=(max(1, cores // args.jobs),))
+    return pool, pool.shutdown
 
 
 def _report(args: argparse.Namespace) -> int:
-    # Default scene surface (paper, Section 4): D = 2.05 and 2.95, gamma 1.5, M 10, n_max 8.
-    n = 256
-    for D in (2.05, 2.95):
-        heights = wm_surface(n, D=D, rms_slope=0.1, seed=0)
-        stats = surface_statistics(heights, 1.0 / n)
-        print(f"WM surface D={D}: n={n}, rms height={stats.rms_height:.4g} L, "
-              f"rms gradient={stats.rms_gradient:.4g}, rms curvature={stats.rms_curvature:.4g}/L, "
-              f"Nayak parameter={stats.nayak:.4g}")
+    from validation.report import write_report
+    from validation.runner import run_scenes
+
+    names = args.scenes or list(DEFAULT_SCENES)
+    scenes = [load_scene(name) for name in names]
+    quick = not args.full and not args.scenes
+    if args.quick:
+        quick = True
+    if quick:
+        scenes = [scene.quick_version() for scene in scenes]
+    cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
+    executor, close = _executor(args)
+    start = time.perf_counter()
+    try:
+        results = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=not args.quiet)
+    finally:
+        close()
+    seconds = time.perf_counter() - start
+    path = write_report(results, args.out, seconds=seconds, mode="quick" if quick else "full")
+    print(f"report written to {path} ({seconds:.1f} s)")
+    return 0
+
+
+def _list(args: argparse.Namespace) -> int:
+    for name in builtin_scenes():
+        scene = load_scene(name)
+        marker = "*" if name in DEFAULT_SCENES else " "
+        print(f"{marker} {name:20s} {scene.title}")
+    print("(* in the default report)")
+    return 0
+
+
+def _show(args: argparse.Namespace) -> int:
+    from importlib import resources
+
+    if args.scene in builtin_scenes():
+        print((resources.files("validation") / "scenes" / f"{args.scene}.toml").read_text(encoding="utf-8"))
+    scene = load_scene(args.scene)
+    print(f"# parsed: {scene}")
     return 0
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m validation")
+    parser = argparse.ArgumentParser(prog="python -m validation", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
-    report = sub.add_parser("report", help="run the validation report")
+    report = sub.add_parser("report", help="run scenes and write the validity report")
+    report.add_argument("scenes", nargs="*", metavar="SCENE",
+                        help="built-in scene names or scene files (default: the default scenes, quick)")
+    report.add_argument("--out", default="report", help="output folder (default: ./report)")
+    report.add_argument("--full", action="store_true", help="run the scenes as written (25 realizations)")
+    report.add_argument("--quick", action="store_true", help="quick mode also for named scenes")
+    report.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="worker processes for realizations (default: CPU count; 1 = in-process)")
+    cache = report.add_mutually_exclusive_group()
+    cache.add_argument("--cache", default=None, help=f"cache folder (default: {default_cache_dir()})")
+    cache.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
+    report.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="dask.distributed scheduler address; realizations run on that cluster")
+    report.add_argument("--quiet", action="store_true", help="no progress bar")
     report.set_defaults(handler=_report)
+    listing = sub.add_parser("list", help="list the built-in scenes")
+    listing.set_defaults(handler=_list)
+    show = sub.add_parser("show", help="print a scene file and its parsed form")
+    show.add_argument("scene")
+    show.set_defaults(handler=_show)
     args = parser.parse_args(argv)
-    return args.handler(args)
+    try:
+        return args.handler(args)
+    except SceneError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2

@@ -157,3 +157,91 @@ def summarise_errors(quantity: str, per_realization: list[np.ndarray]) -> ErrorS
         deviation = np.where(finite, stack - mean, 0.0)
         std = np.where(count > 1, np.sqrt((deviation**2).sum(axis=0) / np.maximum(count - 1, 1)), 0.0)
     return ErrorSummary(quantity, mean, std, stack.shape[0])
+
+
+# --------------------------------------------------------------------------------------------
+# a whole D value of a scene
+
+#: Quantities that have a validity range (the load path itself is not compared).
+COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness", "contacts")
+
+
+@dataclass(frozen=True)
+class ModelComparison:
+    """One model, one quantity: error statistics and validity ranges at each tolerance."""
+
+    model: str
+    quantity: str
+    summary: ErrorSummary
+    ranges: tuple[ValidityRange, ...]
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """All models against the reference for one surface family (one D) of a scene.
+
+    ``load`` is the paper's dimensionless Load = W/(E* L^2) of the path; ``area_fraction`` the
+    reference's mean area fraction at each load; ``reference_error`` the boundary-element
+    reference's own error per quantity and load (grid n against 2n on one realization: relative,
+    or in units of sigma for separation), empty when not estimated.
+    """
+
+    D: float
+    load: np.ndarray
+    area_fraction: np.ndarray
+    models: dict[tuple[str, str], ModelComparison]
+    reference_error: dict[str, np.ndarray]
+
+    def reference_error_max(self, quantity: str) -> float:
+        values = self.reference_error.get(quantity)
+        if values is None or not np.any(np.isfinite(values)):
+            return float("nan")
+        return float(np.nanmax(np.abs(values)))
+
+
+def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
+                         reference_model: str = "bem") -> Comparison:
+    """Compare every model with the reference over the realizations of one D.
+
+    Parameters
+    ----------
+    results : list of validation.runner.RealizationResult
+        Realizations of one surface family; each holds a curve per model.
+    reference : RealizationResult, optional
+        The same family on a grid twice as fine (reference only), for the reference's own error.
+    tolerances : tuple of float
+        Error levels for the validity ranges.
+    """
+    if not results:
+        raise ValueError("no realizations to compare")
+    first = results[0]
+    if reference_model not in first.curves:
+        raise ValueError(f"the results hold no {reference_model!r} reference curve")
+    ref0 = first.curves[reference_model]
+    length = first.task.surface.L
+    load = ref0.load / (ref0.e_star * length**2)
+    area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)
+    quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
+    models: dict[tuple[str, str], ModelComparison] = {}
+    for model in first.curves:
+        if model == reference_model:
+            continue
+        per_quantity: dict[str, list[np.ndarray]] = {}
+        for result in results:
+            errors = curve_errors(result.curves[model], result.curves[reference_model],
+                                  result.sigma, quantities)
+            for name, values in errors.items():
+                per_quantity.setdefault(name, []).append(values)
+        for name, arrays in per_quantity.items():
+            summary = summarise_errors(name, arrays)
+            ranges = tuple(validity_range(load, summary.mean, tol, area_fraction) for tol in tolerances)
+            models[(model, name)] = ModelComparison(model, name, summary, ranges)
+    reference_error: dict[str, np.ndarray] = {}
+    if reference is not None:
+        coarse = next((r for r in results if r.task.seed == reference.task.seed), first)
+        fine_curve = reference.curves[reference_model]
+        coarse_curve = coarse.curves[reference_model]
+        if np.allclose(fine_curve.load, coarse_curve.load, rtol=1e-6, atol=0):
+            reference_error = curve_errors(coarse_curve, fine_curve, coarse.sigma, quantities)
+    return Comparison(D=first.task.D, load=load, area_fraction=area_fraction, models=models,
+                      reference_error=reference_error)

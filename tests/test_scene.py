@@ -1,0 +1,94 @@
+"""Scene parsing and validation."""
+
+import pathlib
+
+import pytest
+
+from validation.scene import SceneError, builtin_scenes, load_scene, parse_scene
+
+
+def test_every_builtin_scene_loads():
+    names = builtin_scenes()
+    assert {"paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map"} <= set(names)
+    for name in names:
+        scene = load_scene(name)
+        assert scene.name == name
+        quick = scene.quick_version()
+        if scene.kind == "surface":
+            assert quick.realizations <= scene.realizations
+            assert quick.surface.n <= scene.surface.n
+
+
+def test_paper_scenes_match_the_paper():
+    for name, D in (("paper-wm-d205", 2.05), ("paper-wm-d295", 2.95)):
+        scene = load_scene(name)
+        assert scene.surface.D == (D,)
+        assert (scene.surface.gamma, scene.surface.n_max, scene.surface.M) == (1.5, 8, 10)
+        assert scene.realizations == 25
+        assert "bem" in scene.models
+    assert load_scene("validity-map").surface.D == (2.05, 2.2, 2.4, 2.6, 2.8, 2.95)
+    theory = load_scene("paper-theory")
+    assert theory.kind == "theory" and theory.theory.C == (5.0, 50.0) and theory.surface is None
+
+
+def write(tmp_path, text, name="scene.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+GOOD = """
+[surface]
+D = 2.3
+rms_slope = 0.1
+n = 32
+"""
+
+
+def test_user_file_and_defaults(tmp_path):
+    scene = load_scene(write(tmp_path, GOOD, "mine.toml"))
+    assert scene.name == "mine"
+    assert scene.surface.n == 32 and scene.surface.D == (2.3,)
+    assert scene.tolerances == (0.05, 0.2)
+    assert len(scene.loads.values()) == scene.loads.count
+
+
+@pytest.mark.parametrize("text, key", [
+    ("unknown_top = 1\n" + GOOD, "unknown_top"),
+    (GOOD.replace("n = 32", "n = 32\nwhatever = 3"), "surface.whatever"),
+    (GOOD.replace("D = 2.3", "D = 3.5"), "surface.D"),
+    (GOOD.replace("D = 2.3", "D = [2.1, 2.0]"), "surface.D"),
+    (GOOD.replace("rms_slope = 0.1", "rms_slope = 0.1\nG = 1e-3"), "surface.rms_slope"),
+    (GOOD.replace("n = 32", "n = 4"), "surface.n"),
+    (GOOD.replace("n = 32", "n = 32.5"), "surface.n"),
+    (GOOD + "\n[models]\nuse = [\"gw\", \"magic\"]\n", "models.use"),
+    (GOOD + "\n[quantities]\nuse = [\"pressure\"]\n", "quantities.use"),
+    (GOOD + "\n[loads]\nmin = 1e-2\nmax = 1e-3\n", "loads.max"),
+    (GOOD + "\n[loads]\nquantity = \"force\"\n", "loads.quantity"),
+    (GOOD + "\n[bem]\ntol = -1\n", "bem.tol"),
+    (GOOD + "\n[bem]\nperiodic = \"yes\"\n", "bem.periodic"),
+    (GOOD + "\n[tolerances]\nlevels = [0.05, -0.2]\n", "tolerances.levels"),
+    (GOOD + "\n[theory]\nC = [5.0]\n", "theory"),
+    ("kind = \"theory\"\n[surface]\nD = 2.3\n", "surface"),
+    ("kind = \"theory\"\n[theory]\nC = [-1.0]\n", "theory.C"),
+    ("kind = \"sketch\"\n", "kind"),
+])
+def test_bad_scene_names_key_and_file(tmp_path, text, key):
+    path = write(tmp_path, text, "bad-scene.toml")
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    message = str(info.value)
+    assert f"'{key}'" in message
+    assert "bad-scene.toml" in message
+
+
+def test_invalid_toml_and_missing_file(tmp_path):
+    with pytest.raises(SceneError, match="bad.toml.*not valid TOML"):
+        load_scene(write(tmp_path, "this is = = not toml", "bad.toml"))
+    with pytest.raises(SceneError, match="no such scene"):
+        load_scene(tmp_path / "missing.toml")
+
+
+def test_parse_scene_is_a_value_error():
+    with pytest.raises(ValueError):
+        parse_scene({"surface": {"D": 2.5}}, source="inline")
