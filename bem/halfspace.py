@@ -1,0 +1,220 @@
+"""The elastic half-space as a linear operator: pressure on a grid -> surface displacement.
+
+Conventions (THEORY.md, "The reference")
+----------------------------------------
+Pressure ``p`` is positive in compression and uniform over each pixel of side ``spacing`` h;
+the displacement ``u = K * p`` is positive into the body (a point force P lowers the surface by
+``P / (pi E* r)`` at distance r). Grids are indexed ``[j, i]`` (row j is y, column i is x).
+
+* Non-periodic (``periodic=False``): ``u[j, i] = sum_{l, k} G[j - l, i - k] p[l, k]`` with G
+  Love's (1929) displacement at offset ``(j - l, i - k) h`` under unit pressure on one pixel
+  (:func:`bem.reference.love_pixel_displacement`, asinh form). The discrete convolution is exact
+  (no wrap-around) by the DC-FFT method (Liu, Wang & Liu 2000): G sampled on a 2N x 2N grid in
+  wrap-around order, the pressure zero-padded to 2N x 2N, and the first N x N block kept.
+  The displacement vanishes in the far field, the reference of the separation.
+* Periodic (``periodic=True``): the grid is one period L x L of a periodic surface and
+  ``u_hat(q) = 2 p_hat(q) / (E* |q|)`` for ``q != 0`` with ``q = 2 pi (k_x / L_x, k_y / L_y)``
+  the wavevector of the discrete Fourier mode. At ``q = 0`` we set ``u_hat(0) = 0``: the mean
+  displacement is zero (a uniform pressure on an infinite periodic half-space has no finite
+  displacement), so the mean plane of the deformed surface equals that of the undeformed one.
+
+FFT normalisation
+-----------------
+With the unnormalised forward DFT ``X[k] = sum_n x[n] exp(-2 pi i k.n / M)`` over the M points
+of the convolution grid (2N x 2N non-periodic, N x N periodic), the operator is
+``u = IDFT(K_hat X)`` with ``IDFT(Y)[n] = (1/M) sum_k Y[k] exp(+2 pi i k.n / M)``. The stored
+spectrum ``K_hat`` is the DFT of the sampled kernel G (non-periodic; real because G is even), or
+``2 / (E* |q|)`` evaluated at the DFT wavevectors (periodic; already in the units of a
+continuous transform because the DFT pair with 1/M is the Fourier series of a periodic field).
+The factor ``1/M`` is folded into the stored spectrum, so one forward and one unnormalised
+inverse FFT make one product.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from bem.fft import RealFFT2
+from bem.reference import love_pixel_displacement
+
+__all__ = ["HalfSpace"]
+
+
+def _check_positive(name: str, value: float) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number, got {value!r}") from None
+    if not (math.isfinite(value) and value > 0.0):
+        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
+    return value
+
+
+class HalfSpace:
+    """Surface displacement of an elastic half-space under a pixel-wise uniform pressure.
+
+    Built once per (shape, spacing, E*, periodic): it owns the kernel spectrum and the FFT plans.
+    See the module docstring for the kernels, the q = 0 convention and the FFT normalisation.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        Grid shape (rows, columns) of the pressure and displacement arrays.
+    spacing : float
+        Grid step h [length]; the grid covers ``L_y x L_x = (rows h) x (columns h)``.
+    e_star : float
+        Composite modulus E* [pressure].
+    periodic : bool
+        Periodic half-space (spectral kernel) instead of the isolated, non-periodic one
+        (Love's pixel kernel, DC-FFT).
+    backend : {"auto", "pyfftw", "scipy"}
+        FFT backend (:class:`bem.fft.RealFFT2`); both give the same result to rounding.
+    threads : int, optional
+        FFT threads; default all CPUs available to the process.
+    planner_effort : str, optional
+        pyFFTW planner effort; default "FFTW_MEASURE" for convolution grids of 2048 x 2048
+        points or more and "FFTW_ESTIMATE" below, where measuring planned no faster transform
+        here but cost 0.3-0.7 s per grid.
+
+    Attributes
+    ----------
+    shape, spacing, e_star, periodic
+        As given.
+    convolution_shape : tuple of int
+        Shape of the FFT grid: ``2 * shape`` non-periodic, ``shape`` periodic.
+    backend : str
+        The FFT backend actually used.
+    """
+
+    def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
+                 periodic: bool = False, backend: str = "auto", threads: int | None = None,
+                 planner_effort: str | None = None) -> None:
+        try:
+            shape = tuple(int(s) for s in shape)
+        except TypeError:
+            raise ValueError(f"shape must be a pair of positive integers, got {shape!r}") from None
+        if len(shape) != 2 or min(shape) < 1:
+            raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
+        self.shape: tuple[int, int] = shape
+        self.spacing = _check_positive("spacing", spacing)
+        self.e_star = _check_positive("e_star", e_star)
+        if not isinstance(periodic, (bool, np.bool_)):
+            raise ValueError(f"periodic must be True or False, got {periodic!r}")
+        self.periodic = bool(periodic)
+        ny, nx = shape
+        self.convolution_shape = (ny, nx) if self.periodic else (2 * ny, 2 * nx)
+        if planner_effort is None:
+            large = self.convolution_shape[0] * self.convolution_shape[1] >= 2048 * 2048
+            planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
+        self._fft = RealFFT2(self.convolution_shape, backend=backend, threads=threads,
+                             planner_effort=planner_effort)
+        self.backend = self._fft.backend
+        spectrum = self._kernel_spectrum()
+        self.kernel_spectrum = spectrum  # K_hat, unnormalised DFT convention (read-only)
+        self.kernel_spectrum.setflags(write=False)
+        # 1/M folded in, each value repeated for the real and imaginary part of the spectrum,
+        # so the product is one real multiply over the float view of the complex buffer.
+        self._scaled_spectrum = np.repeat(spectrum / self._fft.size, 2, axis=1)
+        self._centred_kernel: np.ndarray | None = None
+
+    # -- construction --------------------------------------------------------------------------
+
+    def _kernel_spectrum(self) -> np.ndarray:
+        ny, nx = self.shape
+        h = self.spacing
+        my, mx = self.convolution_shape
+        if self.periodic:
+            qy = 2.0 * math.pi * np.fft.fftfreq(my, d=h)
+            qx = 2.0 * math.pi * np.fft.rfftfreq(mx, d=h)
+            q = np.hypot(qy[:, None], qx[None, :])
+            spectrum = np.divide(2.0 / self.e_star, q, out=np.zeros_like(q), where=q > 0)
+            return spectrum
+        # Offsets in wrap-around order: 0, 1, ..., N-1, -N, ..., -1 (the -N entry is never
+        # used by the first N x N block of the product; G is even, so its sign is immaterial).
+        offset_y = np.fft.fftfreq(my, d=1.0 / my) * h
+        offset_x = np.fft.fftfreq(mx, d=1.0 / mx) * h
+        kernel = love_pixel_displacement(offset_x[None, :], offset_y[:, None],
+                                          half_width_x=0.5 * h, e_star=self.e_star)
+        return RealFFT2(self.convolution_shape, backend="scipy").forward(kernel).real.copy()
+
+    # -- the operator --------------------------------------------------------------------------
+
+    def displacement(self, pressure: np.ndarray) -> np.ndarray:
+        """Surface displacement ``u = K * p`` [length] of a pressure field [pressure].
+
+        Parameters
+        ----------
+        pressure : array_like
+            Finite pixel pressures of shape ``shape`` (any sign: the operator is linear).
+
+        Returns
+        -------
+        numpy.ndarray
+            A fresh float64 array of ``shape``, positive into the body under compression.
+        """
+        pressure = np.asarray(pressure, dtype=float)
+        if pressure.shape != self.shape:
+            raise ValueError(f"pressure must have shape {self.shape}, got {pressure.shape}")
+        if not np.all(np.isfinite(pressure)):
+            raise ValueError("pressure must be finite (no NaN or inf)")
+        out = np.empty(self.shape)
+        self._apply(pressure, out)
+        return out
+
+    def _apply(self, pressure: np.ndarray, out: np.ndarray) -> None:
+        """``out[...] = K * pressure`` without checks or allocations (the solvers' hot path)."""
+        fft = self._fft
+        ny, nx = self.shape
+        if self.periodic:
+            fft.real_buffer[...] = pressure
+        else:
+            # The padding of real_buffer is zero since construction: the transforms only read it.
+            fft.real_buffer[:ny, :nx] = pressure
+        fft.execute_forward()
+        spectrum = fft.spectrum_buffer.view(np.float64)
+        np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
+        fft.execute_inverse()
+        out[...] = fft.output_buffer[:ny, :nx]
+
+    # -- real-space influence coefficients ---------------------------------------------------
+
+    @property
+    def centred_kernel(self) -> np.ndarray:
+        """Influence coefficients ``C`` of shape ``(2 rows - 1, 2 columns - 1)`` [length/pressure].
+
+        ``C[rows - 1 + dj, columns - 1 + di]`` is the displacement at offset ``(dj, di)`` pixels
+        from a pixel under unit pressure (periodic: summed over all periodic images, with the
+        zero-mean convention). Computed on first use (one inverse FFT) and cached; read-only.
+        """
+        if self._centred_kernel is None:
+            ny, nx = self.shape
+            inverse = RealFFT2(self.convolution_shape, backend="scipy")
+            kernel = inverse.inverse(self.kernel_spectrum.astype(complex))
+            # rows -(ny-1)..(ny-1) and columns -(nx-1)..(nx-1), in wrap-around order of kernel
+            rows = np.arange(-(ny - 1), ny) % self.convolution_shape[0]
+            cols = np.arange(-(nx - 1), nx) % self.convolution_shape[1]
+            centred = np.ascontiguousarray(kernel[np.ix_(rows, cols)])
+            centred.setflags(write=False)
+            self._centred_kernel = centred
+        return self._centred_kernel
+
+    def _add_sources(self, flat_indices: np.ndarray, values: np.ndarray, out: np.ndarray,
+                     work: np.ndarray) -> None:
+        """``out += K * (sum of point pressures values at flat_indices)`` by direct summation.
+
+        Cost ``len(values) * rows * columns``: cheaper than an FFT product for a handful of
+        pixels. ``work`` is scratch of ``shape``.
+        """
+        kernel = self.centred_kernel
+        ny, nx = self.shape
+        rows, cols = np.divmod(flat_indices, nx)
+        for row, col, value in zip(rows.tolist(), cols.tolist(), values.tolist()):
+            block = kernel[ny - 1 - row: 2 * ny - 1 - row, nx - 1 - col: 2 * nx - 1 - col]
+            np.multiply(block, value, out=work)
+            np.add(out, work, out=out)
+
+    def __repr__(self) -> str:
+        return (f"HalfSpace(shape={self.shape}, spacing={self.spacing!r}, e_star={self.e_star!r}, "
+                f"periodic={self.periodic}, backend={self.backend!r})")
