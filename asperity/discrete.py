@@ -1,0 +1,614 @@
+"""The discrete asperity model with first-order elastic interaction.
+
+THEORY.md, "The discrete asperity model" (paper Section 4; Ciavarella et al. 2006). Every summit
+i (height z_i above the mean plane, radius R_i) is a Hertzian asperity::
+
+    approach  delta_i = a_i^2 / R_i,   force  P_i = 4 E* a_i^3 / (3 R_i) = (4/3) E* R_i^1/2 delta_i^3/2
+    contact stiffness dP_i/d delta_i = 2 E* a_i
+
+and every force lowers every other asperity by ``P_j / (pi E* r_ij)``. At separation d the
+approaches satisfy displacement compatibility at every summit centre::
+
+    delta_i = max(0, z_i - d - sum_{j != i} P_j / (pi E* r_ij))                        (*)
+
+(contact where the right side is positive; no contact where z_i - d is below the interaction).
+
+Solver
+------
+(*) is solved for the approaches delta (not the forces or radii: in delta the Jacobian is
+``I + G diag(2 E* a)``, regular even at first contact) by a projected semi-smooth Newton method:
+
+* residual ``Phi(delta) = delta - max(0, z - d - G P(delta))``; the active set is where the max
+  is positive; relative residual ``||Phi||_inf / max_i(z_i - d, delta_i)`` (and, under load
+  control, also ``|sum P - W| / W``). Converged when it is <= ``tol``.
+* Newton step on the active set A: ``(I + G_AA S) x = b`` with S = diag(2 E* a_A), solved in the
+  symmetric form ``(I + S^1/2 G_AA S^1/2) y = S^1/2 b`` by matrix-free conjugate gradients
+  (products by :class:`asperity.interaction.PointForceInteraction`: exact lattice FFT or blocked
+  sums, never a dense N x N matrix); under load control the separation is a further unknown and
+  a second solve with the right side 1 eliminates it (bordered system).
+* globalisation: Armijo backtracking on ``||Phi||`` with projection onto delta >= 0; along a path
+  the previous solution (plus the tangent ``d delta / d d``) is the warm start, and a step that
+  does not converge is split in two, recursively (at most 2^8 sub-steps).
+
+The symmetric matrix ``I + S^1/2 G S^1/2`` is the Hessian of the energy
+``sum_i int delta_i dP_i + P^T G P / 2 - sum_i (z_i - d) P_i`` (in the scaled variables). The
+point-force kernel has a zero diagonal and is indefinite, so when neighbouring asperities are
+heavily loaded (contact radii comparable to their distance) the Hessian can lose positive
+definiteness: the first-order model then no longer has a unique, stable solution. Conjugate
+gradients detect this (a direction of non-positive curvature); the solve then falls back to
+MINRES, the point is flagged ``stable = False`` and a :class:`ValidityWarning` is issued.
+
+Stiffness is the exact incremental stiffness of the converged discrete system,
+``S = -dW/dd = s^T (I + S^1/2 G_AA S^1/2)^{-1} s`` with ``s = S^1/2 1`` (the linearisation of (*)
+on the active set), and the conductance follows by Barber's analogy, ``C rho = 2 S / E*``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.optimize
+import scipy.sparse.linalg
+
+from bem.curve import ContactCurve
+from bem.warnings import ConvergenceWarning
+
+from asperity.interaction import PointForceInteraction
+from asperity.summits import Summits
+
+__all__ = ["DiscreteAsperityModel", "ValidityWarning", "DISCRETE_QUANTITIES"]
+
+#: Quantities :meth:`DiscreteAsperityModel.at_separation` / ``at_load`` can compute.
+DISCRETE_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
+                       "conductance", "holm_greenwood")
+_DEFAULT_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
+                       "conductance")
+_MAX_SPLIT_DEPTH = 8
+_ARMIJO = 1e-4
+_MIN_STEP = 2.0 ** -12
+
+
+class ValidityWarning(UserWarning):
+    """The first-order interaction model is outside its validity at some points: contact spots
+    overlap, or the linearised system lost positive definiteness (the solution may not be
+    unique). Both happen when contact radii become comparable to the distance between loaded
+    asperities."""
+
+
+@dataclass
+class _State:
+    """One evaluation of the compatibility residual at (delta, d)."""
+
+    delta: np.ndarray
+    separation: float
+    loaded: np.ndarray       # indices with delta > 0
+    forces: np.ndarray       # P at loaded
+    load: float
+    trial: np.ndarray        # max(0, z - d - u), all asperities
+    phi: np.ndarray          # delta - trial
+    scale: float             # length scale of the relative residual
+    residual: float          # relative residual (incl. load residual under load control)
+    load_residual: float     # |sum P - W| / W under load control, else 0
+
+
+@dataclass
+class _Solution:
+    delta: np.ndarray
+    separation: float
+    converged: bool
+    iterations: int
+    residual: float
+    stable: bool
+    tangent: np.ndarray | None = None   # -d delta / d d on the active set (full length)
+    stiffness: float | None = None
+
+    def load_carried(self) -> float:
+        """Largest approach (> 0 when any asperity is in contact)."""
+        return float(self.delta.max(initial=0.0))
+
+
+def _cg(apply, rhs, *, rtol, max_iter):
+    """Conjugate gradients for a symmetric operator; stops on non-positive curvature.
+
+    Returns (solution, converged, iterations, positive_definite_so_far).
+    """
+    x = np.zeros_like(rhs)
+    r = rhs.copy()
+    rr = float(r @ r)
+    target = (rtol * math.sqrt(rr)) ** 2
+    if rr == 0.0:
+        return x, True, 0, True
+    p = r.copy()
+    for k in range(max_iter):
+        q = apply(p)
+        curvature = float(p @ q)
+        if not curvature > 0.0:
+            return x, False, k, False
+        alpha = rr / curvature
+        x += alpha * p
+        r -= alpha * q
+        rr_new = float(r @ r)
+        if rr_new <= target:
+            return x, True, k + 1, True
+        p *= rr_new / rr
+        p += r
+        rr = rr_new
+    return x, False, max_iter, True
+
+
+class DiscreteAsperityModel:
+    """Hertzian summits with first-order elastic interaction (THEORY.md, discrete model).
+
+    Parameters
+    ----------
+    summits : Summits
+        The asperities (from :func:`asperity.find_summits` or :meth:`Summits.from_points`).
+    e_star : float
+        Composite modulus E* [pressure].
+    interaction : bool
+        Include the pairwise interaction ``P_j / (pi E* r_ij)``. ``False`` gives independent
+        Hertz contacts (the discrete GW model).
+    m : float, optional
+        Uniform (mean-field) interaction of the improved GW theory, eq. (2), applied to the
+        discrete summits: every asperity is lowered by ``m W / (E* sqrt(A))`` with W the total
+        load and A = ``summits.area``. ``None`` (default) = off. It replaces the pairwise sum,
+        so it needs ``interaction=False`` (using both would count the interaction twice). With
+        it, the model differs from :class:`asperity.ImprovedGreenwoodWilliamson` only by using
+        the actual summits instead of a Gaussian fit.
+    tol : float
+        Relative residual at which a point is converged (see the module docstring), in (0, 1).
+    max_iter : int
+        Newton iterations per (sub-)step, >= 1.
+    method : {"auto", "fft", "direct"}
+        How interaction sums are evaluated (:class:`asperity.interaction.PointForceInteraction`).
+
+    Notes
+    -----
+    Units: lengths in any unit, E* and pressures in one pressure unit, forces = pressure x
+    length^2. The separation d is measured from the rigid plane to the mean plane of the heights
+    (the reference of ``summits.height``), in the far field.
+    """
+
+    def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
+                 m: float | None = None, tol: float = 1e-10, max_iter: int = 50,
+                 method: str = "auto") -> None:
+        if not isinstance(summits, Summits):
+            raise ValueError(f"summits must be an asperity.Summits record, got "
+                             f"{type(summits).__name__}")
+        if summits.count == 0:
+            raise ValueError("summits must contain at least one summit")
+        e_star = float(e_star)
+        if not (math.isfinite(e_star) and e_star > 0):
+            raise ValueError(f"e_star must be finite and > 0, got {e_star!r}")
+        if not isinstance(interaction, (bool, np.bool_)):
+            raise ValueError(f"interaction must be True or False, got {interaction!r}")
+        if m is not None:
+            m = float(m)
+            if not (math.isfinite(m) and m >= 0):
+                raise ValueError(f"m must be finite and >= 0 (or None), got {m!r}")
+            if interaction:
+                raise ValueError("m (uniform interaction) replaces the pairwise interaction: "
+                                 "use it with interaction=False")
+        tol = float(tol)
+        if not (0 < tol < 1):
+            raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
+        if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) \
+                or max_iter < 1:
+            raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+        self.summits = summits
+        self.e_star = e_star
+        self.interaction = bool(interaction)
+        self.m = m
+        self.tol = tol
+        self.max_iter = int(max_iter)
+        self._z = summits.height
+        self._radius = summits.radius
+        self._hertz = (4.0 / 3.0) * e_star * np.sqrt(self._radius)   # P = hertz * delta^1.5
+        self._uniform = 0.0 if m is None else m / (e_star * math.sqrt(summits.area))
+        self.operator = (PointForceInteraction.from_summits(summits, e_star=e_star, method=method)
+                         if self.interaction else None)
+
+    # ------------------------------------------------------------------ public API
+    def at_separation(self, separation, *, quantities=_DEFAULT_QUANTITIES) -> ContactCurve:
+        """Solve the discrete model at given separations.
+
+        Parameters
+        ----------
+        separation : float or array_like
+            Separations d [length] (finite). Solved as a warm-started path from large to small
+            d; results are returned in the caller's order.
+        quantities : sequence of str
+            Which of :data:`DISCRETE_QUANTITIES` to compute. Separation, load, area, contacts
+            and mean pressure are always returned; "stiffness"/"conductance" cost one more
+            Krylov solve per point; "holm_greenwood" evaluates eq. (6) over the contact spots.
+
+        Returns
+        -------
+        bem.ContactCurve
+            With extras ``contact_radii`` and ``forces`` (points x asperities, [length] and
+            [force]), ``holm_greenwood_conductance`` (1 / (R/rho) of eq. 6 [length], if asked),
+            ``converged``, ``iterations``, ``residual`` and ``stable`` (per point).
+        """
+        values = self._points("separation", separation)
+        want = self._quantities(quantities)
+        order = np.argsort(-values, kind="stable")
+        solutions: list[_Solution | None] = [None] * values.size
+        state = self._first_contact()
+        for index in order:
+            state = self._path_step_separation(state, float(values[index]), 0,
+                                               want_tangent="stiffness" in want or
+                                               "conductance" in want)
+            solutions[index] = state
+        return self._curve(solutions, want)
+
+    def at_load(self, load, *, quantities=_DEFAULT_QUANTITIES) -> ContactCurve:
+        """Solve the discrete model at given total loads W [force] (>= 0).
+
+        The separation is an unknown solved together with the approaches (bordered Newton
+        system). W = 0 gives the separation of first contact (the highest summit). Loads are
+        solved as a warm-started path in increasing order and returned in the caller's order.
+        See :meth:`at_separation` for ``quantities`` and the returned fields.
+        """
+        values = self._points("load", load)
+        if np.any(values < 0):
+            raise ValueError("load must be >= 0")
+        want = self._quantities(quantities)
+        order = np.argsort(values, kind="stable")
+        solutions: list[_Solution | None] = [None] * values.size
+        state = self._first_contact()
+        previous_load = 0.0
+        for index in order:
+            target = float(values[index])
+            state = self._path_step_load(state, previous_load, target, 0)
+            previous_load = target
+            solutions[index] = state
+        return self._curve(solutions, want)
+
+    # ------------------------------------------------------------------ validation helpers
+    @staticmethod
+    def _points(name, value) -> np.ndarray:
+        try:
+            array = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be real numbers") from None
+        if array.ndim > 1:
+            raise ValueError(f"{name} must be a scalar or 1-D array, got shape {array.shape}")
+        array = np.atleast_1d(array)
+        if array.size == 0:
+            raise ValueError(f"{name} must contain at least one value")
+        if not np.all(np.isfinite(array)):
+            raise ValueError(f"{name} must be finite (no NaN or inf)")
+        return array
+
+    @staticmethod
+    def _quantities(quantities) -> frozenset:
+        if isinstance(quantities, str):
+            quantities = (quantities,)
+        want = frozenset(quantities)
+        unknown = want - set(DISCRETE_QUANTITIES)
+        if unknown:
+            raise ValueError(f"unknown quantities {sorted(unknown)}; allowed: "
+                             f"{DISCRETE_QUANTITIES}")
+        return want
+
+    # ------------------------------------------------------------------ mechanics
+    def _interaction(self, forces, sources, targets, total) -> np.ndarray:
+        """Displacement [length] at targets from forces at sources (pairwise + uniform)."""
+        u = np.zeros(targets.size)
+        if self.operator is not None and sources.size and targets.size:
+            u += self.operator.displacement(forces, sources=sources, targets=targets)
+        if self._uniform:
+            u += self._uniform * total
+        return u
+
+    def _evaluate(self, delta, separation, target_load=None) -> _State:
+        loaded = np.flatnonzero(delta > 0)
+        forces = self._hertz[loaded] * delta[loaded] ** 1.5
+        total = float(forces.sum())
+        interference = self._z - separation
+        candidates = np.flatnonzero(interference > 0)
+        trial = np.zeros_like(delta)
+        if candidates.size:
+            u = self._interaction(forces, loaded, candidates, total)
+            trial[candidates] = np.maximum(interference[candidates] - u, 0.0)
+        phi = delta - trial
+        length = max(float(interference.max()), float(delta.max(initial=0.0)))
+        residual = float(np.abs(phi).max()) / length if length > 0 else 0.0
+        load_residual = 0.0
+        if target_load is not None:
+            load_residual = abs(total - target_load) / target_load
+            residual = max(residual, load_residual)
+        return _State(delta, separation, loaded, forces, total, trial, phi, length, residual,
+                      load_residual)
+
+    @staticmethod
+    def _merit(state: _State, scale: float) -> float:
+        """Armijo merit: 2-norm of the residual on a fixed length scale (plus load residual)."""
+        merit = float(np.sqrt(state.phi @ state.phi)) / scale if scale > 0 else 0.0
+        return math.hypot(merit, state.load_residual)
+
+    def _contact_stiffness(self, delta, indices):
+        """dP/d delta = 2 E* a = 2 E* sqrt(R delta) [force/length]."""
+        return 2.0 * self.e_star * np.sqrt(self._radius[indices] * delta[indices])
+
+    def _solve_active(self, active, s_half, rhs, rtol):
+        """Solve (I + H S) x = rhs on the active set, H = G_AA + c 1 1^T, S = s_half^2.
+
+        Returns (x, positive_definite).
+        """
+        if self.operator is None and not self._uniform:
+            return rhs.copy(), True
+        kernel = self.operator.linear_map(active) if self.operator is not None else None
+        uniform = self._uniform
+
+        def apply_h(values):
+            out = kernel(values) if kernel is not None else np.zeros_like(values)
+            if uniform:
+                out = out + uniform * values.sum()
+            return out
+
+        def apply(values):
+            return values + s_half * apply_h(s_half * values)
+
+        b = s_half * rhs
+        max_iter = min(max(50, 2 * active.size), 2000)
+        y, ok, _, definite = _cg(apply, b, rtol=rtol, max_iter=max_iter)
+        if not definite:
+            operator = scipy.sparse.linalg.LinearOperator((active.size, active.size),
+                                                          matvec=apply, dtype=float)
+            y, _ = scipy.sparse.linalg.minres(operator, b, rtol=rtol, maxiter=10 * max_iter)
+        return rhs - apply_h(s_half * y), definite
+
+    def _newton(self, delta, separation, target_load=None):
+        """Projected semi-smooth Newton from (delta, separation).
+
+        Returns (_Solution, state). Under load control the separation is an unknown.
+        """
+        delta = np.maximum(delta, 0.0)
+        state = self._evaluate(delta, separation, target_load)
+        stable = True
+        iterations = 0
+        history = [state.residual]
+        while state.residual > self.tol and iterations < self.max_iter:
+            if iterations >= 10 and state.residual > 0.1 * history[-6]:
+                break        # stagnating (e.g. outside the model's validity): split the step
+            iterations += 1
+            trial = state.trial
+            active = np.flatnonzero(trial > 0)
+            step = -state.phi                                  # inactive: go to delta = 0
+            leaving = np.flatnonzero((trial <= 0) & (state.delta > 0))
+            rhs = -state.phi[active]
+            if leaving.size and active.size:
+                change = self._contact_stiffness(state.delta, leaving) * step[leaving]
+                rhs -= self._interaction(change, leaving, active, float(change.sum()))
+            else:
+                change = np.zeros(0)
+            s_half = np.sqrt(self._contact_stiffness(state.delta, active))
+            rtol = min(1e-2, max(0.1 * state.residual, 1e-3 * self.tol))
+            step_separation = 0.0
+            if active.size:
+                # Definiteness of the latest linearisation (the last one is nearest the solution).
+                x, stable = self._solve_active(active, s_half, rhs, rtol)
+                if target_load is not None:
+                    v, definite = self._solve_active(active, s_half, np.ones(active.size), rtol)
+                    stable &= definite
+                    stiffness = float(s_half ** 2 @ v)
+                    if not stiffness > 0:
+                        break        # no loaded asperity to carry the load: restart upstream
+                    mismatch = float(s_half ** 2 @ x) + float(change.sum()) \
+                        - (target_load - state.load)
+                    step_separation = mismatch / stiffness
+                    x = x - step_separation * v
+                step[active] = x
+            # Armijo backtracking on the merit, with projection onto delta >= 0.
+            t = 1.0
+            merit = self._merit(state, state.scale)
+            while True:
+                candidate = self._evaluate(np.maximum(state.delta + t * step, 0.0),
+                                           state.separation + t * step_separation, target_load)
+                if self._merit(candidate, state.scale) <= (1.0 - _ARMIJO * t) * merit:
+                    break
+                t *= 0.5
+                if t < _MIN_STEP:
+                    candidate = None
+                    break
+            if candidate is None:
+                break
+            state = candidate
+            history.append(state.residual)
+        solution = _Solution(state.delta, state.separation, state.residual <= self.tol,
+                             iterations, state.residual, stable)
+        return solution, state
+
+    def _tangent(self, solution: _Solution, state: _State, rtol=1e-12) -> None:
+        """Stiffness -dW/dd and tangent -d delta/dd of a converged point (in place)."""
+        active = np.flatnonzero(state.trial > 0)
+        tangent = np.zeros_like(solution.delta)
+        if active.size == 0:
+            solution.stiffness, solution.tangent = 0.0, tangent
+            return
+        s_half = np.sqrt(self._contact_stiffness(solution.delta, active))
+        v, definite = self._solve_active(active, s_half, np.ones(active.size), rtol)
+        tangent[active] = v
+        solution.stable = definite          # the linearisation at the solution itself
+        solution.tangent = tangent
+        solution.stiffness = float(s_half ** 2 @ v)
+
+    def _first_contact(self) -> _Solution:
+        """Exact solution at the separation of first contact (highest summit): no force."""
+        return _Solution(np.zeros(self._z.size), float(self._z.max()), True, 0, 0.0, True,
+                         np.zeros(self._z.size), 0.0)
+
+    def _path_step_separation(self, previous: _Solution, separation: float, depth: int,
+                              want_tangent: bool) -> _Solution:
+        if separation >= self._z.max():
+            result = self._first_contact()
+            result.separation = separation
+            return result
+        if previous.load_carried() > 0:
+            guess = previous.delta
+            if previous.tangent is not None:
+                guess = previous.delta + previous.tangent * (previous.separation - separation)
+        else:
+            guess = self._mean_field_guess(separation)
+        solution, state = self._newton(guess, separation)
+        if not solution.converged and depth < _MAX_SPLIT_DEPTH:
+            middle = 0.5 * (previous.separation + separation)
+            half = self._path_step_separation(previous, middle, depth + 1, True)
+            if half.converged:
+                retry = self._path_step_separation(half, separation, depth + 1, want_tangent)
+                retry.iterations += solution.iterations + half.iterations
+                return retry
+        if want_tangent or depth > 0:
+            self._tangent(solution, state)
+        return solution
+
+    def _mean_field_coefficient(self) -> float:
+        """Uniform displacement per unit load [length/force] of the cold-start estimate.
+
+        The pairwise sum averaged over asperities spread uniformly on a square of area A is
+        about ``0.95 W / (E* sqrt(A))`` (the m of the improved GW theory); used only to start
+        Newton's method far from first contact, never in the solution.
+        """
+        if self.operator is None:
+            return self._uniform
+        return 0.95 / (self.e_star * math.sqrt(self.summits.area))
+
+    def _mean_field_guess(self, separation: float) -> np.ndarray:
+        """Approaches of the mean-field (uniform interaction) model at ``separation``."""
+        interference = self._z - separation
+        coefficient = self._mean_field_coefficient()
+
+        def excess(load):
+            lowered = np.maximum(interference - coefficient * load, 0.0)
+            return float(np.sum(self._hertz * lowered ** 1.5)) - load
+        upper = excess(0.0)
+        if coefficient == 0.0 or upper <= 0.0:
+            return np.maximum(interference, 0.0)
+        load = scipy.optimize.brentq(excess, 0.0, upper, rtol=1e-6)
+        return np.maximum(interference - coefficient * load, 0.0)
+
+    def _hertz_separation(self, load: float) -> float:
+        """Separation at which independent Hertz contacts carry ``load`` (no interaction)."""
+        top = float(self._z.max())
+        k_top = float(self._hertz[np.argmax(self._z)])
+        lower = top - (load / k_top) ** (2.0 / 3.0)    # the top asperity alone carries >= load
+
+        def excess(d):
+            return float(np.sum(self._hertz * np.maximum(self._z - d, 0.0) ** 1.5)) - load
+        if excess(lower) <= 0:
+            return lower
+        return scipy.optimize.brentq(excess, lower, top, xtol=1e-15 * max(1.0, abs(top)),
+                                     rtol=4 * np.finfo(float).eps)
+
+    def _path_step_load(self, previous: _Solution, previous_load: float, load: float,
+                        depth: int) -> _Solution:
+        if load == 0.0:
+            return self._first_contact()
+        if previous_load > 0 and previous.stiffness:
+            delta, separation = previous.delta, previous.separation
+        else:
+            # Mean-field start: independent Hertz contacts all lowered by the uniform estimate.
+            separation = self._hertz_separation(load)
+            delta = np.maximum(self._z - separation, 0.0)
+            separation -= self._mean_field_coefficient() * load
+        solution, state = self._newton(delta, separation, target_load=load)
+        if not solution.converged and depth < _MAX_SPLIT_DEPTH:
+            middle = (math.sqrt(previous_load * load) if previous_load > 0 else 0.25 * load)
+            half = self._path_step_load(previous, previous_load, middle, depth + 1)
+            if half.converged:
+                retry = self._path_step_load(half, middle, load, depth + 1)
+                retry.iterations += solution.iterations + half.iterations
+                return retry
+        self._tangent(solution, state)
+        return solution
+
+    # ------------------------------------------------------------------ output
+    def _curve(self, solutions: list[_Solution], want: frozenset) -> ContactCurve:
+        count = len(solutions)
+        delta = np.array([s.delta for s in solutions]).reshape(count, -1)
+        radius = np.sqrt(delta * self._radius[None, :])
+        forces = self._hertz[None, :] * delta ** 1.5
+        load = forces.sum(axis=1)
+        separation = np.array([s.separation for s in solutions])
+        converged = np.array([s.converged for s in solutions], dtype=bool)
+        stable = np.array([s.stable for s in solutions], dtype=bool)
+        extras = {
+            "contact_radii": radius,
+            "forces": forces,
+            "converged": converged,
+            "iterations": np.array([s.iterations for s in solutions], dtype=int),
+            "residual": np.array([s.residual for s in solutions]),
+            "stable": stable,
+        }
+        stiffness = conductance = None
+        if "stiffness" in want or "conductance" in want:
+            for s in solutions:
+                if s.stiffness is None:
+                    self._tangent(s, self._evaluate(s.delta, s.separation))
+            stiffness = np.array([s.stiffness for s in solutions])
+            if "conductance" in want:
+                conductance = 2.0 * stiffness / self.e_star
+            if "stiffness" not in want:
+                stiffness = None
+            stable = np.array([s.stable for s in solutions], dtype=bool)
+            extras["stable"] = stable
+        if "holm_greenwood" in want:
+            extras["holm_greenwood_conductance"] = self._holm_greenwood(radius)
+        if not converged.all():
+            bad = np.flatnonzero(~converged)
+            warnings.warn(
+                f"discrete asperity model: {bad.size} of {count} points did not converge to "
+                f"tol={self.tol:g} (worst relative residual "
+                f"{extras['residual'][bad].max():.3g}); see the 'converged' and 'residual' "
+                f"extras", ConvergenceWarning, stacklevel=3)
+        overlapping = self._overlapping_spots(radius)
+        extras["overlapping_spots"] = overlapping
+        if self.interaction and (not stable.all() or overlapping.any()):
+            warnings.warn(
+                f"discrete asperity model: at {int(np.count_nonzero(~stable | (overlapping > 0)))}"
+                f" of {count} points the first-order point-force interaction is outside its "
+                "validity (contact spots overlap, or the linearised system is not positive "
+                "definite so the solution may not be unique): contact radii are comparable to "
+                "the distance between loaded asperities; see the 'overlapping_spots' and "
+                "'stable' extras", ValidityWarning, stacklevel=3)
+        return ContactCurve(
+            separation=separation, load=load, area=np.pi * np.sum(radius ** 2, axis=1),
+            mean_pressure=load / self.summits.area, nominal_area=self.summits.area,
+            e_star=self.e_star, contacts=np.count_nonzero(delta > 0, axis=1).astype(float),
+            stiffness=stiffness, conductance=conductance, extras=extras)
+
+    def _overlapping_spots(self, radius: np.ndarray) -> np.ndarray:
+        """Per point, the number of contact spots that overlap one of their 8 nearest spots
+        (``a_i + a_j > r_ij``; minimum image when periodic)."""
+        from scipy.spatial import cKDTree
+        out = np.zeros(radius.shape[0], dtype=int)
+        summits = self.summits
+        box = None
+        if summits.periodic:
+            box = (summits.shape[1] * summits.spacing, summits.shape[0] * summits.spacing)
+        for k, radii in enumerate(radius):
+            spots = np.flatnonzero(radii > 0)
+            if spots.size < 2:
+                continue
+            positions = np.column_stack((summits.x[spots], summits.y[spots]))
+            tree = cKDTree(positions, boxsize=box)
+            distance, neighbour = tree.query(positions, k=min(9, spots.size))
+            a = radii[spots]
+            overlap = distance[:, 1:] < a[:, None] + a[neighbour[:, 1:]]
+            out[k] = int(np.count_nonzero(overlap.any(axis=1)))
+        return out
+
+    def _holm_greenwood(self, radius: np.ndarray) -> np.ndarray:
+        """Conductance 1/(R/rho) [length] of eq. (6) over the contact spots of each point."""
+        from asperity.holm_greenwood import holm_greenwood
+        out = np.zeros(radius.shape[0])
+        for k, radii in enumerate(radius):
+            spots = np.flatnonzero(radii > 0)
+            if spots.size:
+                out[k] = 1.0 / float(holm_greenwood(self.summits.x[spots], self.summits.y[spots],
+                                                    radii[spots]))
+        return out
