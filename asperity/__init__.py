@@ -10,3 +10,12 @@ total forces W on the nominal area A; every model returns a :class:`bem.ContactC
 from bem.curve import ContactCurve
 
 __all__ = ["ContactCurve"]
+
+# Summits of a height map and the discrete asperity model with first-order interaction.
+from asperity.summits import Summits, find_summits, summits_from_arrays, summits_to_arrays  # noqa: E402
+from asperity.discrete import DISCRETE_QUANTITIES, DiscreteAsperityModel, ValidityWarning  # noqa: E402
+from asperity.interaction import PointForceInteraction  # noqa: E402
+
+__all__ += ["Summits", "find_summits", "summits_to_arrays", "summits_from_arrays",
+            "DiscreteAsperityModel", "ValidityWarning", "DISCRETE_QUANTITIES",
+            "PointForceInteraction"]
