@@ -68,17 +68,15 @@ def _pyplot():
 # dimensionless curves
 
 def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
-    """The paper's dimensionless arrays of a contact curve (see module docstring)."""
-    e_star = curve.e_star
-    out = {
-        "area": curve.area / length**2,
-        "load": curve.load / (e_star * length**2),
-        "separation": curve.separation / sigma,
-    }
-    if curve.conductance is not None:
-        out["conductance"] = curve.conductance * sigma / length**2
-    if curve.stiffness is not None:
-        out["stiffness"] = curve.stiffness * sigma / (e_star * length**2)
+    """The paper's dimensionless arrays of a curve (:func:`asperity.dimensionless`), by name,
+    plus the contact count and the reduced stiffness S sigma / (E* L^2) when computed."""
+    from asperity import dimensionless as reduce
+
+    reduced = reduce(curve, sigma, length)
+    out = {"area": reduced.area, "load": reduced.load, "separation": reduced.separation}
+    if reduced.conductance is not None:
+        out["conductance"] = reduced.conductance
+        out["stiffness"] = reduced.conductance / 2.0
     if curve.contacts is not None:
         out["contacts"] = np.asarray(curve.contacts, dtype=float)
     return out
@@ -88,14 +86,15 @@ def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
 # plot functions: each takes an ax and returns what it drew
 
 def plot_theory_load(ax, theory: dict, C: float):
-    """Fig. 1/2: dimensionless pressure p̄ against Separation for GW and improved GW."""
-    entry = theory[C]
+    """Figs. 1-2: reduced pressure p̄ against Separation for GW and improved GW."""
+    curves = theory[C]
     lines = []
-    lines += ax.semilogy(entry["gw_separation"], entry["gw_pressure"], label="GW", **MODEL_STYLES["gw"])
-    lines += ax.semilogy(entry["improved_separation"], entry["improved_pressure"],
+    lines += ax.semilogy(curves.separation, curves.gw_pressure, label="GW (no interaction)",
+                         **MODEL_STYLES["gw"])
+    lines += ax.semilogy(curves.separation, curves.improved_pressure,
                          label=f"improved GW (m = {theory['m']:g})", **MODEL_STYLES["improved_gw"])
-    ax.set_xlabel("Separation d/σ")
-    ax.set_ylabel("p̄ = p_nom / (η E* R^½ σ^{3/2})")
+    ax.set_xlabel("Separation (d − μs)/σ")
+    ax.set_ylabel(r"$\bar p = p_{nom}\,/\,(\eta E^* R^{1/2} \sigma^{3/2})$")
     ax.set_title(f"C = {C:g}")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
@@ -103,15 +102,15 @@ def plot_theory_load(ax, theory: dict, C: float):
 
 
 def plot_theory_stiffness(ax, theory: dict, C: float):
-    """Fig. 3: GW stiffness dW/dd1 and the true stiffness dW/dd (dimensionless)."""
-    entry = theory[C]
+    """Fig. 3: GW stiffness dW/dd₁ and the true stiffness dW/dd (reduced)."""
+    curves = theory[C]
     lines = []
-    lines += ax.semilogy(entry["improved_separation"], entry["gw_stiffness"],
+    lines += ax.semilogy(curves.separation, curves.effective_stiffness,
                          label=f"GW stiffness dW/dd₁, C = {C:g}", color="tab:blue", linestyle="--")
-    lines += ax.semilogy(entry["improved_separation"], entry["improved_stiffness"],
+    lines += ax.semilogy(curves.separation, curves.improved_stiffness,
                          label=f"true stiffness dW/dd, C = {C:g}", color="tab:orange")
-    ax.set_xlabel("Separation d/σ")
-    ax.set_ylabel("S / (η A E* R^½ σ^½)")
+    ax.set_xlabel("Separation (d − μs)/σ")
+    ax.set_ylabel(r"$-d\bar p/d(d/\sigma) = S\,/\,(N E^* R^{1/2} \sigma^{1/2})$")
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     return lines
@@ -222,11 +221,11 @@ def _theory_section(w: _Writer, result: SceneResult, rows_csv: list) -> None:
         plot_theory_load(ax, theory, C)
         w.figure(fig, f"{result.scene.name}-fig{index + 1}-C{C:g}.png",
                  f"Load against separation, GW and improved GW, C = {C:g} (paper Fig. {index + 1}).")
-        entry = theory[C]
-        for k in range(entry["gw_separation"].size):
-            rows_csv.append([C, theory["m"], entry["gw_separation"][k], entry["improved_separation"][k],
-                             entry["gw_pressure"][k], entry["improved_pressure"][k],
-                             entry["gw_stiffness"][k], entry["improved_stiffness"][k]])
+        c = theory[C]
+        for k in range(c.separation.size):
+            rows_csv.append([C, theory["m"], c.separation[k], c.effective_separation[k],
+                             c.gw_pressure[k], c.improved_pressure[k], c.gw_stiffness[k],
+                             c.effective_stiffness[k], c.improved_stiffness[k]])
     fig, axes = plt.subplots(1, len(theory["C"]), figsize=(5.5 * len(theory["C"]), 4), squeeze=False)
     for ax, C in zip(axes[0], theory["C"]):
         plot_theory_stiffness(ax, theory, C)
@@ -234,11 +233,12 @@ def _theory_section(w: _Writer, result: SceneResult, rows_csv: list) -> None:
              "GW stiffness dW/dd₁ and the true stiffness dW/dd with interaction (paper Fig. 3).")
     rows = []
     for C in theory["C"]:
-        entry = theory[C]
-        ratio = entry["improved_stiffness"] / entry["gw_stiffness"]
+        c = theory[C]
+        ratio = c.improved_stiffness / c.effective_stiffness
         rows.append([f"{C:g}", f"{ratio.min():.3g}",
-                     f"{np.max(np.abs(entry['gw_separation'] - entry['improved_separation'])):.3g}"])
-    w.lines += _md_table(["C", "smallest ratio of true to GW stiffness", "largest separation shift d₁ − d (σ)"], rows)
+                     f"{np.max(c.effective_separation - c.separation):.3g}"])
+    w.lines += _md_table(["C", "smallest ratio of true to GW stiffness dW/dd ÷ dW/dd₁",
+                          "largest separation shift (d₁ − d)/σ"], rows)
 
 
 def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparison],
@@ -351,7 +351,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
 
     Returns the path of ``report.md``.
     """
-    import bem
+    import bem.fft
     import validation
 
     folder = pathlib.Path(folder)
@@ -416,8 +416,9 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     write_csv("validity.csv", ["scene", "D", "model", "quantity", "tolerance", "load_min", "load_max",
                                "area_fraction_min", "area_fraction_max", "points", "total",
                                "reference_error_max"], validity_rows)
-    write_csv("theory.csv", ["C", "m", "gw_separation", "improved_separation", "gw_pressure",
-                             "improved_pressure", "gw_stiffness", "improved_stiffness"], theory_rows)
+    write_csv("theory.csv", ["C", "m", "separation", "effective_separation", "gw_pressure",
+                             "improved_pressure", "gw_stiffness", "effective_stiffness",
+                             "improved_stiffness"], theory_rows)
     w.lines.append("")
     path = folder / "report.md"
     path.write_text("\n".join(w.lines) + "\n", encoding="utf-8")

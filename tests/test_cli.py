@@ -1,0 +1,94 @@
+"""End to end: a tiny scene through the command line into a report folder."""
+
+import csv
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import asperity
+import bem
+from validation import wm_surface
+from validation.cli import main
+
+SCENE = """
+name = "tiny-e2e"
+title = "Tiny end-to-end scene"
+[surface]
+D = 2.4
+rms_slope = 0.1
+n = 32
+[realizations]
+count = 2
+seed = 3
+[loads]
+min = 1e-4
+max = 1e-2
+count = 4
+[bem]
+tol = 1e-8
+reference_error = true
+"""
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("e2e")
+    scene = folder / "tiny.toml"
+    scene.write_text(SCENE)
+    out = folder / "out"
+    assert main(["report", str(scene), "--out", str(out), "--no-cache", "--jobs", "1", "--quiet"]) == 0
+    return out
+
+
+def rows(path):
+    with open(path, newline="") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_report_figures_and_tables_exist(report):
+    text = (report / "report.md").read_text()
+    assert "Tiny end-to-end scene" in text
+    assert "Where each model holds" in text and "BEM's own error" in text
+    for name in ("tiny-e2e-fig4-separation.png", "tiny-e2e-fig5-load.png", "tiny-e2e-errors-D2.4.png"):
+        assert (report / name).stat().st_size > 10_000
+        assert f"]({name})" in text
+    for name in ("curves.csv", "errors.csv", "validity.csv"):
+        assert rows(report / name)
+
+
+def test_csv_numbers_match_the_library(report):
+    table = rows(report / "curves.csv")
+    heights = wm_surface(32, D=2.4, rms_slope=0.1, seed=4)  # second realization: seed 3 + 1
+    loads = np.logspace(-4, -2, 4)
+    direct = bem.contact_curve(heights, 1 / 32, loads=loads, tol=1e-8,
+                               quantities=("area", "load", "separation", "conductance"))
+    summits = asperity.find_summits(heights, 1 / 32)
+    gw = summits.greenwood_williamson(1.0).at_load(loads)
+    sigma = float(np.std(summits.height))
+    for model, curve in (("bem", direct), ("gw", gw)):
+        mine = [r for r in table if r["model"] == model and r["seed"] == "4" and r["n"] == "32"]
+        assert len(mine) == 4
+        np.testing.assert_allclose([float(r["Area"]) for r in mine], curve.area, rtol=1e-12)
+        np.testing.assert_allclose([float(r["Load"]) for r in mine], loads, rtol=1e-9)
+        np.testing.assert_allclose([float(r["Separation"]) for r in mine], curve.separation / sigma,
+                                   rtol=1e-9)
+        np.testing.assert_allclose([float(r["Conductance"]) for r in mine],
+                                   2 * curve.stiffness * sigma, rtol=1e-9)
+
+
+def test_bad_scene_exits_non_zero_with_a_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SCENE.replace("D = 2.4", "D = 3.4"))
+    process = subprocess.run([sys.executable, "-m", "validation", "report", str(bad), "--out",
+                              str(tmp_path / "o"), "--no-cache"], capture_output=True, text=True)
+    assert process.returncode == 2
+    assert "surface.D" in process.stderr and "bad.toml" in process.stderr
+
+
+def test_list_and_show(capsys):
+    assert main(["list"]) == 0
+    assert "paper-wm-d205" in capsys.readouterr().out
+    assert main(["show", "validity-map"]) == 0
+    assert "2.95" in capsys.readouterr().out

@@ -1,0 +1,132 @@
+"""The runner computes exactly what a scene asks for, and caches what is expensive."""
+
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from validation.runner import plan_scene, run_scenes
+from validation.scene import load_scene, parse_scene
+
+TINY = {
+    "name": "tiny",
+    "surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
+    "realizations": {"count": 2, "seed": 7},
+    "loads": {"min": 1e-4, "max": 1e-2, "count": 4},
+    "bem": {"tol": 1e-8, "reference_error": False},
+}
+
+
+def tiny(**changes):
+    data = {key: (dict(value) if isinstance(value, dict) else value) for key, value in TINY.items()}
+    for path, value in changes.items():
+        table, key = path.split(".")
+        data.setdefault(table, {})[key] = value
+    return parse_scene(data, source="test")
+
+
+def computed(results):
+    return [entry for result in results for realizations in result.realizations.values()
+            for r in realizations for entry in r.computed] + [
+        entry for result in results for r in result.reference_error.values() for entry in r.computed]
+
+
+def test_theory_scene_generates_no_surface_and_runs_no_bem():
+    scene = load_scene("paper-theory")
+    assert plan_scene(scene) == []
+    (result,) = run_scenes([scene], progress=False)
+    assert result.realizations == {} and result.reference_error == {}
+    assert set(result.theory["C"]) == {5.0, 50.0}
+
+
+def test_area_load_scene_pays_for_no_stiffness(tmp_path):
+    with_conductance = run_scenes([tiny()], progress=False)
+    log = computed(with_conductance)
+    assert any(e.startswith("bem-stiffness") for e in log)
+    assert any(e.startswith("discrete-stiffness") for e in log)
+    without = run_scenes([tiny(**{"quantities.use": ["area", "load", "separation"]})], progress=False)
+    log = computed(without)
+    assert not any("stiffness" in e for e in log)
+    assert sum(e.startswith("bem ") for e in log) == 2
+    curve = without[0].realizations[2.3][0].curves["bem"]
+    assert curve.stiffness is None and curve.conductance is None
+
+
+def test_models_not_asked_for_are_not_computed():
+    (result,) = run_scenes([tiny(**{"models.use": ["gw", "bem"],
+                                     "quantities.use": ["area", "load", "separation"]})],
+                           progress=False)
+    log = computed([result])
+    assert not any(e.startswith(("discrete", "improved_gw")) for e in log)
+    assert set(result.realizations[2.3][0].curves) == {"gw", "bem"}
+
+
+def test_cache_second_run_computes_nothing(tmp_path):
+    scene = tiny(**{"quantities.use": ["area", "load", "separation"]})
+    first = run_scenes([scene], cache_dir=str(tmp_path), progress=False)
+    second = run_scenes([scene], cache_dir=str(tmp_path), progress=False)
+    # Only the cheap steps (surface, closed-form GW curves) run again.
+    assert all(e.split()[0] in ("surface", "gw", "improved_gw") for e in computed(second))
+    for model in ("bem", "discrete", "discrete_no_interaction", "gw"):
+        a = first[0].realizations[2.3][1].curves[model]
+        b = second[0].realizations[2.3][1].curves[model]
+        np.testing.assert_array_equal(a.area, b.area)
+        np.testing.assert_array_equal(a.separation, b.separation)
+
+
+def test_changed_parameter_recomputes_only_what_depends_on_it(tmp_path):
+    scene = tiny(**{"quantities.use": ["area", "load", "separation"]})
+    run_scenes([scene], cache_dir=str(tmp_path), progress=False)
+    # A new BEM tolerance changes the BEM paths only, not summits or discrete paths.
+    log = computed(run_scenes([replace(scene, bem=replace(scene.bem, tol=1e-7))],
+                              cache_dir=str(tmp_path), progress=False))
+    assert sum(e.startswith("bem ") for e in log) == 2
+    assert not any(e.startswith(("summits", "discrete")) for e in log)
+    # A third realization computes that realization only.
+    log = computed(run_scenes([replace(scene, realizations=3)], cache_dir=str(tmp_path),
+                              progress=False))
+    assert [e for e in log if e.startswith(("bem", "summits", "discrete"))] == [
+        "summits D=2.3 seed=9 n=32", "bem D=2.3 seed=9 n=32", "discrete D=2.3 seed=9 n=32",
+        "discrete_no_interaction D=2.3 seed=9 n=32"]
+
+
+def test_truncated_cache_entry_is_recomputed(tmp_path):
+    scene = tiny(**{"quantities.use": ["area", "load", "separation"],
+                    "models.use": ["bem"]})
+    scene = replace(scene, realizations=1)
+    run_scenes([scene], cache_dir=str(tmp_path), progress=False)
+    (entry,) = [p for p in tmp_path.iterdir() if p.name.startswith("bem-")]
+    entry.write_bytes(entry.read_bytes()[:100])
+    log = computed(run_scenes([scene], cache_dir=str(tmp_path), progress=False))
+    assert "bem D=2.3 seed=7 n=32" in log
+    log = computed(run_scenes([scene], cache_dir=str(tmp_path), progress=False))
+    assert not any(e.startswith("bem") for e in log)
+
+
+def test_any_executor_and_shared_tasks_run_once():
+    a = tiny(**{"quantities.use": ["area", "load", "separation"], "models.use": ["gw", "bem"]})
+    b = replace(a, name="tiny-copy")
+    with ThreadPoolExecutor(2) as pool:
+        results = run_scenes([a, b], executor=pool, progress=False)
+    first = results[0].realizations[2.3]
+    second = results[1].realizations[2.3]
+    assert [r is s for r, s in zip(first, second)] == [True, True]
+
+
+def test_reference_error_task_uses_twice_the_grid():
+    scene = tiny(**{"bem.reference_error": True, "quantities.use": ["area", "load", "separation"]})
+    tasks = plan_scene(scene)
+    fine = [t for t in tasks if t.purpose == "reference-error"]
+    assert len(fine) == 1 and fine[0].surface.n == 64 and fine[0].models == ("bem",)
+
+
+def test_progress_bar_reports_work_done_and_left(capsys):
+    import io
+
+    stream = io.StringIO()
+    run_scenes([tiny(**{"models.use": ["gw", "bem"], "quantities.use": ["area", "load"]})],
+               progress=True, stream=stream)
+    lines = stream.getvalue().splitlines()
+    assert lines[0].startswith("[") and "0/2 realizations, 2 left" in lines[0]
+    assert "2/2 realizations, 0 left" in lines[-1]
