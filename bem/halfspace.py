@@ -137,7 +137,9 @@ class HalfSpace:
         offset_x = np.fft.fftfreq(mx, d=1.0 / mx) * h
         kernel = love_pixel_displacement(offset_x[None, :], offset_y[:, None],
                                           half_width_x=0.5 * h, e_star=self.e_star)
-        return RealFFT2(self.convolution_shape, backend="scipy").forward(kernel).real.copy()
+        # One-off transforms use scipy.fft on one worker: a pocketfft thread pool left behind
+        # competes with the FFTW threads for the cores (a 10x slower product measured here).
+        return RealFFT2(self.convolution_shape, backend="scipy", threads=1).forward(kernel).real.copy()
 
     # -- the operator --------------------------------------------------------------------------
 
@@ -190,7 +192,7 @@ class HalfSpace:
         """
         if self._centred_kernel is None:
             ny, nx = self.shape
-            inverse = RealFFT2(self.convolution_shape, backend="scipy")
+            inverse = RealFFT2(self.convolution_shape, backend="scipy", threads=1)
             kernel = inverse.inverse(self.kernel_spectrum.astype(complex))
             # rows -(ny-1)..(ny-1) and columns -(nx-1)..(nx-1), in wrap-around order of kernel
             rows = np.arange(-(ny - 1), ny) % self.convolution_shape[0]
@@ -199,6 +201,11 @@ class HalfSpace:
             centred.setflags(write=False)
             self._centred_kernel = centred
         return self._centred_kernel
+
+    @property
+    def self_influence(self) -> float:
+        """Displacement of a pixel under unit pressure on itself [length/pressure]."""
+        return float(self.centred_kernel[self.shape[0] - 1, self.shape[1] - 1])
 
     def _add_sources(self, flat_indices: np.ndarray, values: np.ndarray, out: np.ndarray,
                      work: np.ndarray) -> None:
