@@ -1,0 +1,195 @@
+"""Load paths of the boundary-element reference as a :class:`bem.ContactCurve`."""
+
+from __future__ import annotations
+
+from typing import Callable, Iterable
+
+import numpy as np
+import scipy.ndimage
+import scipy.sparse
+import scipy.sparse.csgraph
+
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.halfspace import HalfSpace
+from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_heights,
+                        _check_operator, _check_real, _solve, _Workspace)
+
+__all__ = ["contact_curve", "count_contacts"]
+
+#: Contact spots are 4-connected: pixels sharing an edge belong to one spot.
+_FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
+
+
+def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
+    """Number of connected contact spots of a boolean contact map.
+
+    Pixels that share an edge belong to one spot (4-connectivity, ``scipy.ndimage.label``);
+    pixels touching only at a corner do not. With ``periodic`` a spot that crosses the edge of
+    the grid is counted once: spots touching across opposite edges are merged.
+    """
+    contact = np.asarray(contact, dtype=bool)
+    if contact.ndim != 2:
+        raise ValueError(f"contact must be a 2-D boolean array, got {contact.ndim} dimension(s)")
+    labels, count = scipy.ndimage.label(contact, structure=_FOUR_CONNECTED)
+    if not periodic or count < 2:
+        return int(count)
+    pairs = [np.stack((labels[:, -1], labels[:, 0])), np.stack((labels[-1, :], labels[0, :]))]
+    edges = np.concatenate(pairs, axis=1)
+    edges = edges[:, (edges[0] > 0) & (edges[1] > 0)]
+    if edges.shape[1] == 0:
+        return int(count)
+    graph = scipy.sparse.coo_matrix(
+        (np.ones(edges.shape[1]), (edges[0] - 1, edges[1] - 1)), shape=(count, count))
+    merged, _ = scipy.sparse.csgraph.connected_components(graph, directed=False)
+    return int(merged)
+
+
+def _check_path(name: str, values, *, non_negative: bool) -> np.ndarray:
+    try:
+        array = np.array(values, dtype=float, copy=True)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a 1-D sequence of real numbers") from None
+    if array.ndim == 0:
+        array = array.reshape(1)
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D sequence, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    if non_negative and np.any(array < 0.0):
+        raise ValueError(f"{name} must be >= 0, got minimum {float(array.min())!r}")
+    return array
+
+
+def contact_curve(
+    heights,
+    spacing: float,
+    *,
+    loads: Iterable[float] | None = None,
+    separations: Iterable[float] | None = None,
+    quantities: Iterable[str] = ("area", "load", "separation"),
+    e_star: float = 1.0,
+    periodic: bool = False,
+    tol: float = DEFAULT_TOLERANCE,
+    max_iter: int = DEFAULT_MAX_ITERATIONS,
+    operator: HalfSpace | None = None,
+    callback: Callable[[int, ContactSolution], None] | None = None,
+) -> ContactCurve:
+    """Boundary-element contact curve of one surface along loads or separations.
+
+    The half-space operator is built once; the points are solved in the order of increasing
+    load (increasing loads, or decreasing separations), each warm-started from the previous
+    pressure, and returned in the caller's order. See :func:`bem.solve_contact` for the
+    conventions, the solver and the stopping rule.
+
+    Parameters
+    ----------
+    heights : array_like
+        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.solve_contact`).
+    spacing : float
+        Grid step h [length]; nominal area ``(n h)^2``.
+    loads : array_like, optional
+        Total forces W >= 0 [force] (load control).
+    separations : array_like, optional
+        Separations d [length] (separation control). Exactly one of ``loads``/``separations``.
+    quantities : iterable of str
+        Among ``"separation", "load", "area", "contacts", "stiffness", "conductance",
+        "mean_pressure"``. Separation, load, area and mean pressure come with every solve and are
+        always filled. ``contacts`` counts connected contact spots
+        (:func:`count_contacts`: 4-connected, merged across the edges when periodic).
+        ``stiffness`` S = -dW/dd [force/length] and ``conductance`` 2 S / E* [length] cost one
+        extra conjugate-gradient solve per point and are computed only when asked for.
+    e_star, periodic, tol, max_iter, operator
+        As in :func:`bem.solve_contact`.
+    callback : callable, optional
+        ``callback(index, solution)`` after each solved point (``index`` in the caller's order),
+        e.g. for progress reports or to keep pressure fields.
+
+    Returns
+    -------
+    ContactCurve
+        With extras ``converged`` (bool array), ``iterations``, ``residual`` and ``mean_gap``
+        [length].
+
+    Raises
+    ------
+    ValueError
+        For bad heights, spacing, loads or separations (as :func:`bem.solve_contact`) and
+        unknown quantities.
+    """
+    z = _check_heights(heights)
+    spacing = _check_real("spacing", spacing, positive=True)
+    e_star = _check_real("e_star", e_star, positive=True)
+    tol = _check_real("tol", tol, positive=True)
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    if not isinstance(periodic, (bool, np.bool_)):
+        raise ValueError(f"periodic must be True or False, got {periodic!r}")
+    periodic = bool(periodic)
+    if isinstance(quantities, str):
+        quantities = (quantities,)
+    quantities = tuple(quantities)
+    unknown = [q for q in quantities if q not in CURVE_QUANTITIES]
+    if unknown:
+        raise ValueError(f"quantities must be among {CURVE_QUANTITIES}, got unknown {unknown}")
+    if (loads is None) == (separations is None):
+        raise ValueError("give exactly one of loads (forces) and separations (lengths)")
+    if loads is not None:
+        targets = _check_path("loads", loads, non_negative=True)
+        order = np.argsort(targets, kind="stable")
+    else:
+        targets = _check_path("separations", separations, non_negative=False)
+        if periodic and np.any(targets <= z.mean()):
+            raise ValueError(
+                f"separations must exceed the mean height {float(z.mean())!r} for a periodic "
+                f"surface (full contact, where the load is undetermined)")
+        order = np.argsort(-targets, kind="stable")
+    operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
+    want_stiffness = "stiffness" in quantities or "conductance" in quantities
+    want_contacts = "contacts" in quantities
+
+    size = targets.size
+    separation, load, area = np.empty(size), np.empty(size), np.empty(size)
+    mean_gap, residual = np.empty(size), np.empty(size)
+    iterations = np.empty(size, dtype=int)
+    converged = np.empty(size, dtype=bool)
+    contacts = np.empty(size) if want_contacts else None
+    stiffness = np.empty(size) if want_stiffness else None
+    workspace = _Workspace(z.shape)
+    initial = None
+    for index in order:
+        target = float(targets[index])
+        solution = _solve(
+            operator, z,
+            load=target if loads is not None else None,
+            separation=target if separations is not None else None,
+            tol=tol, max_iter=int(max_iter), initial=initial, stiffness=want_stiffness,
+            ws=workspace)
+        if solution.load > 0.0:
+            initial = np.array(solution.pressure)
+        separation[index] = solution.separation
+        load[index] = solution.load
+        area[index] = solution.area
+        mean_gap[index] = solution.mean_gap
+        residual[index] = solution.residual
+        iterations[index] = solution.iterations
+        converged[index] = solution.converged
+        if want_contacts:
+            contacts[index] = count_contacts(solution.contact, periodic=periodic)
+        if want_stiffness:
+            stiffness[index] = solution.stiffness
+        if callback is not None:
+            callback(int(index), solution)
+    nominal_area = z.size * spacing**2
+    return ContactCurve(
+        separation=separation,
+        load=load,
+        area=area,
+        mean_pressure=load / nominal_area,
+        nominal_area=nominal_area,
+        e_star=e_star,
+        contacts=contacts,
+        stiffness=stiffness if "stiffness" in quantities else None,
+        conductance=2.0 * stiffness / e_star if "conductance" in quantities else None,
+        extras={"converged": converged, "iterations": iterations, "residual": residual,
+                "mean_gap": mean_gap},
+    )
