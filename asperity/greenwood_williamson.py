@@ -1,0 +1,358 @@
+"""Greenwood-Williamson (GW) theory and the improved GW theory with uniform interaction.
+
+Paper: Ciavarella, Greenwood & Paggi, Wear 2008, Section 2; equations in THEORY.md, sections
+"GW theory" and "Improved GW".
+
+Conventions and units
+---------------------
+N = eta A summits of radius R [length] on the nominal area A [length^2]; summit heights have
+mean mu_s ("mean") above the mean plane of the surface heights and standard deviation sigma
+[length]. The separation d [length] is measured from the rigid plane to that mean plane, so the
+reduced separation is ``h = (d - mu_s)/sigma``. E* [pressure] is the composite modulus. With
+``W_ref = N E* R^(1/2) sigma^(3/2)``:
+
+* contacts ``N F_0(h)`` (an expectation, not an integer), real area ``pi N R sigma F_1(h)``,
+* load ``W = (4/3) W_ref F_3/2(h)`` (eq. 1 times A),
+* stiffness ``S = -dW/dd = 2 W_ref F_1/2(h) / sigma``, conductance ``2 S / E*`` (Barber).
+
+Improved GW (eq. 2): the mean pressure lowers every summit by ``m p_nom sqrt(A) / E*``, i.e.
+``m W / (E* sqrt(A))``. With the effective separation ``d1 = d + m W/(E* sqrt A)`` every
+quantity is the plain GW value at d1, and the true stiffness is the series compliance
+``1/S = 1/S1 + m/(E* sqrt A)`` with S1 the GW stiffness at d1. In reduced form
+``h = h1 - (4/3) m C F_3/2(h1)`` with ``C = eta sqrt(A R sigma)`` (eq. 4): a strictly increasing
+function of h1, solved by a bracketed monotone Newton iteration when a separation is given;
+a load gives h1 directly.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import KW_ONLY, dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from bem.curve import ContactCurve
+from bem.warnings import ConvergenceWarning
+
+from asperity.dimensionless import interaction_parameter as _interaction_parameter
+from asperity.gw_functions import (
+    _check_distribution,
+    gw_integrals,
+    inverse_log_gw_integral,
+    monotone_root,
+)
+
+__all__ = ["GreenwoodWilliamson", "ImprovedGreenwoodWilliamson"]
+
+_GW_ORDERS_USED = (0.0, 0.5, 1.0, 1.5)
+
+
+def _positive_parameter(name: str, value: float) -> float:
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}") from None
+    if not (math.isfinite(number) and number > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return number
+
+
+def _separations(separation: ArrayLike) -> np.ndarray:
+    try:
+        values = np.asarray(separation, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"separation must be real numbers, got {separation!r}") from None
+    if np.isnan(values).any() or (values == -np.inf).any():
+        raise ValueError("separation must not contain NaN or -inf (+inf means no contact)")
+    return values
+
+
+def _loads(load: ArrayLike) -> np.ndarray:
+    try:
+        values = np.asarray(load, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"load must be real numbers, got {load!r}") from None
+    if not np.all(np.isfinite(values)) or (values < 0).any():
+        raise ValueError("load must be finite and >= 0 (0 gives separation +inf)")
+    return values
+
+
+def _warn_unconverged(converged: np.ndarray, what: str) -> None:
+    if not np.all(converged):
+        warnings.warn(f"{what}: {int(np.size(converged) - np.count_nonzero(converged))} of "
+                      f"{np.size(converged)} points did not converge", ConvergenceWarning,
+                      stacklevel=3)
+
+
+@dataclass(frozen=True)
+class _SummitHeightTheory:
+    """Parameters shared by GW-type theories (validated, stored as floats)."""
+
+    density: float
+    radius: float
+    sigma: float
+    _: KW_ONLY
+    mean: float = 0.0
+    e_star: float = 1.0
+    area: float = 1.0
+    distribution: str = "gaussian"
+
+    def __post_init__(self) -> None:
+        for name in ("density", "radius", "sigma", "e_star", "area"):
+            object.__setattr__(self, name, _positive_parameter(name, getattr(self, name)))
+        try:
+            mean = float(self.mean)
+        except (TypeError, ValueError):
+            raise ValueError(f"mean must be a finite number, got {self.mean!r}") from None
+        if not math.isfinite(mean):
+            raise ValueError(f"mean must be a finite number, got {self.mean!r}")
+        object.__setattr__(self, "mean", mean)
+        _check_distribution(self.distribution)
+
+    # derived constants ----------------------------------------------------------------------
+    @property
+    def summit_count(self) -> float:
+        """N = eta A, the expected number of summits on the nominal area [-]."""
+        return self.density * self.area
+
+    @property
+    def interaction_parameter(self) -> float:
+        """C = eta sqrt(A R sigma) = sqrt(N eta R sigma), the paper's eq. (4) [-]."""
+        return _interaction_parameter(self.density, self.radius, self.sigma, self.area)
+
+    @property
+    def reference_load(self) -> float:
+        """W_ref = eta E* R^(1/2) sigma^(3/2) A [force]: load = (4/3) W_ref F_3/2(h)."""
+        return self.summit_count * self.e_star * math.sqrt(self.radius) * self.sigma ** 1.5
+
+    # shared physics -------------------------------------------------------------------------
+    def _reduced(self, separation: np.ndarray) -> np.ndarray:
+        with np.errstate(over="ignore"):
+            return (separation - self.mean) / self.sigma
+
+    def _gw_quantities(self, h: np.ndarray) -> dict[str, np.ndarray]:
+        """Contacts, area, load and stiffness of plain GW theory at reduced separation h."""
+        f0, f_half, f1, f_three_halves = gw_integrals(_GW_ORDERS_USED, h, self.distribution)
+        n = self.summit_count
+        return dict(
+            contacts=n * f0,
+            area=math.pi * n * self.radius * self.sigma * f1,
+            load=(4.0 / 3.0) * self.reference_load * f_three_halves,
+            stiffness=2.0 * self.reference_load / self.sigma * f_half,
+        )
+
+    def _reduced_at_load(self, load: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """h with (4/3) W_ref F_3/2(h) = load (h = +inf at zero load), and convergence flags."""
+        with np.errstate(divide="ignore"):
+            log_target = np.log(load) - math.log(self.reference_load) + math.log(0.75)
+        return inverse_log_gw_integral(1.5, log_target, self.distribution)
+
+    def _curve(self, separation: np.ndarray, quantities: dict[str, np.ndarray],
+               load: np.ndarray | None = None, **extras: np.ndarray) -> ContactCurve:
+        load = quantities["load"] if load is None else load
+        stiffness = quantities["stiffness"]
+        return ContactCurve(
+            separation=separation, load=load, area=quantities["area"],
+            mean_pressure=load / self.area, nominal_area=self.area, e_star=self.e_star,
+            contacts=quantities["contacts"], stiffness=stiffness,
+            conductance=2.0 * stiffness / self.e_star, extras=extras)
+
+
+@dataclass(frozen=True)
+class GreenwoodWilliamson(_SummitHeightTheory):
+    """Greenwood-Williamson theory of independent Hertzian summits (paper eq. 1).
+
+    Parameters
+    ----------
+    density : float
+        Summit density eta = N/A [1/length^2].
+    radius : float
+        Summit radius of curvature R [length].
+    sigma : float
+        Standard deviation of the summit heights sigma [length] (not the rms of the surface).
+    mean : float, keyword-only
+        Mean summit height mu_s above the mean plane of the surface heights [length]. For
+        exponential heights, the origin of the law (1/sigma) exp(-(z - mu_s)/sigma).
+    e_star : float, keyword-only
+        Composite modulus E* [pressure].
+    area : float, keyword-only
+        Nominal contact area A = L^2 [length^2].
+    distribution : {"gaussian", "exponential"}, keyword-only
+        Summit-height law (see :func:`asperity.gw_integral`).
+
+    Examples
+    --------
+    >>> gw = GreenwoodWilliamson(density=500.0, radius=1e-4, sigma=1e-3, area=1.0)
+    >>> curve = gw.at_separation([0.0, 1e-3, 2e-3])
+    >>> curve.load, curve.area, curve.stiffness      # doctest: +SKIP
+    """
+
+    def at_separation(self, separation: ArrayLike) -> ContactCurve:
+        """Contact curve at separations d [length] (any shape; +inf means out of contact).
+
+        Returns a :class:`bem.ContactCurve` with separation, load, area, contacts, stiffness
+        (S = -dW/dd), conductance (2S/E*) and mean_pressure (W/A).
+        """
+        d = _separations(separation)
+        return self._curve(d, self._gw_quantities(self._reduced(d)))
+
+    def at_load(self, load: ArrayLike) -> ContactCurve:
+        """Contact curve at total loads W [force] (any shape; W = 0 gives separation +inf).
+
+        F_3/2 is inverted in logarithmic form, so loads far below the reference
+        ``W_ref = eta E* R^(1/2) sigma^(3/2) A`` (down to the smallest positive double) still
+        give a finite separation. The curve's ``load`` is the requested load; extras:
+        ``converged`` (bool per point).
+        """
+        w = _loads(load)
+        h, converged = self._reduced_at_load(w)
+        _warn_unconverged(converged, "GW load inversion")
+        d = self.mean + self.sigma * h
+        return self._curve(d, self._gw_quantities(h), load=w, converged=converged)
+
+
+@dataclass(frozen=True)
+class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
+    """Improved GW theory: GW plus the uniform interaction of the mean pressure (eq. 2).
+
+    Parameters are those of :class:`GreenwoodWilliamson`, plus
+
+    m : float, keyword-only
+        Interaction factor: the mean displacement of a uniform pressure p over the compact
+        nominal area is ``m p sqrt(A) / E*`` (0.96 circle, 0.95 square, 0.9464 the exact mean
+        over a square; the paper takes 1). ``m = 0`` recovers GW theory.
+    one_iteration : bool, keyword-only
+        If true, :meth:`at_separation` uses the paper's footnote approximation: the GW
+        pressure at d estimates the interaction, ``d1 = d + m W_GW(d)/(E* sqrt A)``; its load
+        is W_GW(d1). The approximation loses monotonicity where ``2 m C F_1/2(h) > 1``.
+        :meth:`at_load` needs no iteration (the load gives d1 directly) and is exact in both
+        modes, so at_load does not invert the approximate curve.
+
+    The curves carry extras ``effective_separation`` (d1 [length]) and ``gw_stiffness`` (S1,
+    the GW stiffness dW/dd1 [force/length]); ``stiffness`` is the true dW/dd from
+    ``1/S = 1/S1 + m/(E* sqrt A)``.
+    """
+
+    _: KW_ONLY
+    m: float = 1.0
+    one_iteration: bool = False
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        try:
+            m = float(self.m)
+        except (TypeError, ValueError):
+            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}") from None
+        if not (math.isfinite(m) and m >= 0):
+            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}")
+        object.__setattr__(self, "m", m)
+        if not isinstance(self.one_iteration, (bool, np.bool_)):
+            raise ValueError(f"one_iteration must be True or False, got {self.one_iteration!r}")
+        object.__setattr__(self, "one_iteration", bool(self.one_iteration))
+
+    @property
+    def greenwood_williamson(self) -> GreenwoodWilliamson:
+        """The plain GW theory with the same summits (no interaction)."""
+        return GreenwoodWilliamson(self.density, self.radius, self.sigma, mean=self.mean,
+                                   e_star=self.e_star, area=self.area,
+                                   distribution=self.distribution)
+
+    @property
+    def interaction_compliance(self) -> float:
+        """m / (E* sqrt A) [length/force]: the uniform lowering per unit total load."""
+        return self.m / (self.e_star * math.sqrt(self.area))
+
+    def _improved_curve(self, separation: np.ndarray, h1: np.ndarray, load: np.ndarray | None,
+                        **extras: np.ndarray) -> ContactCurve:
+        quantities = self._gw_quantities(h1)
+        gw_stiffness = quantities["stiffness"]
+        quantities["stiffness"] = gw_stiffness / (1.0 + self.interaction_compliance * gw_stiffness)
+        effective = self.mean + self.sigma * h1
+        return self._curve(separation, quantities, load=load, effective_separation=effective,
+                           gw_stiffness=gw_stiffness, **extras)
+
+    def effective_reduced_separation(self, h: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """Solve ``h = h1 - (4/3) m C F_3/2(h1)`` for h1 (exact eq. 2), elementwise.
+
+        The right side increases strictly with h1 (slope ``1 + 2 m C F_1/2 >= 1``) and is
+        concave, so Newton's iteration from the bracket's left end ``h1 = h`` rises
+        monotonically to the root; the bracket is ``[h, h + (4/3) m C F_3/2(h)]``.
+        Returns ``(h1, converged)``.
+        """
+        h = np.asarray(h, dtype=float)
+        k = (4.0 / 3.0) * self.m * self.interaction_parameter
+        flat = h.ravel()
+        h1 = flat.copy()                                   # +inf stays +inf
+        converged = np.ones(flat.shape, dtype=bool)
+        finite = np.isfinite(flat)
+        if k == 0 or not finite.any():
+            return h1.reshape(h.shape), converged.reshape(h.shape)
+        goal = flat[finite]
+        if self.distribution == "exponential":
+            # u = h1 - h solves u exp(u) = z, z = k Gamma(5/2) exp(-h): Lambert's W.
+            h1[finite] = goal + _lambert_w_of_exp(math.log(k * math.gamma(2.5)) - goal)
+            return h1.reshape(h.shape), converged.reshape(h.shape)
+        (f_three_halves,) = gw_integrals((1.5,), goal)
+        with np.errstate(over="ignore"):
+            upper = goal + k * f_three_halves
+        if not np.all(np.isfinite(upper)):
+            raise ValueError("separation is too far below the summits: the GW load overflows")
+
+        def function(x, index):
+            f_half, f_3_2 = gw_integrals((0.5, 1.5), x)
+            return x - k * f_3_2 - goal[index], 1.0 + 1.5 * k * f_half
+
+        root, ok, _ = monotone_root(function, goal, upper, goal, increasing=True)
+        h1[finite] = root
+        converged[finite] = ok
+        return h1.reshape(h.shape), converged.reshape(h.shape)
+
+    def at_separation(self, separation: ArrayLike) -> ContactCurve:
+        """Contact curve at separations d [length] (eq. 2 solved exactly, or one iteration).
+
+        Extras: ``effective_separation`` d1, ``gw_stiffness`` S1 and, for the exact solve,
+        ``converged``.
+        """
+        d = _separations(separation)
+        h = self._reduced(d)
+        if self.one_iteration:
+            (f_three_halves,) = gw_integrals((1.5,), h, self.distribution)
+            with np.errstate(over="ignore", invalid="ignore"):
+                h1 = h + (4.0 / 3.0) * self.m * self.interaction_parameter * f_three_halves
+            h1 = np.where(np.isinf(h), h, h1)
+            return self._improved_curve(d, h1, None)
+        h1, converged = self.effective_reduced_separation(h)
+        _warn_unconverged(converged, "improved GW effective separation")
+        return self._improved_curve(d, h1, None, converged=converged)
+
+    def at_load(self, load: ArrayLike) -> ContactCurve:
+        """Contact curve at total loads W [force]: d1 from plain GW, then d = d1 - m W/(E* sqrt A).
+
+        Exact in both modes (no iteration is involved). W = 0 gives separation +inf.
+        Extras: ``effective_separation``, ``gw_stiffness``, ``converged``.
+        """
+        w = _loads(load)
+        h1, converged = self._reduced_at_load(w)
+        _warn_unconverged(converged, "GW load inversion")
+        effective = self.mean + self.sigma * h1
+        d = effective - self.interaction_compliance * w
+        return self._improved_curve(d, h1, w, converged=converged)
+
+
+def _lambert_w_of_exp(log_z: np.ndarray) -> np.ndarray:
+    """W0(exp(log_z)) for real log_z, without overflow: Newton on u + ln u = log_z for large z."""
+    from scipy.special import lambertw
+
+    log_z = np.asarray(log_z, dtype=float)
+    out = np.empty_like(log_z)
+    small = log_z < 700.0
+    out[small] = lambertw(np.exp(log_z[small])).real
+    if (~small).any():
+        target = log_z[~small]
+        u = target - np.log(target)
+        for _ in range(8):                               # quadratic; 3-4 steps suffice
+            u = u - (u + np.log(u) - target) / (1.0 + 1.0 / u)
+        out[~small] = u
+    return out
