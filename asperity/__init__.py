@@ -11,6 +11,19 @@ from bem.curve import ContactCurve
 
 __all__ = ["ContactCurve"]
 
+# GW functions, GW and improved GW theory, Holm-Greenwood resistance, dimensionless forms.
+from asperity.gw_functions import DISTRIBUTIONS, GW_ORDERS, gw_integral, log_gw_integral  # noqa: E402
+from asperity.greenwood_williamson import GreenwoodWilliamson, ImprovedGreenwoodWilliamson  # noqa: E402
+from asperity.holm_greenwood import holm_greenwood  # noqa: E402
+from asperity.dimensionless import (  # noqa: E402
+    DimensionlessCurve, InteractionCurves, dimensionless, dimensionless_pressure,
+    interaction_curves, interaction_parameter)
+
+__all__ += ["gw_integral", "log_gw_integral", "GW_ORDERS", "DISTRIBUTIONS",
+            "GreenwoodWilliamson", "ImprovedGreenwoodWilliamson", "holm_greenwood",
+            "dimensionless", "DimensionlessCurve", "dimensionless_pressure",
+            "interaction_parameter", "interaction_curves", "InteractionCurves"]
+
 # Summits of a height map and the discrete asperity model with first-order interaction.
 from asperity.summits import Summits, find_summits, summits_from_arrays, summits_to_arrays  # noqa: E402
 from asperity.discrete import DISCRETE_QUANTITIES, DiscreteAsperityModel, ValidityWarning  # noqa: E402
