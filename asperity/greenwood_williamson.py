@@ -296,7 +296,9 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
             return h1.reshape(h.shape), converged.reshape(h.shape)
         (f_three_halves,) = gw_integrals((1.5,), goal)
         with np.errstate(over="ignore"):
-            upper = goal + k * f_three_halves
+            # Widened by 1e-9 relative (plus a few ulp) so that the first Newton step from the
+            # left, which lands just below the exact bound, stays strictly inside.
+            upper = goal + k * f_three_halves * (1 + 1e-9) + 1e-15 * np.maximum(1, np.abs(goal))
         if not np.all(np.isfinite(upper)):
             raise ValueError("separation is too far below the summits: the GW load overflows")
 

@@ -357,8 +357,10 @@ def monotone_root(function, lower: np.ndarray, upper: np.ndarray, start: np.ndar
 
     ``function(x, index)`` returns ``(value, derivative)`` at the points ``x`` for the
     elements ``index`` of the problem. The root of element i lies in ``[lower[i], upper[i]]``.
-    A Newton step that leaves the current bracket (or is not finite) is replaced by the
-    bracket midpoint, so the iteration cannot diverge. Stopping test, elementwise:
+    A Newton step that does not fall strictly inside the current bracket (or is not finite)
+    is replaced by the bracket midpoint, so the iteration cannot diverge, and rounding noise
+    that bounces Newton between two neighbouring points ends by the bracket-width test. Give
+    bounds a little outside the root's known interval, so that Newton does not land on them. Stopping test, elementwise:
     ``value == 0`` or ``|x_new - x| <= 4 eps max(1, |x_new|)`` or
     ``upper - lower <= 4 eps max(1, |x_new|)``.
 
@@ -383,11 +385,14 @@ def monotone_root(function, lower: np.ndarray, upper: np.ndarray, start: np.ndar
         lo[active], hi[active] = lo_a, hi_a
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             proposal = xa - value / derivative
-        bisect = ~np.isfinite(proposal) | (proposal <= lo_a) | (proposal >= hi_a)
+        tolerance = eps4 * np.maximum(1.0, np.abs(xa))
+        # A Newton step below the tolerance means convergence, even when rounding puts the
+        # proposal on the bracket's edge (x itself): test it before falling back to bisection.
+        small_step = np.abs(proposal - xa) <= tolerance
+        bisect = ~small_step & (~np.isfinite(proposal) | (proposal <= lo_a) | (proposal >= hi_a))
         proposal = np.where(bisect, 0.5 * lo_a + 0.5 * hi_a, proposal)
-        tolerance = eps4 * np.maximum(1.0, np.abs(proposal))
         exact = g == 0
-        done = exact | (np.abs(proposal - xa) <= tolerance) | (hi_a - lo_a <= tolerance)
+        done = exact | small_step | (hi_a - lo_a <= tolerance)
         x[active] = np.where(exact, xa, proposal)
         converged[active[done]] = True
         active = active[~done]

@@ -349,3 +349,42 @@ def test_property_loads_over_15_decades(model, exponents):
             # Back through the separation-controlled path (the exact solve for improved GW).
             again = theory.at_separation(curve.separation)
             np.testing.assert_allclose(again.load, loads, rtol=1e-9)
+
+
+# --------------------------------------------------------------------------------------------
+# the root finder and its convergence report
+
+def test_monotone_root_solves_and_reports():
+    from asperity.gw_functions import monotone_root
+
+    targets = np.array([1e-6, 0.5, 8.0, 1e6])
+
+    def cube(x, index):
+        return x ** 3 - targets[index], 3 * x ** 2
+
+    root, converged, iterations = monotone_root(cube, np.zeros(4), np.full(4, 200.0),
+                                                np.full(4, 200.0), increasing=True)
+    np.testing.assert_allclose(root, np.cbrt(targets), rtol=1e-14)
+    assert converged.all() and iterations < 60
+    # Decreasing functions, started anywhere inside the bracket.
+    root, converged, _ = monotone_root(lambda x, i: (targets[i] - x ** 3, -3 * x ** 2),
+                                       np.zeros(4), np.full(4, 200.0), np.full(4, 1.0),
+                                       increasing=False)
+    np.testing.assert_allclose(root, np.cbrt(targets), rtol=1e-14)
+    _, converged, iterations = monotone_root(cube, np.zeros(4), np.full(4, 200.0),
+                                             np.full(4, 200.0), increasing=True,
+                                             max_iterations=2)
+    assert iterations == 2 and not converged.all()
+
+
+def test_unconverged_solves_warn_and_say_so(monkeypatch):
+    import functools
+
+    import asperity.greenwood_williamson as module
+    from bem.warnings import ConvergenceWarning
+
+    monkeypatch.setattr(module, "monotone_root",
+                        functools.partial(module.monotone_root, max_iterations=1))
+    with pytest.warns(ConvergenceWarning, match="did not converge"):
+        curve = improved().at_separation(PARAMETERS["mean"] + SIGMA * np.array([-2.0, 0.0]))
+    assert not curve.converged.all()
