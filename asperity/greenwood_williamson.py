@@ -32,6 +32,7 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike
+from scipy.special import lambertw
 
 from bem.curve import ContactCurve
 from bem.warnings import ConvergenceWarning
@@ -136,12 +137,13 @@ class _SummitHeightTheory:
         """Contacts, area, load and stiffness of plain GW theory at reduced separation h."""
         f0, f_half, f1, f_three_halves = gw_integrals(_GW_ORDERS_USED, h, self.distribution)
         n = self.summit_count
-        return dict(
-            contacts=n * f0,
-            area=math.pi * n * self.radius * self.sigma * f1,
-            load=(4.0 / 3.0) * self.reference_load * f_three_halves,
-            stiffness=2.0 * self.reference_load / self.sigma * f_half,
-        )
+        with np.errstate(over="ignore"):             # absurdly deep contact: +inf, not NaN
+            return dict(
+                contacts=n * f0,
+                area=math.pi * n * self.radius * self.sigma * f1,
+                load=(4.0 / 3.0) * self.reference_load * f_three_halves,
+                stiffness=2.0 * self.reference_load / self.sigma * f_half,
+            )
 
     def _reduced_at_load(self, load: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """h with (4/3) W_ref F_3/2(h) = load (h = +inf at zero load), and convergence flags."""
@@ -345,8 +347,6 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
 
 def _lambert_w_of_exp(log_z: np.ndarray) -> np.ndarray:
     """W0(exp(log_z)) for real log_z, without overflow: Newton on u + ln u = log_z for large z."""
-    from scipy.special import lambertw
-
     log_z = np.asarray(log_z, dtype=float)
     out = np.empty_like(log_z)
     small = log_z < 700.0
