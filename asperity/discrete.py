@@ -27,16 +27,26 @@ Solver
   sums, never a dense N x N matrix); under load control the separation is a further unknown and
   a second solve with the right side 1 eliminates it (bordered system).
 * globalisation: Armijo backtracking on ``||Phi||`` with projection onto delta >= 0; along a path
-  the previous solution (plus the tangent ``d delta / d d``) is the warm start, and a step that
-  does not converge is split in two, recursively (at most 2^8 sub-steps).
+  the previous solution (plus the tangent ``d delta / d d``) is the warm start, a step that
+  does not converge is split in two, recursively (depth <= 8, at most 10 max_iter Newton
+  iterations per requested point); the last resorts are a cold start from the mean-field
+  estimate and a continuation in the interaction strength from independent Hertz contacts (they
+  find the other branch after a snap-through, e.g. one very large summit suddenly pressing its
+  neighbours out of contact).
 
 The symmetric matrix ``I + S^1/2 G S^1/2`` is the Hessian of the energy
 ``sum_i int delta_i dP_i + P^T G P / 2 - sum_i (z_i - d) P_i`` (in the scaled variables). The
 point-force kernel has a zero diagonal and is indefinite, so when neighbouring asperities are
-heavily loaded (contact radii comparable to their distance) the Hessian can lose positive
-definiteness: the first-order model then no longer has a unique, stable solution. Conjugate
-gradients detect this (a direction of non-positive curvature); the solve then falls back to
-MINRES, the point is flagged ``stable = False`` and a :class:`ValidityWarning` is issued.
+heavily loaded (contact radii comparable to their distance; for two equal asperities a distance
+s apart exactly when ``a > pi s / 2``) the Hessian loses positive definiteness: the first-order
+model then no longer has a unique, stable solution. Each converged point is checked (diagonal
+dominance certifies definiteness; otherwise 30 Lanczos steps search for negative curvature, as
+do the conjugate-gradient solves, which then fall back to MINRES); a point found indefinite is
+flagged ``stable = False`` and a :class:`ValidityWarning` is issued. Overlapping contact spots
+(``a_i + a_j > r_ij``, an earlier sign of the same limit) are counted per point in the
+``overlapping_spots`` extra. The solver never loops without bound: every (sub-)step stops after
+``max_iter`` Newton iterations, on stagnation, or when the line search fails, and reports
+``converged = False`` with a :class:`bem.warnings.ConvergenceWarning`.
 
 Stiffness is the exact incremental stiffness of the converged discrete system,
 ``S = -dW/dd = s^T (I + S^1/2 G_AA S^1/2)^{-1} s`` with ``s = S^1/2 1`` (the linearisation of (*)
@@ -50,6 +60,7 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.linalg
 import scipy.optimize
 import scipy.sparse.linalg
 
@@ -67,15 +78,16 @@ DISCRETE_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure"
 _DEFAULT_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
                        "conductance")
 _MAX_SPLIT_DEPTH = 8
+_WORK_PER_POINT = 10        # Newton iterations per requested point, in units of max_iter
 _ARMIJO = 1e-4
 _MIN_STEP = 2.0 ** -12
 
 
 class ValidityWarning(UserWarning):
-    """The first-order interaction model is outside its validity at some points: contact spots
-    overlap, or the linearised system lost positive definiteness (the solution may not be
-    unique). Both happen when contact radii become comparable to the distance between loaded
-    asperities."""
+    """The linearised first-order interaction system lost positive definiteness at some points:
+    the solution may not be unique (contact radii comparable to the distance between loaded
+    asperities). Overlapping contact spots, an earlier sign of the same limit, are only counted
+    in the ``overlapping_spots`` extra, not warned about."""
 
 
 @dataclass
@@ -101,7 +113,7 @@ class _Solution:
     converged: bool
     iterations: int
     residual: float
-    stable: bool
+    stable: bool | None      # None until checked (see DiscreteAsperityModel._is_stable)
     tangent: np.ndarray | None = None   # -d delta / d d on the active set (full length)
     stiffness: float | None = None
 
@@ -210,6 +222,8 @@ class DiscreteAsperityModel:
         self._uniform = 0.0 if m is None else m / (e_star * math.sqrt(summits.area))
         self.operator = (PointForceInteraction.from_summits(summits, e_star=e_star, method=method)
                          if self.interaction else None)
+        self._coupling = 1.0      # < 1 only inside the interaction-strength homotopy
+        self._work_left = 0
 
     # ------------------------------------------------------------------ public API
     def at_separation(self, separation, *, quantities=_DEFAULT_QUANTITIES) -> ContactCurve:
@@ -238,6 +252,7 @@ class DiscreteAsperityModel:
         solutions: list[_Solution | None] = [None] * values.size
         state = self._first_contact()
         for index in order:
+            self._work_left = _WORK_PER_POINT * self.max_iter
             state = self._path_step_separation(state, float(values[index]), 0,
                                                want_tangent="stiffness" in want or
                                                "conductance" in want)
@@ -262,6 +277,7 @@ class DiscreteAsperityModel:
         previous_load = 0.0
         for index in order:
             target = float(values[index])
+            self._work_left = _WORK_PER_POINT * self.max_iter
             state = self._path_step_load(state, previous_load, target, 0)
             previous_load = target
             solutions[index] = state
@@ -300,6 +316,8 @@ class DiscreteAsperityModel:
         u = np.zeros(targets.size)
         if self.operator is not None and sources.size and targets.size:
             u += self.operator.displacement(forces, sources=sources, targets=targets)
+            if self._coupling != 1.0:
+                u *= self._coupling
         if self._uniform:
             u += self._uniform * total
         return u
@@ -344,8 +362,12 @@ class DiscreteAsperityModel:
         kernel = self.operator.linear_map(active) if self.operator is not None else None
         uniform = self._uniform
 
+        coupling = self._coupling
+
         def apply_h(values):
             out = kernel(values) if kernel is not None else np.zeros_like(values)
+            if coupling != 1.0:
+                out *= coupling
             if uniform:
                 out = out + uniform * values.sum()
             return out
@@ -369,7 +391,6 @@ class DiscreteAsperityModel:
         """
         delta = np.maximum(delta, 0.0)
         state = self._evaluate(delta, separation, target_load)
-        stable = True
         iterations = 0
         history = [state.residual]
         while state.residual > self.tol and iterations < self.max_iter:
@@ -390,11 +411,9 @@ class DiscreteAsperityModel:
             rtol = min(1e-2, max(0.1 * state.residual, 1e-3 * self.tol))
             step_separation = 0.0
             if active.size:
-                # Definiteness of the latest linearisation (the last one is nearest the solution).
-                x, stable = self._solve_active(active, s_half, rhs, rtol)
+                x, _ = self._solve_active(active, s_half, rhs, rtol)
                 if target_load is not None:
-                    v, definite = self._solve_active(active, s_half, np.ones(active.size), rtol)
-                    stable &= definite
+                    v, _ = self._solve_active(active, s_half, np.ones(active.size), rtol)
                     stiffness = float(s_half ** 2 @ v)
                     if not stiffness > 0:
                         break        # no loaded asperity to carry the load: restart upstream
@@ -420,7 +439,7 @@ class DiscreteAsperityModel:
             state = candidate
             history.append(state.residual)
         solution = _Solution(state.delta, state.separation, state.residual <= self.tol,
-                             iterations, state.residual, stable)
+                             iterations, state.residual, None)
         return solution, state
 
     def _tangent(self, solution: _Solution, state: _State, rtol=1e-12) -> None:
@@ -433,7 +452,8 @@ class DiscreteAsperityModel:
         s_half = np.sqrt(self._contact_stiffness(solution.delta, active))
         v, definite = self._solve_active(active, s_half, np.ones(active.size), rtol)
         tangent[active] = v
-        solution.stable = definite          # the linearisation at the solution itself
+        if not definite:                    # negative curvature met at the solution itself
+            solution.stable = False
         solution.tangent = tangent
         solution.stiffness = float(s_half ** 2 @ v)
 
@@ -444,6 +464,15 @@ class DiscreteAsperityModel:
 
     def _path_step_separation(self, previous: _Solution, separation: float, depth: int,
                               want_tangent: bool) -> _Solution:
+        """Solve at ``separation`` from the solution ``previous`` on the path.
+
+        Warm start (previous approaches plus the tangent); if Newton's method fails, split the
+        step in two recursively; at the top level, as last resorts, start cold from the
+        mean-field estimate, then continue in the interaction strength (:meth:`_homotopy`):
+        this finds a solution on another branch when the path went through a fold, e.g. one
+        very large summit suddenly pressing its neighbours out of contact. The work per point
+        is bounded.
+        """
         if separation >= self._z.max():
             result = self._first_contact()
             result.separation = separation
@@ -455,13 +484,27 @@ class DiscreteAsperityModel:
         else:
             guess = self._mean_field_guess(separation)
         solution, state = self._newton(guess, separation)
-        if not solution.converged and depth < _MAX_SPLIT_DEPTH:
+        spent = solution.iterations
+        self._work_left -= solution.iterations
+        if not solution.converged and depth < _MAX_SPLIT_DEPTH and self._work_left > 0:
             middle = 0.5 * (previous.separation + separation)
             half = self._path_step_separation(previous, middle, depth + 1, True)
+            spent += half.iterations
             if half.converged:
                 retry = self._path_step_separation(half, separation, depth + 1, want_tangent)
-                retry.iterations += solution.iterations + half.iterations
-                return retry
+                spent += retry.iterations
+                if retry.converged:
+                    retry.iterations = spent
+                    return retry
+        if not solution.converged and depth == 0:
+            cold, cold_state = self._newton(self._mean_field_guess(separation), separation)
+            spent += cold.iterations
+            if not cold.converged:
+                cold, cold_state = self._homotopy(separation, None)
+                spent += cold.iterations
+            if cold.converged:
+                solution, state = cold, cold_state
+        solution.iterations = spent
         if want_tangent or depth > 0:
             self._tangent(solution, state)
         return solution
@@ -488,7 +531,9 @@ class DiscreteAsperityModel:
         upper = excess(0.0)
         if coefficient == 0.0 or upper <= 0.0:
             return np.maximum(interference, 0.0)
-        load = scipy.optimize.brentq(excess, 0.0, upper, rtol=1e-6)
+        load = scipy.optimize.brentq(excess, 0.0, upper, xtol=max(1e-9 * upper,
+                                                                  np.finfo(float).tiny),
+                                     rtol=1e-6)
         return np.maximum(interference - coefficient * load, 0.0)
 
     def _hertz_separation(self, load: float) -> float:
@@ -501,30 +546,79 @@ class DiscreteAsperityModel:
             return float(np.sum(self._hertz * np.maximum(self._z - d, 0.0) ** 1.5)) - load
         if excess(lower) <= 0:
             return lower
-        return scipy.optimize.brentq(excess, lower, top, xtol=1e-15 * max(1.0, abs(top)),
+        return scipy.optimize.brentq(excess, lower, top,
+                                     xtol=max(1e-14 * (top - lower), np.finfo(float).tiny),
                                      rtol=4 * np.finfo(float).eps)
 
     def _path_step_load(self, previous: _Solution, previous_load: float, load: float,
                         depth: int) -> _Solution:
+        """Load-control counterpart of :meth:`_path_step_separation` (same fallbacks)."""
         if load == 0.0:
             return self._first_contact()
         if previous_load > 0 and previous.stiffness:
             delta, separation = previous.delta, previous.separation
         else:
-            # Mean-field start: independent Hertz contacts all lowered by the uniform estimate.
-            separation = self._hertz_separation(load)
-            delta = np.maximum(self._z - separation, 0.0)
-            separation -= self._mean_field_coefficient() * load
+            delta, separation = self._mean_field_start(load)
         solution, state = self._newton(delta, separation, target_load=load)
-        if not solution.converged and depth < _MAX_SPLIT_DEPTH:
+        spent = solution.iterations
+        self._work_left -= solution.iterations
+        if not solution.converged and depth < _MAX_SPLIT_DEPTH and self._work_left > 0:
             middle = (math.sqrt(previous_load * load) if previous_load > 0 else 0.25 * load)
             half = self._path_step_load(previous, previous_load, middle, depth + 1)
+            spent += half.iterations
             if half.converged:
                 retry = self._path_step_load(half, middle, load, depth + 1)
-                retry.iterations += solution.iterations + half.iterations
-                return retry
+                spent += retry.iterations
+                if retry.converged:
+                    retry.iterations = spent
+                    return retry
+        if not solution.converged and depth == 0:
+            cold, cold_state = self._newton(*self._mean_field_start(load), target_load=load)
+            spent += cold.iterations
+            if not cold.converged:
+                cold, cold_state = self._homotopy(self._hertz_separation(load), load)
+                spent += cold.iterations
+            if cold.converged:
+                solution, state = cold, cold_state
+        solution.iterations = spent
         self._tangent(solution, state)
         return solution
+
+    def _homotopy(self, separation: float, target_load: float | None):
+        """Continuation in the interaction strength: the pairwise kernel scaled by lambda from 0
+        (independent Hertz contacts, solved exactly) to 1, with adaptive steps. Last resort
+        when the path in separation or load went through a fold; at most 4 max_iter Newton
+        iterations."""
+        delta = np.maximum(self._z - separation, 0.0)
+        reached, step, spent = 0.0, 0.25, 0
+        solution = state = None
+        try:
+            while spent < 4 * self.max_iter and step >= 2.0 ** -10:
+                self._coupling = min(1.0, reached + step)
+                trial, trial_state = self._newton(delta, separation, target_load)
+                spent += trial.iterations
+                if trial.converged:
+                    reached = self._coupling
+                    delta, separation = trial.delta, trial.separation
+                    solution, state = trial, trial_state
+                    if reached == 1.0:
+                        break
+                    step *= 1.5
+                else:
+                    step *= 0.5
+        finally:
+            self._coupling = 1.0
+        if solution is None or reached < 1.0:
+            solution, state = self._newton(delta, separation, target_load)
+            spent += solution.iterations
+        solution.iterations = spent
+        return solution, state
+
+    def _mean_field_start(self, load: float) -> tuple[np.ndarray, float]:
+        """Independent Hertz contacts carrying ``load``, all lowered by the mean-field estimate."""
+        separation = self._hertz_separation(load)
+        delta = np.maximum(self._z - separation, 0.0)
+        return delta, separation - self._mean_field_coefficient() * load
 
     # ------------------------------------------------------------------ output
     def _curve(self, solutions: list[_Solution], want: frozenset) -> ContactCurve:
@@ -535,14 +629,12 @@ class DiscreteAsperityModel:
         load = forces.sum(axis=1)
         separation = np.array([s.separation for s in solutions])
         converged = np.array([s.converged for s in solutions], dtype=bool)
-        stable = np.array([s.stable for s in solutions], dtype=bool)
         extras = {
             "contact_radii": radius,
             "forces": forces,
             "converged": converged,
             "iterations": np.array([s.iterations for s in solutions], dtype=int),
             "residual": np.array([s.residual for s in solutions]),
-            "stable": stable,
         }
         stiffness = conductance = None
         if "stiffness" in want or "conductance" in want:
@@ -554,8 +646,11 @@ class DiscreteAsperityModel:
                 conductance = 2.0 * stiffness / self.e_star
             if "stiffness" not in want:
                 stiffness = None
-            stable = np.array([s.stable for s in solutions], dtype=bool)
-            extras["stable"] = stable
+        for s in solutions:
+            if s.stable is None:
+                s.stable = self._is_stable(s.delta)
+        stable = np.array([s.stable for s in solutions], dtype=bool)
+        extras["stable"] = stable
         if "holm_greenwood" in want:
             extras["holm_greenwood_conductance"] = self._holm_greenwood(radius)
         if not converged.all():
@@ -567,19 +662,55 @@ class DiscreteAsperityModel:
                 f"extras", ConvergenceWarning, stacklevel=3)
         overlapping = self._overlapping_spots(radius)
         extras["overlapping_spots"] = overlapping
-        if self.interaction and (not stable.all() or overlapping.any()):
+        if not stable.all():
             warnings.warn(
-                f"discrete asperity model: at {int(np.count_nonzero(~stable | (overlapping > 0)))}"
-                f" of {count} points the first-order point-force interaction is outside its "
-                "validity (contact spots overlap, or the linearised system is not positive "
-                "definite so the solution may not be unique): contact radii are comparable to "
-                "the distance between loaded asperities; see the 'overlapping_spots' and "
-                "'stable' extras", ValidityWarning, stacklevel=3)
+                f"discrete asperity model: at {int(np.count_nonzero(~stable))} of {count} points "
+                "the linearised first-order interaction system is not positive definite, so the "
+                "solution may not be unique: contact radii are comparable to the distance "
+                "between loaded asperities and the point-force model is outside its validity; "
+                "see the 'stable' and 'overlapping_spots' extras", ValidityWarning, stacklevel=3)
         return ContactCurve(
             separation=separation, load=load, area=np.pi * np.sum(radius ** 2, axis=1),
             mean_pressure=load / self.summits.area, nominal_area=self.summits.area,
             e_star=self.e_star, contacts=np.count_nonzero(delta > 0, axis=1).astype(float),
             stiffness=stiffness, conductance=conductance, extras=extras)
+
+    def _is_stable(self, delta: np.ndarray) -> bool:
+        """Whether the converged point is a strict energy minimum (as far as can be detected).
+
+        The scaled Hessian ``I + S^1/2 G S^1/2`` on the loaded asperities is certified positive
+        definite when it is diagonally dominant (every row sum ``s_i sum_j G_ij s_j < 1``);
+        otherwise 30 Lanczos steps (full reorthogonalisation, fixed pseudo-random start) look for
+        a negative Rayleigh quotient, which proves indefiniteness. A negative eigenvalue that
+        those steps do not resolve can go undetected.
+        """
+        if self.operator is None:
+            return True                         # independent Hertz (+ uniform term): convex
+        loaded = np.flatnonzero(delta > 0)
+        if loaded.size < 2:
+            return True
+        s_half = np.sqrt(self._contact_stiffness(delta, loaded))
+        kernel = self.operator.linear_map(loaded, products=31)
+        if float(np.max(s_half * kernel(s_half))) < 1.0:
+            return True
+        steps = min(30, loaded.size)
+        basis = np.empty((steps, loaded.size))
+        vector = np.random.default_rng(20080101).standard_normal(loaded.size)
+        vector /= np.linalg.norm(vector)
+        alpha, beta = [], []
+        for k in range(steps):
+            basis[k] = vector
+            w = vector + s_half * kernel(s_half * vector)
+            alpha.append(float(vector @ w))
+            w -= basis[:k + 1].T @ (basis[:k + 1] @ w)      # full reorthogonalisation
+            w -= basis[:k + 1].T @ (basis[:k + 1] @ w)
+            norm = float(np.linalg.norm(w))
+            if k == steps - 1 or norm <= 1e-12 * max(1.0, abs(alpha[-1])):
+                break
+            beta.append(norm)
+            vector = w / norm
+        ritz = scipy.linalg.eigvalsh_tridiagonal(np.array(alpha), np.array(beta[:len(alpha) - 1]))
+        return bool(ritz.min() > 0.0)
 
     def _overlapping_spots(self, radius: np.ndarray) -> np.ndarray:
         """Per point, the number of contact spots that overlap one of their 8 nearest spots
@@ -603,12 +734,17 @@ class DiscreteAsperityModel:
         return out
 
     def _holm_greenwood(self, radius: np.ndarray) -> np.ndarray:
-        """Conductance 1/(R/rho) [length] of eq. (6) over the contact spots of each point."""
+        """Conductance [length] of eq. (6) over the contact spots of each point.
+
+        In the units of the curve's ``conductance`` (C (rho_1 + rho_2), Barber's analogy
+        ``2 S / E*``): ``2 / (R/rho)`` with R/rho of eq. (6) for bodies of resistivity rho each;
+        a single spot gives 4a, exactly Barber's 2 (2 E* a) / E*.
+        """
         from asperity.holm_greenwood import holm_greenwood
         out = np.zeros(radius.shape[0])
         for k, radii in enumerate(radius):
             spots = np.flatnonzero(radii > 0)
             if spots.size:
-                out[k] = 1.0 / float(holm_greenwood(self.summits.x[spots], self.summits.y[spots],
+                out[k] = 2.0 / float(holm_greenwood(self.summits.x[spots], self.summits.y[spots],
                                                     radii[spots]))
         return out
