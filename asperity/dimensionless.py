@@ -100,6 +100,8 @@ def dimensionless(curve: ContactCurve, sigma: float, length: float) -> Dimension
     conductance = None
     if curve.stiffness is not None:
         conductance = _frozen(2.0 * curve.stiffness * sigma / scale)
+    elif curve.conductance is not None:  # conductance = 2 S / E*, a length
+        conductance = _frozen(curve.conductance * sigma / length ** 2)
     return DimensionlessCurve(separation=_frozen(curve.separation / sigma),
                               load=_frozen(curve.load / scale),
                               area=_frozen(curve.area / length ** 2),

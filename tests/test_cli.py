@@ -75,7 +75,7 @@ def test_csv_numbers_match_the_library(report):
         np.testing.assert_allclose([float(r["Separation"]) for r in mine], curve.separation / sigma,
                                    rtol=1e-9)
         np.testing.assert_allclose([float(r["Conductance"]) for r in mine],
-                                   2 * curve.stiffness * sigma, rtol=1e-9)
+                                   curve.conductance * sigma, rtol=1e-9)
 
 
 def test_bad_scene_exits_non_zero_with_a_message(tmp_path):

@@ -211,7 +211,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
             curve = _curve_from_arrays(arrays)
         seconds["bem"] = time.perf_counter() - start if arrays is None else 0.0
         curves["bem"] = curve
-        loads = curve.load
+        if loads is None:  # separation path: the other models follow the reference's loads
+            loads = curve.load
 
     for model in ("gw", "improved_gw"):
         if model in task.models:
