@@ -46,6 +46,8 @@ QUANTITY_LABELS = {
     "stiffness": "Stiffness S σ/(E* L²)",
     "contacts": "contacts",
 }
+#: Quantities drawn on the validity map (contact counts are too noisy to map).
+MAP_QUANTITIES = ("area", "separation", "conductance", "stiffness")
 ERROR_LABELS = {
     "area": "relative error of area",
     "separation": "error of separation / σ",
@@ -62,6 +64,10 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def _subplots(plt, *args, **kwargs):
+    return plt.subplots(*args, layout="constrained", **kwargs)
 
 
 # --------------------------------------------------------------------------------------------
@@ -201,7 +207,7 @@ class _Writer:
 
     def figure(self, fig, name: str, caption: str) -> None:
         path = self.folder / name
-        fig.savefig(path, dpi=110, bbox_inches="tight")
+        fig.savefig(path, dpi=110)
         _pyplot().close(fig)
         self.lines.append(f"![{caption}]({name})\n")
         self.lines.append(f"*{caption}*\n")
@@ -217,7 +223,7 @@ def _theory_section(w: _Writer, result: SceneResult, rows_csv: list) -> None:
     plt = _pyplot()
     theory = result.theory
     for index, C in enumerate(theory["C"]):
-        fig, ax = plt.subplots(figsize=(5.5, 4))
+        fig, ax = _subplots(plt, figsize=(5.5, 4))
         plot_theory_load(ax, theory, C)
         w.figure(fig, f"{result.scene.name}-fig{index + 1}-C{C:g}.png",
                  f"Load against separation, GW and improved GW, C = {C:g} (paper Fig. {index + 1}).")
@@ -226,7 +232,7 @@ def _theory_section(w: _Writer, result: SceneResult, rows_csv: list) -> None:
             rows_csv.append([C, theory["m"], c.separation[k], c.effective_separation[k],
                              c.gw_pressure[k], c.improved_pressure[k], c.gw_stiffness[k],
                              c.effective_stiffness[k], c.improved_stiffness[k]])
-    fig, axes = plt.subplots(1, len(theory["C"]), figsize=(5.5 * len(theory["C"]), 4), squeeze=False)
+    fig, axes = _subplots(plt, 1, len(theory["C"]), figsize=(5.5 * len(theory["C"]), 4), squeeze=False)
     for ax, C in zip(axes[0], theory["C"]):
         plot_theory_stiffness(ax, theory, C)
     w.figure(fig, f"{result.scene.name}-fig3-stiffness.png",
@@ -278,7 +284,7 @@ def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparis
             tag = f"{scene.name}"
             has_conductance = "conductance" in scene.quantities
             panels = ["area", "load"] + (["conductance"] if has_conductance else [])
-            fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
+            fig, axes = _subplots(plt, 1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
             for ax, y in zip(axes[0], panels):
                 plot_against(ax, results, "separation", y, models=models, length=L)
             axes[0][0].legend(fontsize=8)
@@ -286,7 +292,7 @@ def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparis
                      f"Area, load{' and conductance' if has_conductance else ''} against separation, "
                      f"D = {comparison.D:g} (paper Fig. 4, BEM added; thin lines: realizations).")
             panels = ["area"] + (["conductance"] if has_conductance else [])
-            fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
+            fig, axes = _subplots(plt, 1, len(panels), figsize=(5 * len(panels), 4), squeeze=False)
             for ax, y in zip(axes[0], panels):
                 plot_against(ax, results, "load", y, models=models, length=L, logx=True)
             axes[0][0].legend(fontsize=8)
@@ -296,7 +302,7 @@ def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparis
         quantities = sorted({q for (_, q) in comparison.models}, key=["area", "separation", "conductance",
                                                                      "stiffness", "contacts"].index)
         if quantities:
-            fig, axes = plt.subplots(1, len(quantities), figsize=(5 * len(quantities), 4), squeeze=False)
+            fig, axes = _subplots(plt, 1, len(quantities), figsize=(5 * len(quantities), 4), squeeze=False)
             for ax, q in zip(axes[0], quantities):
                 plot_errors(ax, comparison, q, scene.tolerances)
             axes[0][0].legend(fontsize=7)
@@ -328,17 +334,21 @@ def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparis
                        "errors in units of σ, so 5 % means 0.05 σ):\n")
         w.lines += _md_table(header, rows)
     if len(scene.surface.D) > 1:
-        keys = sorted({k for c in comparisons for k in c.models},
+        keys = sorted({k for c in comparisons for k in c.models if k[1] in MAP_QUANTITIES},
                       key=lambda k: (list(MODEL_LABELS).index(k[0]), k[1]))
         models = list(dict.fromkeys(k[0] for k in keys))
         quantities = list(dict.fromkeys(k[1] for k in keys))
-        fig, axes = plt.subplots(len(quantities), len(models),
+        fig, axes = _subplots(plt, len(quantities), len(models),
                                  figsize=(3.6 * len(models), 3.0 * len(quantities)), squeeze=False)
         mesh = None
         for i, q in enumerate(quantities):
             for j, m in enumerate(models):
                 drawn = plot_validity_map(axes[i][j], comparisons, m, q, scene.tolerances)
                 mesh = drawn[0]
+        for ax in axes[:-1].ravel():
+            ax.set_xlabel("")
+        for ax in axes[:, 1:].ravel():
+            ax.set_ylabel("")
         fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)")
         w.figure(fig, f"{scene.name}-validity-map.png",
                  "Validity map: |mean error| of each model against the BEM over load and D; white "

@@ -103,18 +103,21 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
     if scene.kind == "theory":
         return []
     tasks = []
+    # Whether the reference error is estimated is a property of the scene, not of a
+    # realization: leaving it out of the task lets scenes share identical realizations.
+    bem_settings = replace(scene.bem, reference_error=False)
     for D in scene.surface.D:
         surface = replace(scene.surface, D=(D,))
         for k in range(scene.realizations):
             tasks.append(RealizationTask(surface=surface, seed=scene.seed + k, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
-                                         quantities=scene.quantities, bem=scene.bem,
+                                         quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir))
         if "bem" in scene.models and scene.bem.reference_error:
             fine = replace(surface, n=2 * surface.n)
             tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
                                          loads=scene.loads, models=("bem",), m=scene.m,
-                                         quantities=scene.quantities, bem=scene.bem,
+                                         quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir, purpose="reference-error"))
     return tasks
 
