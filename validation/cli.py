@@ -1,4 +1,4 @@
-"""Command line: ``python -m validation {report,list,show}``.
+"""Command line: ``python -m validation {report,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode (fewer realizations, a coarser
 grid, fewer load points; about three minutes on two cores); ``--full`` runs them as written
@@ -86,6 +86,22 @@ def _show(args: argparse.Namespace) -> int:
     return 0
 
 
+def _bench(args: argparse.Namespace) -> int:
+    from validation.bench import run_bench
+
+    run_bench(args.out, quick=args.quick)
+    return 0
+
+
+def _stress(args: argparse.Namespace) -> int:
+    from validation.stress import run_stress
+
+    records = run_stress(args.out, quick=args.quick)
+    failures = [r for r in records if r.status == "FAIL"]
+    print(f"{len(records)} cases, {len(failures)} failures; table in {args.out}/stress.md")
+    return 1 if failures else 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m validation", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -110,6 +126,14 @@ def main(argv: list[str] | None = None) -> int:
     show = sub.add_parser("show", help="print a scene file and its parsed form")
     show.add_argument("scene")
     show.set_defaults(handler=_show)
+    bench = sub.add_parser("bench", help="run time against error of every method")
+    bench.add_argument("--quick", action="store_true", help="tiny sizes (seconds)")
+    bench.add_argument("--out", default="bench-out", help="output folder (default: ./bench-out)")
+    bench.set_defaults(handler=_bench)
+    stress = sub.add_parser("stress", help="numerical stress campaign")
+    stress.add_argument("--quick", action="store_true", help="small sizes (seconds)")
+    stress.add_argument("--out", default="stress-out", help="output folder (default: ./stress-out)")
+    stress.set_defaults(handler=_stress)
     args = parser.parse_args(argv)
     try:
         return args.handler(args)
