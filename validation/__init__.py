@@ -7,6 +7,9 @@ asks for, and reports of where each asperity model holds against the exact half-
 from importlib import metadata as _metadata
 
 from validation.surfaces import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
+from validation.scene import Scene, SceneError, builtin_scenes, load_scene, parse_scene
+from validation.runner import run_scenes
+from validation.compare import compare_realizations, curve_errors, validity_range
 
 try:
     __version__ = _metadata.version("asperity-validation")
@@ -14,4 +17,12 @@ except _metadata.PackageNotFoundError:  # running from a source tree that is not
     __version__ = "0.0.0+source"
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
-           "__version__"]
+           "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
+           "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__"]
+
+
+def write_report(*args, **kwargs):
+    """Write the report folder (see :func:`validation.report.write_report`; imports matplotlib)."""
+    from validation.report import write_report as write
+
+    return write(*args, **kwargs)
