@@ -207,13 +207,22 @@ class PointForceInteraction:
             np.divide(self._factor, distance, out=kernel, where=distance > 0)
             fft = RealFFT2(self._fft_shape, backend=self._fft_backend, threads=self._threads,
                            planner_effort="FFTW_ESTIMATE")
-            # The kernel is even in both offsets, so its spectrum is real (up to rounding).
-            self._spectrum = fft.forward(kernel).real.copy()
+            # The kernel is even in both offsets, so its spectrum is real (up to rounding); the
+            # 1/size of the unnormalised in-place inverse is folded into it.
+            self._spectrum = fft.forward(kernel).real / fft.size
+            fft.real_buffer.fill(0.0)          # forward() may have used it as its input
+            self._placed = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
             self._fft = fft
         return self._spectrum
 
     def _pair_block(self, targets: np.ndarray, sources: np.ndarray) -> np.ndarray:
         """Dense block ``1/(pi E* r)`` of shape (targets, sources), 0 where r = 0."""
+        if self.lattice:
+            # Look the kernel up by lattice offset: the same numbers as the formula below.
+            table = self._offset_table()
+            rows = np.abs(self._row_local[targets, None] - self._row_local[None, sources])
+            columns = np.abs(self._column_local[targets, None] - self._column_local[None, sources])
+            return table[rows, columns]
         dx = self.x[targets, None] - self.x[None, sources]
         dy = self.y[targets, None] - self.y[None, sources]
         if self.periodic:
@@ -226,6 +235,25 @@ class PointForceInteraction:
         block = np.zeros_like(dx)
         np.divide(self._factor, dx, out=block, where=dx > 0)
         return block
+
+    def _offset_table(self) -> np.ndarray:
+        """Kernel 1/(pi E* r) by absolute lattice offset (|row|, |column|); minimum image."""
+        if getattr(self, "_table", None) is None:
+            if self.periodic:
+                rows, columns = self.shape
+            else:
+                rows = int(self._row_local.max(initial=0)) + 1
+                columns = int(self._column_local.max(initial=0)) + 1
+            k = np.arange(rows, dtype=float)
+            l = np.arange(columns, dtype=float)
+            if self.periodic:
+                k = np.minimum(k, rows - k)
+                l = np.minimum(l, columns - l)
+            distance = self.spacing * np.sqrt(k[:, None] ** 2 + l[None, :] ** 2)
+            table = np.zeros_like(distance)
+            np.divide(self._factor, distance, out=table, where=distance > 0)
+            self._table = table
+        return self._table
 
     # ------------------------------------------------------------------ products
     def displacement(self, forces, *, sources=None, targets=None, method: str | None = None
@@ -262,13 +290,17 @@ class PointForceInteraction:
 
     def _fft_sum(self, forces, sources, targets):
         spectrum = self._kernel_spectrum()
-        grid = np.zeros(self._fft_shape)
+        fft = self._fft
+        grid = fft.real_buffer          # zero except where the previous call placed forces
+        grid[self._placed] = 0.0
+        placed = (self._row_local[sources], self._column_local[sources])
         # Positions are distinct, so plain assignment places every force (no accumulation).
-        grid[self._row_local[sources], self._column_local[sources]] = forces
-        product = self._fft.forward(grid)
-        product *= spectrum
-        field = self._fft.inverse(product)
-        return field[self._row_local[targets], self._column_local[targets]]
+        grid[placed] = forces
+        self._placed = placed
+        fft.execute_forward()
+        np.multiply(fft.spectrum_buffer, spectrum, out=fft.spectrum_buffer)
+        fft.execute_inverse()
+        return fft.output_buffer[self._row_local[targets], self._column_local[targets]]
 
     def _direct_sum(self, forces, sources, targets):
         out = np.empty(targets.size)
