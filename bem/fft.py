@@ -29,7 +29,7 @@ try:  # pyFFTW is optional at run time
 except ImportError:  # pragma: no cover - exercised by a subprocess test
     pyfftw = None
 
-__all__ = ["RealFFT2", "have_pyfftw", "default_threads"]
+__all__ = ["RealFFT2", "PaddedRealFFT2", "have_pyfftw", "default_threads"]
 
 _PLANNER_EFFORTS = ("FFTW_ESTIMATE", "FFTW_MEASURE", "FFTW_PATIENT", "FFTW_EXHAUSTIVE")
 
@@ -116,6 +116,9 @@ class RealFFT2:
         self.real_buffer.fill(0.0)
         self.spectrum_buffer.fill(0.0)
         self.output_buffer.fill(0.0)
+        # the names shared with PaddedRealFFT2, so a convolution can use either
+        self.input_block = self.real_buffer
+        self.output_block = self.output_buffer
 
     # -- in-place transforms between the owned buffers -------------------------------------
 
@@ -161,3 +164,105 @@ class RealFFT2:
             self._plan_inverse.execute()
             return self.output_buffer / self.size
         return scipy.fft.irfft2(spectrum, s=self.shape, workers=self.threads)
+
+
+class PaddedRealFFT2:
+    """Real 2-D FFT pair of an array zero-padded to twice its size, pruned of the zero work.
+
+    The forward transform of a ``(rows, columns)`` block placed in the corner of a
+    ``(2 rows, 2 columns)`` array of zeros, and of the inverse only the corner block: the
+    spectrum is the same as ``rfft2`` of the padded array (shape ``(2 rows, columns + 1)``), but
+    the transforms along rows run over the ``rows`` non-zero rows only (forward) and the
+    ``rows`` rows that are kept (inverse), which saves about a quarter of the work of a full
+    transform pair of the padded size. This is the linear (non-circular) convolution of the
+    DC-FFT method.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        The block's shape (rows, columns); the padded grid is twice that.
+    backend, threads, planner_effort
+        As for :class:`RealFFT2`.
+
+    Attributes
+    ----------
+    input_block : numpy.ndarray
+        float64 view of shape ``shape``: the caller writes the block here before
+        :meth:`execute_forward` (the padding is never written by the transforms).
+    spectrum_buffer : numpy.ndarray
+        complex128 array of shape ``(2 rows, columns + 1)``.
+    output_block : numpy.ndarray
+        float64 view of shape ``shape``: ``size`` times the first block of the inverse, after
+        :meth:`execute_inverse` (unnormalised, like :meth:`RealFFT2.execute_inverse`).
+    size : int
+        Number of points of the padded grid, ``4 rows columns``.
+    """
+
+    def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,
+                 planner_effort: str = "FFTW_MEASURE") -> None:
+        shape = tuple(int(s) for s in shape)
+        if len(shape) != 2 or min(shape) < 1:
+            raise ValueError(f"shape must be two positive integers, got {shape!r}")
+        if backend not in ("auto", "pyfftw", "scipy"):
+            raise ValueError(f"backend must be 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+        if backend == "pyfftw" and pyfftw is None:
+            raise ValueError("backend='pyfftw' was asked for but pyFFTW is not installed")
+        if planner_effort not in _PLANNER_EFFORTS:
+            raise ValueError(f"planner_effort must be one of {_PLANNER_EFFORTS}, got {planner_effort!r}")
+        if threads is not None and int(threads) < 1:
+            raise ValueError(f"threads must be >= 1, got {threads!r}")
+        rows, columns = shape
+        self.shape = shape
+        self.padded_shape = (2 * rows, 2 * columns)
+        self.spectrum_shape = (2 * rows, columns + 1)
+        self.size = 4 * rows * columns
+        self.threads = default_threads() if threads is None else int(threads)
+        self.backend = "pyfftw" if (backend != "scipy" and pyfftw is not None) else "scipy"
+        self._rows_in = _empty((rows, 2 * columns), np.float64)        # padded along x only
+        self._half_spectrum = _empty(self.spectrum_shape, np.complex128)  # rows >= `rows` stay 0
+        self.spectrum_buffer = _empty(self.spectrum_shape, np.complex128)
+        self._rows_out = _empty((rows, 2 * columns), np.float64)
+        if self.backend == "pyfftw":
+            flags = (planner_effort,)
+            self._plan_rows = pyfftw.FFTW(
+                self._rows_in, self._half_spectrum[:rows], axes=(1,), direction="FFTW_FORWARD",
+                flags=flags, threads=self.threads)
+            self._plan_columns = pyfftw.FFTW(
+                self._half_spectrum, self.spectrum_buffer, axes=(0,), direction="FFTW_FORWARD",
+                flags=flags, threads=self.threads)
+            self._plan_columns_inverse = pyfftw.FFTW(
+                self.spectrum_buffer, self.spectrum_buffer, axes=(0,),
+                direction="FFTW_BACKWARD", flags=flags, threads=self.threads)
+            self._plan_rows_inverse = pyfftw.FFTW(
+                self.spectrum_buffer[:rows], self._rows_out, axes=(1,),
+                direction="FFTW_BACKWARD", flags=flags + ("FFTW_DESTROY_INPUT",),
+                threads=self.threads)
+        for array in (self._rows_in, self._half_spectrum, self.spectrum_buffer, self._rows_out):
+            array.fill(0.0)
+        self.input_block = self._rows_in[:, :columns]
+        self.output_block = self._rows_out[:, :columns]
+
+    def execute_forward(self) -> None:
+        """``spectrum_buffer = rfft2(input_block zero-padded to 2 x shape)`` (unnormalised)."""
+        if self.backend == "pyfftw":
+            self._plan_rows.execute()
+            self._plan_columns.execute()
+        else:
+            rows = self.shape[0]
+            self._half_spectrum[:rows] = scipy.fft.rfft(self._rows_in, axis=1,
+                                                        workers=self.threads)
+            self.spectrum_buffer[...] = scipy.fft.fft(self._half_spectrum, axis=0,
+                                                      workers=self.threads)
+
+    def execute_inverse(self) -> None:
+        """``output_block = size * irfft2(spectrum_buffer)[:rows, :columns]``; destroys the
+        spectrum."""
+        rows = self.shape[0]
+        if self.backend == "pyfftw":
+            self._plan_columns_inverse.execute()
+            self._plan_rows_inverse.execute()
+        else:
+            columns = scipy.fft.ifft(self.spectrum_buffer, axis=0, norm="forward",
+                                     workers=self.threads)
+            self._rows_out[...] = scipy.fft.irfft(columns[:rows], n=self.padded_shape[1],
+                                                  axis=1, norm="forward", workers=self.threads)

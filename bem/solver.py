@@ -258,6 +258,9 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     load_control = total is not None
     u, g, gc, t, r, work = ws.u, ws.g, ws.g_contact, ws.t, ws.r, ws.work
     weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
+    direct_limit = operator.direct_source_limit
+    if direct_limit:
+        operator.centred_kernel  # noqa: B018 - build the influence coefficients once, up front
     operator._apply(p, u)
     reset = True
     g_norm_old = 1.0
@@ -302,8 +305,14 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         # where= and float count_nonzero are 10-50x slower than a plain pass)
         np.less(p, 0.0, out=flag)
         clipped = int(np.count_nonzero(flag))
+        sources = []  # (flat indices, values) of p_new / scale - (p_old - tau t), if few
         if clipped:
-            np.maximum(p, 0.0, out=p)
+            if clipped <= direct_limit:
+                clipping = np.flatnonzero(flag)
+                sources.append((clipping, -p.reshape(-1)[clipping]))
+                p.reshape(-1)[clipping] = 0.0
+            else:
+                np.maximum(p, 0.0, out=p)
         # points outside the contact set that overlap enter it
         np.less(g, 0.0, out=contact)
         np.equal(p, 0.0, out=flag)
@@ -311,7 +320,9 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         entered = int(np.count_nonzero(contact))
         if entered:
             entering = np.flatnonzero(contact)
-            p.reshape(-1)[entering] = -tau * g.reshape(-1)[entering]
+            values = -tau * g.reshape(-1)[entering]
+            p.reshape(-1)[entering] = values
+            sources.append((entering, values))
         reset = entered > 0
         scale = 1.0
         if load_control:
@@ -327,14 +338,19 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             # separation control and nothing left in contact: no point overlaps -> zero load
             u.fill(0.0)
             return _Outcome(p, True, iteration, 0.0, "no contact at this separation")
-        # displacement of the new pressure
+        # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
+        # made by the projection and the entering points: by direct sums when they are few,
+        # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
         since_refresh += 1
-        if clipped or entered or since_refresh >= _REFRESH_INTERVAL:
+        if (clipped > direct_limit or clipped + entered > direct_limit
+                or since_refresh >= _REFRESH_INTERVAL):
             operator._apply(p, u)
             since_refresh = 0
         else:
             np.multiply(r, tau, out=work)
             u -= work
+            for indices, values in sources:
+                operator._add_sources(indices, values, u, work)
             if scale != 1.0:
                 u *= scale
         if clipped or entered:

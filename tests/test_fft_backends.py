@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bem import HalfSpace, solve_contact
-from bem.fft import RealFFT2, have_pyfftw
+from bem.fft import PaddedRealFFT2, RealFFT2, have_pyfftw
 
 needs_pyfftw = pytest.mark.skipif(not have_pyfftw(), reason="pyFFTW is not installed")
 
@@ -29,6 +29,28 @@ def test_round_trip_and_numpy_convention(backend, shape):
     fft.execute_inverse()
     np.testing.assert_allclose(fft.output_buffer / fft.size, real, rtol=0, atol=1e-13)
     np.testing.assert_array_equal(fft.real_buffer, real)  # the forward input is never written
+
+
+@pytest.mark.parametrize("backend", ["scipy", pytest.param("pyfftw", marks=needs_pyfftw)])
+@pytest.mark.parametrize("shape", [(8, 8), (6, 11)])
+def test_padded_pair_is_the_pruned_full_pair(backend, shape):
+    rng = np.random.default_rng(5)
+    block = rng.normal(size=shape)
+    padded = np.zeros((2 * shape[0], 2 * shape[1]))
+    padded[:shape[0], :shape[1]] = block
+    fft = PaddedRealFFT2(shape, backend=backend)
+    for _ in range(2):  # the padding survives a transform pair
+        fft.input_block[...] = block
+        fft.execute_forward()
+        expected = np.fft.rfft2(padded)
+        np.testing.assert_allclose(fft.spectrum_buffer, expected, rtol=0,
+                                   atol=1e-13 * np.abs(expected).max())
+        multiplier = rng.uniform(size=fft.spectrum_shape)
+        fft.spectrum_buffer *= multiplier
+        fft.execute_inverse()
+        inverse = np.fft.irfft2(expected * multiplier, s=padded.shape)[:shape[0], :shape[1]]
+        np.testing.assert_allclose(fft.output_block / fft.size, inverse, rtol=0,
+                                   atol=1e-13 * np.abs(inverse).max())
 
 
 @needs_pyfftw
