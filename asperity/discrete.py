@@ -183,6 +183,9 @@ class DiscreteAsperityModel:
     Units: lengths in any unit, E* and pressures in one pressure unit, forces = pressure x
     length^2. The separation d is measured from the rigid plane to the mean plane of the heights
     (the reference of ``summits.height``), in the far field.
+
+    A model keeps work buffers (FFT plans, path state): use one model per thread. Results are
+    fresh arrays, never views of those buffers.
     """
 
     def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
@@ -245,7 +248,17 @@ class DiscreteAsperityModel:
         bem.ContactCurve
             With extras ``contact_radii`` and ``forces`` (points x asperities, [length] and
             [force]), ``holm_greenwood_conductance`` (1 / (R/rho) of eq. 6 [length], if asked),
-            ``converged``, ``iterations``, ``residual`` and ``stable`` (per point).
+            ``converged``, ``iterations`` (Newton iterations, all sub-steps included),
+            ``residual`` (relative, see the module docstring), ``stable`` (False where the
+            solution was found not to be a unique energy minimum) and ``overlapping_spots``
+            (contact spots overlapping a neighbouring spot: the point-force model is then
+            outside its assumptions), all per point.
+
+        Notes
+        -----
+        Cost: each Newton iteration needs one interaction product per conjugate-gradient step
+        (typically 5 to 40) plus one per line-search trial; along a path 3 to 6 iterations per
+        point. See ``benchmarks/bench_discrete.py`` for measured times.
         """
         values = self._points("separation", separation)
         want = self._quantities(quantities)
