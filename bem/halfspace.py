@@ -214,6 +214,21 @@ class HalfSpace:
         fft.execute_inverse()
         out[...] = fft.output_block
 
+    def _direction_buffers(self) -> tuple[np.ndarray, np.ndarray]:
+        """The FFT input and output blocks, views of ``shape``, for :meth:`_transform_direction`.
+
+        Any other product overwrites both.
+        """
+        return self._fft.input_block, self._fft.output_block
+
+    def _transform_direction(self) -> None:
+        """Output block = K * input block, in the FFT buffers (no copies)."""
+        fft = self._fft
+        fft.execute_forward()
+        spectrum = fft.spectrum_buffer.view(np.float64)
+        np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
+        fft.execute_inverse()
+
     # -- real-space influence coefficients ---------------------------------------------------
 
     @property

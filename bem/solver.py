@@ -254,19 +254,31 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
 
     ``total`` is the target ``sum p`` (load control; p must already sum to it), or
     ``separation`` is d (separation control). Returns with ``ws.u = K p`` exact.
+
+    Implementation notes (each full-grid pass costs about a tenth of an FFT pair, so they are
+    counted): the search direction t and its displacement r = K t live in the operator's FFT
+    buffers (no copies around the product); t is saved around the occasional full product of p
+    only when the next iteration needs it. In load control the sum of t follows the recurrence
+    t <- beta t + gc (gc sums to zero) and is summed afresh only after a step that clipped
+    pixels (t is then masked); sum p after the step follows from it and the few changed pixels
+    when they are known.
     """
     load_control = total is not None
-    u, g, gc, t, r, work = ws.u, ws.g, ws.g_contact, ws.t, ws.r, ws.work
+    u, g, gc, saved_t, work = ws.u, ws.g, ws.g_contact, ws.t, ws.work
     weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
+    t, r = operator._direction_buffers()
+    flat_p, flat_g = p.reshape(-1), g.reshape(-1)
     direct_limit = operator.direct_source_limit
     if direct_limit:
         operator.centred_kernel  # noqa: B018 - build the influence coefficients once, up front
     operator._apply(p, u)
-    reset = True
+    reset = True        # next direction is the steepest descent one (beta = 0)
+    shrunk = True       # the last step removed pixels from the contact set
     g_norm_old = 1.0
     residual = math.inf
     since_refresh = 0
     tau_fallback = None
+    t_sum = 0.0
     for iteration in range(1, max_iter + 1):
         # gap at the current state: g = u - z + d, d given or the mean of z - u on the contacts
         np.subtract(u, z, out=g)
@@ -280,17 +292,23 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         np.multiply(g, weight, out=gc)
         g_norm = _dot(gc, gc)
         # conjugate search direction on the contact set
+        # t_sum = sum of t (zero outside the contact set); gc sums to zero in load control
         if reset or g_norm_old == 0.0:
             np.copyto(t, gc)
+            t_sum = 0.0
         else:
-            np.multiply(t, weight, out=t)
-            t *= g_norm / g_norm_old
+            beta = g_norm / g_norm_old
+            if shrunk:
+                np.multiply(t, weight, out=t)
+            t *= beta
             t += gc
+            if load_control:
+                t_sum = float(t.sum()) if shrunk else beta * t_sum
         g_norm_old = g_norm
-        operator._apply(t, r)
+        operator._transform_direction()  # r = K t
         rt = _dot(r, t)
-        if load_control:
-            rt -= _dot(r, weight) / n_contact * float(t.sum())
+        if t_sum != 0.0:
+            rt -= _dot(r, weight) / n_contact * t_sum
         if rt > 0.0 and math.isfinite(rt):
             tau = _dot(gc, t) / rt
             tau_fallback = tau
@@ -306,11 +324,14 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         np.less(p, 0.0, out=flag)
         clipped = int(np.count_nonzero(flag))
         sources = []  # (flat indices, values) of p_new / scale - (p_old - tau t), if few
+        change = 0.0  # their sum
         if clipped:
             if clipped <= direct_limit:
                 clipping = np.flatnonzero(flag)
-                sources.append((clipping, -p.reshape(-1)[clipping]))
-                p.reshape(-1)[clipping] = 0.0
+                values = -flat_p[clipping]
+                flat_p[clipping] = 0.0
+                sources.append((clipping, values))
+                change += float(values.sum())
             else:
                 np.maximum(p, 0.0, out=p)
         # points outside the contact set that overlap enter it
@@ -320,17 +341,20 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         entered = int(np.count_nonzero(contact))
         if entered:
             entering = np.flatnonzero(contact)
-            values = -tau * g.reshape(-1)[entering]
-            p.reshape(-1)[entering] = values
+            values = -tau * flat_g[entering]
+            flat_p[entering] = values
             sources.append((entering, values))
-        reset = entered > 0
+            change += float(values.sum())
         scale = 1.0
         if load_control:
-            current = float(p.sum())
+            if clipped <= direct_limit:
+                current = total - tau * t_sum + change
+            else:
+                current = float(p.sum())
             if current <= 0.0:  # everything was clipped: restart from a uniform pressure
                 p.fill(total / p.size)
                 operator._apply(p, u)
-                reset = True
+                reset = shrunk = True
                 continue
             scale = total / current
             p *= scale
@@ -338,17 +362,22 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             # separation control and nothing left in contact: no point overlaps -> zero load
             u.fill(0.0)
             return _Outcome(p, True, iteration, 0.0, "no contact at this separation")
+        reset, shrunk = entered > 0, clipped > 0
         # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
         # made by the projection and the entering points: by direct sums when they are few,
         # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
         since_refresh += 1
         if (clipped > direct_limit or clipped + entered > direct_limit
                 or since_refresh >= _REFRESH_INTERVAL):
-            operator._apply(p, u)
+            if not reset:
+                np.copyto(saved_t, t)
+            operator._apply(p, u)  # overwrites the FFT buffers t and r
+            if not reset:
+                np.copyto(t, saved_t)
             since_refresh = 0
         else:
-            np.multiply(r, tau, out=work)
-            u -= work
+            np.multiply(r, tau, out=r)
+            u -= r
             for indices, values in sources:
                 operator._add_sources(indices, values, u, work)
             if scale != 1.0:

@@ -168,13 +168,18 @@ def main() -> None:
                 loads = guesses[periodic]
             for load in loads:
                 products = [0]
-                apply = operator._apply
+                apply, transform = operator._apply, operator._transform_direction
 
                 def counting(source, out, apply=apply, products=products):
                     products[0] += 1
                     apply(source, out)
 
+                def counting_direction(transform=transform, products=products):
+                    products[0] += 1
+                    transform()
+
                 operator._apply = counting
+                operator._transform_direction = counting_direction
                 times = []
                 for _ in range(repeat):
                     products[0] = 0
@@ -182,7 +187,7 @@ def main() -> None:
                     solution = bem.solve_contact(heights, 1.0 / n, load=load, operator=operator,
                                                  periodic=periodic)
                     times.append(time.perf_counter() - start)
-                operator._apply = apply
+                operator._apply, operator._transform_direction = apply, transform
                 total = statistics.median(times)
                 per_iteration = 1e3 * total / solution.iterations
                 row = (f"| {n} | {'periodic' if periodic else 'non-periodic'} | {operator.threads} "
