@@ -219,16 +219,18 @@ class PaddedRealFFT2:
         self.threads = default_threads() if threads is None else int(threads)
         self.backend = "pyfftw" if (backend != "scipy" and pyfftw is not None) else "scipy"
         self._rows_in = _empty((rows, 2 * columns), np.float64)        # padded along x only
-        self._half_spectrum = _empty(self.spectrum_shape, np.complex128)  # rows >= `rows` stay 0
         self.spectrum_buffer = _empty(self.spectrum_shape, np.complex128)
         self._rows_out = _empty((rows, 2 * columns), np.float64)
         if self.backend == "pyfftw":
+            # rows: r2c of the non-zero rows into the first half of the spectrum; columns: in
+            # place over the whole spectrum (in-place column transforms planned faster than
+            # out-of-place ones here); inverse in the reverse order, rows only for kept rows.
             flags = (planner_effort,)
             self._plan_rows = pyfftw.FFTW(
-                self._rows_in, self._half_spectrum[:rows], axes=(1,), direction="FFTW_FORWARD",
+                self._rows_in, self.spectrum_buffer[:rows], axes=(1,), direction="FFTW_FORWARD",
                 flags=flags, threads=self.threads)
             self._plan_columns = pyfftw.FFTW(
-                self._half_spectrum, self.spectrum_buffer, axes=(0,), direction="FFTW_FORWARD",
+                self.spectrum_buffer, self.spectrum_buffer, axes=(0,), direction="FFTW_FORWARD",
                 flags=flags, threads=self.threads)
             self._plan_columns_inverse = pyfftw.FFTW(
                 self.spectrum_buffer, self.spectrum_buffer, axes=(0,),
@@ -237,22 +239,22 @@ class PaddedRealFFT2:
                 self.spectrum_buffer[:rows], self._rows_out, axes=(1,),
                 direction="FFTW_BACKWARD", flags=flags + ("FFTW_DESTROY_INPUT",),
                 threads=self.threads)
-        for array in (self._rows_in, self._half_spectrum, self.spectrum_buffer, self._rows_out):
+        for array in (self._rows_in, self.spectrum_buffer, self._rows_out):
             array.fill(0.0)
         self.input_block = self._rows_in[:, :columns]
         self.output_block = self._rows_out[:, :columns]
 
     def execute_forward(self) -> None:
         """``spectrum_buffer = rfft2(input_block zero-padded to 2 x shape)`` (unnormalised)."""
+        rows = self.shape[0]
         if self.backend == "pyfftw":
             self._plan_rows.execute()
+            self.spectrum_buffer[rows:] = 0.0  # the zero rows of the padded block
             self._plan_columns.execute()
         else:
-            rows = self.shape[0]
-            self._half_spectrum[:rows] = scipy.fft.rfft(self._rows_in, axis=1,
-                                                        workers=self.threads)
-            self.spectrum_buffer[...] = scipy.fft.fft(self._half_spectrum, axis=0,
-                                                      workers=self.threads)
+            self.spectrum_buffer[...] = scipy.fft.fft(
+                scipy.fft.rfft(self._rows_in, axis=1, workers=self.threads),
+                n=2 * rows, axis=0, workers=self.threads)
 
     def execute_inverse(self) -> None:
         """``output_block = size * irfft2(spectrum_buffer)[:rows, :columns]``; destroys the

@@ -93,9 +93,10 @@ class HalfSpace:
         for its descheduled threads: a 2-thread FFT pair took 40-48 ms for any size from 128^2
         to 1024^2 here under a load of 5 on 2 cores, against 0.06-21 ms on one thread.
     planner_effort : str, optional
-        pyFFTW planner effort; default "FFTW_MEASURE" for convolution grids of 2048 x 2048
-        points or more and "FFTW_ESTIMATE" below, where measuring planned no faster transform
-        here but cost 0.3-0.7 s per grid.
+        pyFFTW planner effort; default "FFTW_MEASURE" for convolution grids of 1024 x 1024
+        points or more (planning 0.5-1.5 s once per grid size and process, FFTW keeps the
+        wisdom; up to 2x faster transforms measured here) and "FFTW_ESTIMATE" below, where
+        measuring planned no faster transforms.
 
     Attributes
     ----------
@@ -131,7 +132,7 @@ class HalfSpace:
         if threads is None:
             threads = fft_threads(self.convolution_shape)
         if planner_effort is None:
-            large = self.convolution_shape[0] * self.convolution_shape[1] >= 2048 * 2048
+            large = self.convolution_shape[0] * self.convolution_shape[1] >= 1024 * 1024
             planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
         if self.periodic:
             self._fft = RealFFT2(self.convolution_shape, backend=backend, threads=threads,
