@@ -72,6 +72,8 @@ class HalfSpace:
 
     Built once per (shape, spacing, E*, periodic): it owns the kernel spectrum and the FFT plans.
     See the module docstring for the kernels, the q = 0 convention and the FFT normalisation.
+    An operator owns work buffers, so it is not thread-safe: use one per thread (processes
+    each build their own anyway).
 
     Parameters
     ----------
@@ -108,6 +110,9 @@ class HalfSpace:
         The FFT backend actually used.
     threads : int
         FFT threads used.
+    direct_source_limit : int
+        Up to this many point sources, the solver adds their displacement by direct sums of
+        :attr:`centred_kernel` instead of an FFT product (cost model in ``__init__``).
     planner_effort : str
         pyFFTW planner effort used (ignored by the scipy backend).
     """

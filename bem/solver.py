@@ -24,11 +24,13 @@ energy ``(1/2) p.Kp - p.z`` over ``p >= 0`` at fixed ``sum p`` (d is the Lagrang
 load constraint, i.e. minimising ``(1/2) p.Kp + p.(d - z)`` over ``p >= 0`` (the
 displacement-controlled variant of Rey, Anciaux & Molinari 2017). Each iteration needs one
 half-space product of the search direction; the displacement of the pressure is updated from it
-(exactly, ``u <- c (u - tau K t)``) and recomputed by a full product whenever the contact set
-changed (the projection ``p >= 0`` acts on it), every 50 iterations, and at the end. On rough
-surfaces the set changes in most early iterations: 1.4 to 1.9 products per iteration overall
-(benchmarks/bench_bem.py). Element-wise work runs in place on preallocated arrays; inner
-products use numpy's reductions, not BLAS, whose spinning threads slow the FFT threads.
+exactly, ``u <- c (u - tau K t + K e)``, where e are the changes the projection ``p >= 0`` and
+the entering pixels make: by direct sums of influence coefficients when they touch a few pixels
+(:attr:`bem.HalfSpace.direct_source_limit`), otherwise by a full product of p, which is also
+made every 50 iterations and at the end. On rough surfaces the contact set changes in most
+iterations: 1.25 to 1.8 products per iteration overall (benchmarks/bench_bem.py). Element-wise
+work runs in place on preallocated arrays; inner products use numpy's reductions, not BLAS,
+whose spinning threads stall the FFT threads.
 
 Stiffness: the incremental problem on the converged contact set C, ``K_CC q = 1`` (unit rigid
 approach) solved by conjugate gradients; ``S = -dW/dd = h^2 sum q``, and the conductance by
