@@ -281,12 +281,18 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     since_refresh = 0
     tau_fallback = None
     t_sum = 0.0
+    flat_contact, flat_weight = contact.reshape(-1), weight.reshape(-1)
+    stale = True        # contact / weight / n_contact must be recomputed from p
+    n_contact = 0
     for iteration in range(1, max_iter + 1):
+        # contact set: recomputed after bulk changes, else kept up to date pixel by pixel
+        if stale:
+            np.greater(p, 0.0, out=contact)
+            n_contact = int(np.count_nonzero(contact))
+            np.copyto(weight, contact)
+            stale = False
         # gap at the current state: g = u - z + d, d given or the mean of z - u on the contacts
         np.subtract(u, z, out=g)
-        np.greater(p, 0.0, out=contact)
-        n_contact = int(np.count_nonzero(contact))
-        np.copyto(weight, contact)
         if load_control:
             g -= _dot(g, weight) / n_contact
         else:
@@ -332,19 +338,28 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
                 clipping = np.flatnonzero(flag)
                 values = -flat_p[clipping]
                 flat_p[clipping] = 0.0
+                flat_contact[clipping] = False
+                flat_weight[clipping] = 0.0
+                n_contact -= clipped
                 sources.append((clipping, values))
                 change += float(values.sum())
             else:
                 np.maximum(p, 0.0, out=p)
-        # points outside the contact set that overlap enter it
-        np.less(g, 0.0, out=contact)
-        np.equal(p, 0.0, out=flag)
-        np.logical_and(contact, flag, out=contact)
-        entered = int(np.count_nonzero(contact))
+                stale = True
+        # points outside the contact set that overlap enter it: p = 0 and g < 0
+        np.less(g, 0.0, out=flag)
+        if stale:
+            np.logical_and(flag, p == 0.0, out=flag)
+        else:
+            np.greater(flag, contact, out=flag)  # g < 0 and not in contact
+        entered = int(np.count_nonzero(flag))
         if entered:
-            entering = np.flatnonzero(contact)
+            entering = np.flatnonzero(flag)
             values = -tau * flat_g[entering]
             flat_p[entering] = values
+            flat_contact[entering] = True
+            flat_weight[entering] = 1.0
+            n_contact += entered
             sources.append((entering, values))
             change += float(values.sum())
         scale = 1.0
@@ -356,11 +371,11 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             if current <= 0.0:  # everything was clipped: restart from a uniform pressure
                 p.fill(total / p.size)
                 operator._apply(p, u)
-                reset = shrunk = True
+                reset = shrunk = stale = True
                 continue
             scale = total / current
             p *= scale
-        elif not p.any():
+        elif (n_contact == 0) if not stale else not p.any():
             # separation control and nothing left in contact: no point overlaps -> zero load
             u.fill(0.0)
             return _Outcome(p, True, iteration, 0.0, "no contact at this separation")
@@ -377,6 +392,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             if not reset:
                 np.copyto(t, saved_t)
             since_refresh = 0
+            stale = True  # resynchronise the contact set with p > 0
         else:
             np.multiply(r, tau, out=r)
             u -= r
