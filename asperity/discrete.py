@@ -28,11 +28,16 @@ Solver
   a second solve with the right side 1 eliminates it (bordered system).
 * globalisation: Armijo backtracking on ``||Phi||`` with projection onto delta >= 0; along a path
   the previous solution (plus the tangent ``d delta / d d``) is the warm start, a step that
-  does not converge is split in two, recursively (depth <= 8, at most 10 max_iter Newton
-  iterations per requested point); the last resorts are a cold start from the mean-field
+  does not converge is split in two, recursively (depth <= 8), and the last resorts are a cold start from the mean-field
   estimate and a continuation in the interaction strength from independent Hertz contacts (they
   find the other branch after a snap-through, e.g. one very large summit suddenly pressing its
-  neighbours out of contact).
+  neighbours out of contact). Splitting may use 6 max_iter Newton iterations per requested
+  point and the fallbacks 2 max_iter more, so a point far outside the model's validity costs
+  bounded time.
+* Newton's derivative dP/d delta = 2 E* a vanishes at delta = 0, which would hide the force of
+  an asperity entering contact from the step; entering asperities get the secant stiffness
+  P(t)/t of their trial approach t instead (the last steps, on a settled contact set, are exact
+  Newton steps).
 
 The symmetric matrix ``I + S^1/2 G S^1/2`` is the Hessian of the energy
 ``sum_i int delta_i dP_i + P^T G P / 2 - sum_i (z_i - d) P_i`` (in the scaled variables). The
@@ -79,7 +84,8 @@ DISCRETE_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure"
 _DEFAULT_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
                        "conductance")
 _MAX_SPLIT_DEPTH = 8
-_WORK_PER_POINT = 10        # Newton iterations per requested point, in units of max_iter
+_WORK_PER_POINT = 6         # Newton iterations per requested point, in units of max_iter
+_WORK_RESERVE = 2           # ... plus this much for the cold-start fallbacks
 _ARMIJO = 1e-4
 _MIN_STEP = 2.0 ** -12
 
@@ -227,7 +233,7 @@ class DiscreteAsperityModel:
         self.operator = (PointForceInteraction.from_summits(summits, e_star=e_star, method=method)
                          if self.interaction else None)
         self._coupling = 1.0      # < 1 only inside the interaction-strength homotopy
-        self._work_left = 0
+        self._work_left = math.inf   # Newton iterations left for the current point
 
     # ------------------------------------------------------------------ public API
     def at_separation(self, separation, *, quantities=_DEFAULT_QUANTITIES) -> ContactCurve:
@@ -409,10 +415,12 @@ class DiscreteAsperityModel:
         state = self._evaluate(delta, separation, target_load)
         iterations = 0
         history = [state.residual]
-        while state.residual > self.tol and iterations < self.max_iter:
+        while (state.residual > self.tol and iterations < self.max_iter
+               and self._work_left > 0):
             if iterations >= 10 and state.residual > 0.1 * history[-6]:
                 break        # stagnating (e.g. outside the model's validity): split the step
             iterations += 1
+            self._work_left -= 1
             trial = state.trial
             active = np.flatnonzero(trial > 0)
             step = -state.phi                                  # inactive: go to delta = 0
@@ -423,7 +431,13 @@ class DiscreteAsperityModel:
                 rhs -= self._interaction(change, leaving, active, float(change.sum()))
             else:
                 change = np.zeros(0)
-            s_half = np.sqrt(self._contact_stiffness(state.delta, active))
+            # Asperities entering contact (delta = 0, where dP/d delta = 0 would hide their
+            # force from the linearisation) get the secant stiffness P(t)/t of their trial
+            # approach t: near the solution the contact set is fixed and the step is Newton's.
+            stiffness = self._contact_stiffness(state.delta, active)
+            entering = state.delta[active] == 0.0
+            stiffness[entering] = (2.0 / 3.0) * self._contact_stiffness(trial, active[entering])
+            s_half = np.sqrt(stiffness)
             rtol = min(1e-2, max(0.1 * state.residual, 1e-3 * self.tol))
             step_separation = 0.0
             if active.size:
@@ -507,7 +521,6 @@ class DiscreteAsperityModel:
             guess = self._mean_field_guess(separation)
         solution, state = self._newton(guess, separation)
         spent = solution.iterations
-        self._work_left -= solution.iterations
         if not solution.converged and depth < _MAX_SPLIT_DEPTH and self._work_left > 0:
             middle = 0.5 * (previous.separation + separation)
             half = self._path_step_separation(previous, middle, depth + 1, True)
@@ -519,6 +532,7 @@ class DiscreteAsperityModel:
                     retry.iterations = spent
                     return retry
         if not solution.converged and depth == 0:
+            self._work_left = max(self._work_left, 0) + _WORK_RESERVE * self.max_iter
             cold, cold_state = self._newton(self._mean_field_guess(separation), separation)
             spent += cold.iterations
             if not cold.converged:
@@ -586,7 +600,6 @@ class DiscreteAsperityModel:
             delta, separation = self._mean_field_start(load)
         solution, state = self._newton(delta, separation, target_load=load)
         spent = solution.iterations
-        self._work_left -= solution.iterations
         if not solution.converged and depth < _MAX_SPLIT_DEPTH and self._work_left > 0:
             middle = (math.sqrt(previous_load * load) if previous_load > 0 else 0.25 * load)
             half = self._path_step_load(previous, previous_load, middle, depth + 1)
@@ -598,6 +611,7 @@ class DiscreteAsperityModel:
                     retry.iterations = spent
                     return retry
         if not solution.converged and depth == 0:
+            self._work_left = max(self._work_left, 0) + _WORK_RESERVE * self.max_iter
             cold, cold_state = self._newton(*self._mean_field_start(load), target_load=load)
             spent += cold.iterations
             if not cold.converged:
@@ -612,13 +626,13 @@ class DiscreteAsperityModel:
     def _homotopy(self, separation: float, target_load: float | None):
         """Continuation in the interaction strength: the pairwise kernel scaled by lambda from 0
         (independent Hertz contacts, solved exactly) to 1, with adaptive steps. Last resort
-        when the path in separation or load went through a fold; at most 4 max_iter Newton
-        iterations."""
+        when the path in separation or load went through a fold (within the point's Newton
+        budget)."""
         delta = np.maximum(self._z - separation, 0.0)
         reached, step, spent = 0.0, 0.25, 0
         solution = state = None
         try:
-            while spent < 4 * self.max_iter and step >= 2.0 ** -10:
+            while self._work_left > 0 and step >= 2.0 ** -10:
                 self._coupling = min(1.0, reached + step)
                 trial, trial_state = self._newton(delta, separation, target_load)
                 spent += trial.iterations
