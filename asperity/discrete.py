@@ -3,7 +3,8 @@
 THEORY.md, "The discrete asperity model" (paper Section 4; Ciavarella et al. 2006). Every summit
 i (height z_i above the mean plane, radius R_i) is a Hertzian asperity::
 
-    approach  delta_i = a_i^2 / R_i,   force  P_i = 4 E* a_i^3 / (3 R_i) = (4/3) E* R_i^1/2 delta_i^3/2
+    approach  delta_i = a_i^2 / R_i
+    force     P_i = 4 E* a_i^3 / (3 R_i) = (4/3) E* R_i^1/2 delta_i^3/2
     contact stiffness dP_i/d delta_i = 2 E* a_i
 
 and every force lowers every other asperity by ``P_j / (pi E* r_ij)``. At separation d the
@@ -28,12 +29,12 @@ Solver
   a second solve with the right side 1 eliminates it (bordered system).
 * globalisation: Armijo backtracking on ``||Phi||`` with projection onto delta >= 0; along a path
   the previous solution (plus the tangent ``d delta / d d``) is the warm start, a step that
-  does not converge is split in two, recursively (depth <= 8), and the last resorts are a cold start from the mean-field
-  estimate and a continuation in the interaction strength from independent Hertz contacts (they
-  find the other branch after a snap-through, e.g. one very large summit suddenly pressing its
-  neighbours out of contact). Splitting may use 6 max_iter Newton iterations per requested
-  point and the fallbacks 2 max_iter more, so a point far outside the model's validity costs
-  bounded time.
+  does not converge is split in two, recursively (depth <= 8), and the last resorts are a cold
+  start from the mean-field estimate and a continuation in the interaction strength from
+  independent Hertz contacts (they find the other branch after a snap-through, e.g. one very
+  large summit suddenly pressing its neighbours out of contact). Splitting may use 6 max_iter
+  Newton iterations per requested point and the fallbacks 2 max_iter more, so a point far
+  outside the model's validity costs bounded time.
 * Newton's derivative dP/d delta = 2 E* a vanishes at delta = 0, which would hide the force of
   an asperity entering contact from the step; entering asperities get the secant stiffness
   P(t)/t of their trial approach t instead (the last steps, on a settled contact set, are exact
