@@ -9,7 +9,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from bem import ContactSolution, ConvergenceWarning, HalfSpace, solve_contact
-from bem.reference import flat_punch_stiffness, hertz, westergaard
+from bem.reference import (bisinusoid_area_high_load, bisinusoid_area_low_load,
+                           flat_punch_stiffness, hertz, westergaard)
 
 
 def random_surface(n, seed, *, hurst=0.8, rms_slope=0.1):
@@ -82,6 +83,27 @@ def test_westergaard_contact_fraction_and_mean_gap(psi):
     # mean gap = d - mean(z) = d here. Edge discretisation: observed <= 1e-4 Delta at n = 128.
     assert solution.mean_gap == pytest.approx(exact.mean_gap, abs=5e-4 * amplitude)
     assert solution.separation == pytest.approx(solution.mean_gap, abs=1e-12 * amplitude)
+
+
+def test_bisinusoid_follows_the_jgh_asymptotes():
+    n, wavelength, amplitude = 128, 1.0, 0.01
+    spacing = wavelength / n
+    x = np.arange(n) * spacing
+    heights = amplitude * np.cos(2 * math.pi * x)[None, :] * np.cos(2 * math.pi * x)[:, None]
+    p_star = math.sqrt(2) * math.pi * amplitude / wavelength
+    operator = HalfSpace((n, n), spacing, periodic=True)
+    # Low load: two Hertz-like spots per period; pixel-count bound 2 h / a as for Hertz
+    # (a ~ 11 pixels here), the asymptote itself being O(psi^(2/3)) relative, i.e. ~3 %.
+    low = solve_contact(heights, spacing, load=0.005 * p_star, periodic=True, operator=operator)
+    expected = float(bisinusoid_area_low_load(0.005))
+    spot_radius = math.sqrt(expected / (2 * math.pi)) * wavelength
+    assert abs(low.area_fraction / expected - 1) <= 2 * spacing / spot_radius
+    # Near full contact: the non-contact islands are small; their pixel ring (perimeter x h,
+    # about 0.8 h / lambda) bounds the discrete error, the asymptote's own is O((1 - psi)^2).
+    for psi in (0.9, 0.95):
+        high = solve_contact(heights, spacing, load=psi * p_star, periodic=True, operator=operator)
+        assert high.converged
+        assert high.area_fraction == pytest.approx(float(bisinusoid_area_high_load(psi)), abs=1e-2)
 
 
 def test_flat_punch_stiffness():
