@@ -14,8 +14,9 @@ PolonskyKeerRey solves the same surface and load, and its time and the relative 
 area and mean gap are printed (mean gap from Tamaas's own displacement, with the separation
 taken as the mean of z - u over its contact set, as bem does).
 
-Times are medians of repeated runs (FFT pairs and products: 15 runs; solves: ``--repeat``) on
-whatever else the machine is doing: on a shared machine they are pessimistic.
+Times are medians of repeated runs (FFT pairs and products: 15 runs; solves: ``--repeat``,
+3 runs at N = 256 and 1 above by default) on whatever else the machine is doing: on a shared
+machine they are pessimistic. The full run takes about 5 minutes on 2 cores (``--quick``: 30 s).
 
 Usage: ``python benchmarks/bench_bem.py [--quick] [--sizes N ...] [--repeat R] [--no-tamaas]``
 """
@@ -115,7 +116,7 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="N = 128 and 256 only, one run each")
     parser.add_argument("--sizes", type=int, nargs="+", default=None)
     parser.add_argument("--repeat", type=int, default=None,
-                        help="timed runs per solve (median); default 3 up to N = 512, else 1")
+                        help="timed runs per solve (median); default 3 for N <= 256, else 1")
     parser.add_argument("--no-tamaas", action="store_true")
     parser.add_argument("--tamaas-max", type=int, default=512,
                         help="largest N for the Tamaas comparison (default 512)")
@@ -145,7 +146,7 @@ def main() -> None:
     guesses = {False: [0.0005, 0.003, 0.012], True: [0.0005, 0.003, 0.012]}
     for n in sizes:
         heights = wm_surface(n, D=2.4, rms_slope=0.1, seed=0)
-        repeat = args.repeat or (1 if args.quick or n > 512 else 3)
+        repeat = args.repeat or (1 if args.quick or n > 256 else 3)
         for periodic in (False, True):
             operator = bem.HalfSpace((n, n), 1.0 / n, periodic=periodic)
             # the reference: a full real FFT pair of the convolution grid (2N x 2N non-periodic;
