@@ -40,7 +40,16 @@ def have_pyfftw() -> bool:
 
 
 def default_threads() -> int:
-    """Number of threads for FFTs: the CPUs this process may use."""
+    """Number of threads for FFTs: the CPUs this process may use.
+
+    The environment variable ``ASPERITY_FFT_THREADS`` (a positive integer) overrides it; process
+    pools set it so that their workers share the cores instead of oversubscribing them.
+    """
+    override = os.environ.get("ASPERITY_FFT_THREADS", "").strip()
+    if override:
+        if not override.isdigit() or int(override) < 1:
+            raise ValueError(f"ASPERITY_FFT_THREADS must be a positive integer, got {override!r}")
+        return int(override)
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not on Linux

@@ -113,3 +113,13 @@ def test_project_works_without_pyfftw():
                             timeout=120)
     assert result.returncode == 0, result.stderr
     assert result.stdout.strip().endswith("ok")
+
+
+def test_thread_count_override(monkeypatch):
+    from bem.fft import default_threads
+
+    monkeypatch.setenv("ASPERITY_FFT_THREADS", "3")
+    assert default_threads() == 3
+    monkeypatch.setenv("ASPERITY_FFT_THREADS", "zero")
+    with pytest.raises(ValueError, match="ASPERITY_FFT_THREADS"):
+        default_threads()
