@@ -26,6 +26,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from bem.checks import frozen_array as _frozen
+from bem.checks import non_negative as _non_negative
+from bem.checks import positive as _positive
 from numpy.typing import ArrayLike
 
 from bem.curve import ContactCurve
@@ -34,32 +38,13 @@ __all__ = ["DimensionlessCurve", "dimensionless", "dimensionless_pressure",
            "interaction_parameter", "InteractionCurves", "interaction_curves"]
 
 
-def _positive(name: str, value: float) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}") from None
-    if not (math.isfinite(number) and number > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return number
 
 
-def _non_negative(name: str, value: float) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}") from None
-    if not (math.isfinite(number) and number >= 0):
-        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
-    return number
 
 
-def _frozen(values: ArrayLike | None) -> np.ndarray | None:
-    if values is None:
-        return None
-    array = np.array(values, dtype=float, copy=True)
-    array.setflags(write=False)
-    return array
+
+
+
 
 
 @dataclass(frozen=True, eq=False)

@@ -31,6 +31,8 @@ import warnings
 from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
+
+from bem.checks import positive as _positive_parameter
 from numpy.typing import ArrayLike
 from scipy.special import lambertw
 
@@ -50,14 +52,7 @@ __all__ = ["GreenwoodWilliamson", "ImprovedGreenwoodWilliamson"]
 _GW_ORDERS_USED = (0.0, 0.5, 1.0, 1.5)
 
 
-def _positive_parameter(name: str, value: float) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}") from None
-    if not (math.isfinite(number) and number > 0):
-        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
-    return number
+
 
 
 def _separations(separation: ArrayLike) -> np.ndarray:

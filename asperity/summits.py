@@ -18,19 +18,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bem.checks import positive as _finite_positive
+
 __all__ = ["Summits", "find_summits", "summits_to_arrays", "summits_from_arrays"]
 
 _CURVATURES = ("geometric", "mean")
 
 
-def _finite_positive(name: str, value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return value
+
 
 
 def _frozen(array, dtype) -> np.ndarray:

@@ -34,19 +34,13 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from bem.checks import frozen_array as _frozen_array
+
 __all__ = ["ContactCurve", "CURVE_QUANTITIES"]
 
 #: The quantities a contact curve may carry, in the order they are tabulated.
 CURVE_QUANTITIES = ("separation", "load", "area", "contacts", "stiffness", "conductance",
                     "mean_pressure")
-
-
-def _frozen_array(value: Any) -> np.ndarray | None:
-    if value is None:
-        return None
-    array = np.array(value, dtype=float, copy=True)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, eq=False)

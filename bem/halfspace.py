@@ -39,20 +39,15 @@ import os
 
 import numpy as np
 
+from bem.checks import positive as _check_positive
+
 from bem.fft import PaddedRealFFT2, RealFFT2, default_threads
 from bem.reference import love_pixel_displacement
 
 __all__ = ["HalfSpace", "fft_threads"]
 
 
-def _check_positive(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return value
+
 
 
 def fft_threads(shape: tuple[int, int]) -> int:

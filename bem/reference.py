@@ -26,6 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem.checks import positive as _positive
+
 __all__ = [
     "love_pixel_displacement",
     "UNIFORM_SQUARE_MEAN_DEFLECTION",
@@ -49,14 +51,7 @@ UNIFORM_SQUARE_MEAN_DEFLECTION = 4.0 / math.pi * (math.log(1.0 + math.sqrt(2.0))
 UNIFORM_SQUARE_CENTRE_DEFLECTION = 4.0 * math.log(1.0 + math.sqrt(2.0)) / math.pi
 
 
-def _positive(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not (math.isfinite(value) and value > 0.0):
-        raise ValueError(f"{name} must be finite and > 0, got {value!r}")
-    return value
+
 
 
 def _love_f(X: np.ndarray, Y: np.ndarray) -> np.ndarray:

@@ -45,6 +45,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem import checks
+
 from bem.halfspace import HalfSpace
 from bem.warnings import ConvergenceWarning
 
@@ -165,19 +167,9 @@ def _check_heights(heights) -> np.ndarray:
 
 
 def _check_real(name: str, value, *, positive: bool = False, non_negative: bool = False) -> float:
-    if isinstance(value, (bool, np.bool_)):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    if positive and not value > 0.0:
-        raise ValueError(f"{name} must be > 0, got {value!r}")
-    if non_negative and value < 0.0:
-        raise ValueError(f"{name} must be >= 0, got {value!r}")
-    return value
+    if positive:
+        return checks.positive(name, value)
+    return checks.real_number(name, value, minimum=0.0 if non_negative else None)
 
 
 def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:

@@ -4,7 +4,6 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
 import numpy as np
-import pytest
 
 from validation.runner import plan_scene, run_scenes
 from validation.scene import load_scene, parse_scene

@@ -1,6 +1,5 @@
 """Scene parsing and validation."""
 
-import pathlib
 
 import pytest
 

@@ -21,12 +21,11 @@ different scenes run once.
 from __future__ import annotations
 
 import math
-import os
 import sys
 import time
 from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field, replace
-from typing import Callable, Iterable
+from typing import Iterable
 
 import numpy as np
 

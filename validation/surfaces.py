@@ -19,22 +19,13 @@ and one BLAS product instead of T full-grid cosines.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
+from bem.checks import real_number as _check_finite
+
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics"]
-
-from dataclasses import dataclass
-
-
-def _check_finite(name: str, value: float) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number, got {value!r}") from None
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return value
 
 
 def _check_integer(name: str, value: int, minimum: int) -> int:
