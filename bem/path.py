@@ -11,8 +11,8 @@ import scipy.sparse.csgraph
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.halfspace import HalfSpace
-from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_heights,
-                        _check_operator, _check_real, _solve, _Workspace)
+from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
+                        _check_operator, _solve, _Workspace)
 
 __all__ = ["contact_curve", "count_contacts"]
 
@@ -116,15 +116,8 @@ def contact_curve(
         For bad heights, spacing, loads or separations (as :func:`bem.solve_contact`) and
         unknown quantities.
     """
-    z = _check_heights(heights)
-    spacing = _check_real("spacing", spacing, positive=True)
-    e_star = _check_real("e_star", e_star, positive=True)
-    tol = _check_real("tol", tol, positive=True)
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
-    periodic = bool(periodic)
+    z, spacing, e_star, tol, max_iter, periodic = _check_problem(
+        heights, spacing, e_star, tol, max_iter, periodic)
     if isinstance(quantities, str):
         quantities = (quantities,)
     quantities = tuple(quantities)

@@ -166,6 +166,19 @@ def _check_heights(heights) -> np.ndarray:
     return z
 
 
+def _check_problem(heights, spacing, e_star, tol, max_iter, periodic):
+    """Checked (heights, spacing, e_star, tol, max_iter, periodic) of a contact problem."""
+    z = _check_heights(heights)
+    spacing = _check_real("spacing", spacing, positive=True)
+    e_star = _check_real("e_star", e_star, positive=True)
+    tol = _check_real("tol", tol, positive=True)
+    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
+        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    if not isinstance(periodic, (bool, np.bool_)):
+        raise ValueError(f"periodic must be True or False, got {periodic!r}")
+    return z, spacing, e_star, tol, int(max_iter), bool(periodic)
+
+
 def _check_real(name: str, value, *, positive: bool = False, non_negative: bool = False) -> float:
     if positive:
         return checks.positive(name, value)
@@ -548,15 +561,8 @@ def solve_contact(
         e_star <= 0, negative load, both or neither of load/separation, a periodic separation
         <= mean(z), tol <= 0, max_iter < 1, a bad initial pressure or a mismatched operator.
     """
-    z = _check_heights(heights)
-    spacing = _check_real("spacing", spacing, positive=True)
-    e_star = _check_real("e_star", e_star, positive=True)
-    tol = _check_real("tol", tol, positive=True)
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
-    periodic = bool(periodic)
+    z, spacing, e_star, tol, max_iter, periodic = _check_problem(
+        heights, spacing, e_star, tol, max_iter, periodic)
     if (load is None) == (separation is None):
         raise ValueError("give exactly one of load (force) and separation (length)")
     if load is not None:
