@@ -447,3 +447,21 @@ def test_model_bad_arguments():
         DiscreteAsperityModel(np.zeros((4, 4)))
     with pytest.raises(ValueError, match="at least one"):
         DiscreteAsperityModel(find_summits(np.zeros((5, 5)), 1.0))
+
+
+def test_dense_random_lattice_set_converges_from_far_to_deep():
+    # Regression (stress campaign): a dense random lattice set driven from 40 sigma above to
+    # 10 sigma below the mean summit height once stalled without converging; asperities that
+    # enter contact now get a secant stiffness in the Newton step.
+    rng = np.random.default_rng(100_000)
+    count, side = 2_000, 90
+    cells = rng.choice(side * side, size=count, replace=False)
+    spacing = 1.0 / side
+    summits = Summits.from_points((cells % side) * spacing, (cells // side) * spacing,
+                                  rng.normal(0, 1e-3, count), rng.uniform(0.01, 0.1, count),
+                                  area=1.0, spacing=spacing)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ValidityWarning)
+        curve = DiscreteAsperityModel(summits).at_separation(np.linspace(40e-3, -10e-3, 12))
+    assert np.all(curve.converged)
+    assert np.all(np.isfinite(curve.load)) and np.all(np.diff(curve.load) >= 0)
