@@ -92,3 +92,12 @@ def test_list_and_show(capsys):
     assert "paper-wm-d205" in capsys.readouterr().out
     assert main(["show", "validity-map"]) == 0
     assert "2.95" in capsys.readouterr().out
+
+
+def test_scheduler_without_dask_says_what_to_install(tmp_path, monkeypatch):
+    # dask is optional and imported only for --scheduler; without it the message says so.
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    monkeypatch.setitem(sys.modules, "dask", None)
+    with pytest.raises(SystemExit, match="dask"):
+        main(["report", "paper-theory", "--out", str(tmp_path), "--no-cache", "--scheduler",
+              "tcp://127.0.0.1:1"])
