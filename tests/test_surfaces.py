@@ -160,3 +160,17 @@ def test_property_finite_and_slope_consistent(D, slope, gamma, M, n_max, n, seed
     stats = surface_statistics(z, 1.0 / n)
     assert stats.rms_gradient == pytest.approx(slope, rel=1e-10)
     assert abs(z.mean()) <= 1e-12 * max(np.abs(z).max(), 1e-300)
+
+
+def test_slope_grid_samples_one_continuous_surface_on_several_grids():
+    # The same phases and amplitude on grids n and 2n: every point of the coarse grid is a point
+    # of the fine one (x_i = i L/n = 2i L/(2n)), up to the mean each grid removes.
+    coarse = wm_surface(32, D=2.6, rms_slope=0.1, seed=4)
+    fine = wm_surface(64, D=2.6, rms_slope=0.1, seed=4, slope_grid=32)
+    difference = fine[::2, ::2] - coarse
+    np.testing.assert_allclose(difference, difference.mean(), atol=1e-14 * np.abs(coarse).max())
+    # while each grid measuring its own slope gives a differently scaled surface
+    own = wm_surface(64, D=2.6, rms_slope=0.1, seed=4)
+    assert np.abs(own[::2, ::2] - own.mean() - coarse).max() > 1e-3 * np.abs(coarse).max()
+    with pytest.raises(ValueError, match="slope_grid"):
+        wm_surface(16, D=2.5, rms_slope=0.1, slope_grid=2)

@@ -21,9 +21,8 @@ DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-ma
 
 
 def _worker_init(threads: int) -> None:
-    # Each worker process gets its share of the cores for its FFTs and BLAS.
-    os.environ["OMP_NUM_THREADS"] = str(threads)
-    os.environ["OPENBLAS_NUM_THREADS"] = str(threads)
+    # Each worker process gets its share of the cores for its FFTs (read at every operator
+    # build, so setting it here, after the worker imported numpy, still takes effect).
     os.environ["ASPERITY_FFT_THREADS"] = str(threads)
 
 
@@ -49,11 +48,14 @@ def _report(args: argparse.Namespace) -> int:
 
     names = args.scenes or list(DEFAULT_SCENES)
     scenes = [load_scene(name) for name in names]
-    quick = not args.full and not args.scenes
-    if args.quick:
-        quick = True
+    repeated = sorted({s.name for s in scenes if [t.name for t in scenes].count(s.name) > 1})
+    if repeated:
+        raise SceneError(f"scene names must be unique in one report (they name its files); "
+                         f"repeated: {', '.join(repeated)}")
+    quick = args.quick or (not args.full and not args.scenes)
     if quick:
         scenes = [scene.quick_version() for scene in scenes]
+    mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
     executor, close = _executor(args)
     start = time.perf_counter()
@@ -62,7 +64,7 @@ def _report(args: argparse.Namespace) -> int:
     finally:
         close()
     seconds = time.perf_counter() - start
-    path = write_report(results, args.out, seconds=seconds, mode="quick" if quick else "full")
+    path = write_report(results, args.out, seconds=seconds, mode=mode)
     print(f"report written to {path} ({seconds:.1f} s)")
     return 0
 

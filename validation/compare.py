@@ -19,7 +19,8 @@ import numpy as np
 
 from bem.curve import ContactCurve
 
-__all__ = ["RELATIVE_QUANTITIES", "ABSOLUTE_QUANTITIES", "curve_errors", "validity_range",
+__all__ = ["RELATIVE_QUANTITIES", "ABSOLUTE_QUANTITIES", "curve_errors", "converged_points",
+           "validity_range",
            "ValidityRange", "ErrorSummary", "summarise_errors"]
 
 #: Quantities compared by relative error.
@@ -44,12 +45,16 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
     Returns
     -------
     dict of str to ndarray
-        One error array per quantity (NaN where the reference value is zero).
+        One error array per quantity (NaN where the reference value is zero or where either
+        curve's solver did not converge).
     """
     if model.load.shape != reference.load.shape or not np.allclose(
             model.load, reference.load, rtol=load_rtol, atol=0.0):
         raise ValueError("model and reference curves must be evaluated at the same loads")
     errors: dict[str, np.ndarray] = {}
+    # A point that either solver did not converge at says nothing: its errors are NaN (and so
+    # count as not holding).
+    unconverged = ~(converged_points(model) & converged_points(reference))
     for name in quantities:
         if name in ABSOLUTE_QUANTITIES:
             errors[name] = (model.separation - reference.separation) / sigma
@@ -59,7 +64,17 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
                 continue
             with np.errstate(divide="ignore", invalid="ignore"):
                 errors[name] = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
+    for name in errors:
+        errors[name] = np.where(unconverged, np.nan, errors[name])
     return errors
+
+
+def converged_points(curve: ContactCurve) -> np.ndarray:
+    """Boolean array: where the curve's solver converged (all True for closed-form models)."""
+    flags = curve.extras.get("converged")
+    if flags is None:
+        return np.ones(curve.load.shape, dtype=bool)
+    return np.broadcast_to(np.asarray(flags, dtype=bool), curve.load.shape)
 
 
 @dataclass(frozen=True)
@@ -84,6 +99,11 @@ class ValidityRange:
         """Human-readable range, e.g. ``Load 1.0e-05 - 3.2e-03 (area 0.02 % - 5.1 %)``."""
         if not self.holds_anywhere:
             return "nowhere"
+        if self.first == self.last:
+            text = f"only at {self.load_min:{load_format}}"
+            if np.isfinite(self.area_fraction_min):
+                text += f" (area {100 * self.area_fraction_min:.3g} %)"
+            return text
         text = f"{self.load_min:{load_format}} – {self.load_max:{load_format}}"
         if np.isfinite(self.area_fraction_min):
             text += f" (area {100 * self.area_fraction_min:.3g} % – {100 * self.area_fraction_max:.3g} %)"
@@ -162,8 +182,10 @@ def summarise_errors(quantity: str, per_realization: list[np.ndarray]) -> ErrorS
 # --------------------------------------------------------------------------------------------
 # a whole D value of a scene
 
-#: Quantities that have a validity range (the load path itself is not compared).
-COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness", "contacts")
+#: Quantities that have a validity range (the load path itself is not compared). Contact
+#: counts are not among them: the BEM counts connected contact patches, the asperity models
+#: asperities in contact, which are different things once spots merge.
+COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
 
 
 @dataclass(frozen=True)
@@ -174,6 +196,7 @@ class ModelComparison:
     quantity: str
     summary: ErrorSummary
     ranges: tuple[ValidityRange, ...]
+    unconverged: int = 0  # (realization, load) points where the model or the BEM did not converge
 
 
 @dataclass(frozen=True)
@@ -227,6 +250,9 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
         if model == reference_model:
             continue
         per_quantity: dict[str, list[np.ndarray]] = {}
+        unconverged = sum(int(np.count_nonzero(~(converged_points(r.curves[model])
+                                                  & converged_points(r.curves[reference_model]))))
+                          for r in results)
         for result in results:
             errors = curve_errors(result.curves[model], result.curves[reference_model],
                                   result.sigma, quantities)
@@ -235,7 +261,7 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
         for name, arrays in per_quantity.items():
             summary = summarise_errors(name, arrays)
             ranges = tuple(validity_range(load, summary.mean, tol, area_fraction) for tol in tolerances)
-            models[(model, name)] = ModelComparison(model, name, summary, ranges)
+            models[(model, name)] = ModelComparison(model, name, summary, ranges, unconverged)
     reference_error: dict[str, np.ndarray] = {}
     if reference is not None:
         coarse = next((r for r in results if r.task.seed == reference.task.seed), first)

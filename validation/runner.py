@@ -41,9 +41,27 @@ __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", 
 ASPERITY_MODELS = ("gw", "improved_gw", "discrete", "discrete_no_interaction")
 
 
+_SOURCE_VERSION: str | None = None
+
+
 def _version() -> str:
-    from validation import __version__
-    return __version__
+    """Package version plus a hash of the three packages' sources: results cached by one state
+    of the code are never read back by another (a fixed bug does not survive in the cache)."""
+    global _SOURCE_VERSION
+    if _SOURCE_VERSION is None:
+        import hashlib
+        import pathlib
+
+        from validation import __version__
+
+        digest = hashlib.sha256()
+        root = pathlib.Path(__file__).resolve().parents[1]
+        for package in ("asperity", "bem", "validation"):
+            for path in sorted((root / package).glob("*.py")):
+                digest.update(path.name.encode())
+                digest.update(path.read_bytes())
+        _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
+    return _SOURCE_VERSION
 
 
 @dataclass(frozen=True)
@@ -60,6 +78,7 @@ class RealizationTask:
     bem: BemSettings
     cache_dir: str | None = None
     purpose: str = "realization"  # or "reference-error" (BEM only, on a finer grid)
+    slope_grid: int | None = None  # grid on which rms_slope fixes the amplitude (None: n)
 
     @property
     def D(self) -> float:
@@ -113,11 +132,13 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
                                          quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir))
         if "bem" in scene.models and scene.bem.reference_error:
+            # the same continuous surface as realization 0, sampled twice as finely
             fine = replace(surface, n=2 * surface.n)
             tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
                                          loads=scene.loads, models=("bem",), m=scene.m,
                                          quantities=scene.quantities, bem=bem_settings,
-                                         cache_dir=cache_dir, purpose="reference-error"))
+                                         cache_dir=cache_dir, purpose="reference-error",
+                                         slope_grid=surface.n))
     return tasks
 
 
@@ -145,7 +166,8 @@ def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
 def _surface_inputs(task: RealizationTask) -> dict:
     s = task.surface
     return dict(family=s.family, D=task.D, rms_slope=s.rms_slope, G=s.G, gamma=s.gamma, M=s.M,
-                n_max=s.n_max, L=s.L, n=s.n, seed=task.seed)
+                n_max=s.n_max, L=s.L, n=s.n, seed=task.seed,
+                slope_grid=task.slope_grid or s.n)
 
 
 def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
@@ -163,7 +185,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     seconds: dict[str, float] = {}
     s = task.surface
     heights = wm_surface(s.n, D=task.D, G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
-                         n_max=s.n_max, seed=task.seed)
+                         n_max=s.n_max, seed=task.seed,
+                         slope_grid=task.slope_grid if s.rms_slope is not None else None)
     computed.append(f"surface {task.describe()}")
     spacing = s.spacing
     nominal_area = s.L**2
@@ -184,10 +207,11 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         summit_mean = float(np.mean(summits.height))
 
     stiffness = _needs_stiffness(task.quantities)
-    curve_quantities = tuple(q for q in ("area", "load", "separation", "contacts", "stiffness",
-                                         "conductance") if q in task.quantities or
-                             (q == "stiffness" and stiffness))
-    curve_quantities = tuple(dict.fromkeys(("area", "load", "separation") + curve_quantities))
+    # Contact counts are cheap and always computed; stiffness solves only when asked for. The
+    # cache keys hold this flag, not the scene's quantity list, so that listing "contacts" or
+    # "stiffness" instead of "conductance" reuses the same solves.
+    curve_quantities = ("area", "load", "separation", "contacts") + (
+        ("stiffness", "conductance") if stiffness else ())
     values = np.array(task.loads.values())
     curves: dict[str, ContactCurve] = {}
 
@@ -197,7 +221,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     if "bem" in task.models:
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
         key = cache_key("bem", version, surface=surface_key, e_star=task.e_star,
-                        settings=task.bem, quantities=curve_quantities,
+                        settings=task.bem, stiffness=stiffness,
                         **{k: v for k, v in path.items()})
         arrays = cache.load(key)
         start = time.perf_counter()
@@ -232,7 +256,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
             continue
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
         key = cache_key("discrete", version, surface=surface_key, e_star=task.e_star,
-                        interaction=interaction, quantities=curve_quantities, **path)
+                        interaction=interaction, stiffness=stiffness, **path)
         arrays = cache.load(key)
         start = time.perf_counter()
         if arrays is None:
@@ -304,9 +328,14 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     from validation.theory import theory_curves
 
     scenes = list(scenes)
+    names = [scene.name for scene in scenes]
+    duplicates = sorted({name for name in names if names.count(name) > 1})
+    if duplicates:
+        raise ValueError(f"scene names must be unique in one run (they name the report's files); "
+                         f"repeated: {', '.join(duplicates)}")
     started = time.perf_counter()
-    plans = {scene.name: plan_scene(scene, cache_dir=cache_dir) for scene in scenes}
-    unique = list(dict.fromkeys(task for tasks in plans.values() for task in tasks))
+    plans = [plan_scene(scene, cache_dir=cache_dir) for scene in scenes]
+    unique = list(dict.fromkeys(task for tasks in plans for task in tasks))
     bar = Progress(len(unique), stream=stream) if progress and unique else None
     results: dict[RealizationTask, RealizationResult] = {}
     if executor is None:
@@ -322,14 +351,14 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             if bar:
                 bar.advance(task.describe())
     out = []
-    for scene in scenes:
+    for scene, plan in zip(scenes, plans):
         if scene.kind == "theory":
             out.append(SceneResult(scene=scene, theory=theory_curves(scene.theory),
                                    seconds=time.perf_counter() - started))
             continue
         by_d: dict[float, list[RealizationResult]] = {}
         reference: dict[float, RealizationResult] = {}
-        for task in plans[scene.name]:
+        for task in plan:
             if task.purpose == "reference-error":
                 reference[task.D] = results[task]
             else:

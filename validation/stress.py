@@ -63,7 +63,11 @@ def _curve_outcome(curve, *, note: str = "", monotone_in_load: bool = True) -> _
     iterations = None if iterations is None else int(np.sum(iterations))
     residual = extras.get("residual")
     residual = None if residual is None else float(np.max(residual))
-    finite = _finite(curve.load, curve.area, curve.separation, curve.stiffness)
+    finite = _finite(curve.load, curve.area, curve.separation)
+    for stiffness in (curve.stiffness, curve.conductance):
+        # +inf is the right stiffness of full periodic contact; NaN or a negative value is not
+        if stiffness is not None and (np.any(np.isnan(stiffness)) or np.any(stiffness < 0)):
+            finite = False
     order = np.argsort(curve.load)
     ok = True
     if monotone_in_load and curve.load.size > 1:
@@ -212,6 +216,10 @@ def stress_cases(quick: bool) -> list[tuple[str, str, Callable[[], _Outcome]]]:
     return cases
 
 
+#: (group, case) -> a phrase of the ValueError the case is expected to raise (a documented limit).
+EXPECTED_ERRORS: dict[tuple[str, str], str] = {}
+
+
 def run_stress(out: str | pathlib.Path | None = None, *, quick: bool = False, log=print
                ) -> list[StressRecord]:
     """Run the campaign; write ``stress.md`` and ``stress.csv`` into ``out`` when given."""
@@ -228,7 +236,11 @@ def run_stress(out: str | pathlib.Path | None = None, *, quick: bool = False, lo
             record = StressRecord(group, case, status, outcome.converged, outcome.iterations,
                                   outcome.residual, outcome.finite, seconds, outcome.note)
         except ValueError as error:
-            record = StressRecord(group, case, "clear error", None, None, None, True,
+            # a documented limit only when the case says it expects this error; any other
+            # ValueError (say, from deep inside a root finder) is a failure
+            expected = EXPECTED_ERRORS.get((group, case))
+            status = "clear error" if expected and expected in str(error) else "FAIL"
+            record = StressRecord(group, case, status, None, None, None, True,
                                   time.perf_counter() - start, f"ValueError: {error}")
         except Exception as error:  # noqa: BLE001 - any other exception is a failure to record
             record = StressRecord(group, case, "FAIL", None, None, None, False,

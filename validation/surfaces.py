@@ -73,6 +73,7 @@ def wm_surface(
     n_max: int = 8,
     seed: int | np.random.Generator | None = None,
     phases: np.ndarray | None = None,
+    slope_grid: int | None = None,
 ) -> np.ndarray:
     """Sample a Weierstrass-Mandelbrot surface, eqs. (11)-(12), on an n x n grid.
 
@@ -104,6 +105,11 @@ def wm_surface(
     phases : array_like, optional
         Phases phi_mn [rad] of shape (M, n_max + 1); overrides ``seed`` so that any surface can
         be reproduced exactly.
+    slope_grid : int, optional
+        With ``rms_slope``: the grid (points per side, default ``n``) on which the rms gradient
+        is measured to fix the amplitude. The measured slope depends slightly on the grid, so
+        to sample *one* continuous surface on several grids (a mesh-convergence study, the
+        reference's own error at 2n) give them all the same ``slope_grid``.
 
     Returns
     -------
@@ -117,6 +123,7 @@ def wm_surface(
         non-finite values, or phases of the wrong shape.
     """
     n = _check_integer("n", n, 2)
+    slope_grid = n if slope_grid is None else _check_integer("slope_grid", slope_grid, 3)
     M = _check_integer("M", M, 1)
     n_max = _check_integer("n_max", n_max, 0)
     D = _check_finite("D", D)
@@ -156,7 +163,8 @@ def wm_surface(
     if G is not None:
         heights *= wm_amplitude(G, D=D, L=L, gamma=gamma, M=M)
     else:
-        unit_slope = surface_statistics(heights, L / n).rms_gradient
+        unit = heights if slope_grid == n else _unit_wm(slope_grid, D, L, gamma, M, phases)
+        unit_slope = surface_statistics(unit, L / slope_grid).rms_gradient
         if not unit_slope > 0.0:
             raise ValueError("the surface is flat on this grid; rms_slope cannot be reached")
         heights *= rms_slope / unit_slope
