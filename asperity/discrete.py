@@ -124,6 +124,7 @@ class _Solution:
     stable: bool | None      # None until checked (see DiscreteAsperityModel._is_stable)
     tangent: np.ndarray | None = None   # -d delta / d d on the active set (full length)
     stiffness: float | None = None
+    stiffness_converged: bool = True    # the linear solve behind the stiffness met its tolerance
 
     def load_carried(self) -> float:
         """Largest approach (> 0 when any asperity is in contact)."""
@@ -380,7 +381,7 @@ class DiscreteAsperityModel:
         Returns (x, positive_definite), or (x, positive_definite, y) when ``scaled``.
         """
         if self.operator is None and not self._uniform:
-            return (rhs.copy(), True, s_half * rhs) if scaled else (rhs.copy(), True)
+            return (rhs.copy(), True, s_half * rhs, True) if scaled else (rhs.copy(), True)
         kernel = self.operator.linear_map(active) if self.operator is not None else None
         uniform = self._uniform
 
@@ -399,13 +400,14 @@ class DiscreteAsperityModel:
 
         b = s_half * rhs
         max_iter = min(max(50, 2 * active.size), 2000)
-        y, ok, _, definite = _cg(apply, b, rtol=rtol, max_iter=max_iter)
+        y, solved, _, definite = _cg(apply, b, rtol=rtol, max_iter=max_iter)
         if not definite:
             operator = scipy.sparse.linalg.LinearOperator((active.size, active.size),
                                                           matvec=apply, dtype=float)
-            y, _ = scipy.sparse.linalg.minres(operator, b, rtol=rtol, maxiter=10 * max_iter)
+            y, info = scipy.sparse.linalg.minres(operator, b, rtol=rtol, maxiter=10 * max_iter)
+            solved = info == 0
         x = rhs - apply_h(s_half * y)
-        return (x, definite, y) if scaled else (x, definite)
+        return (x, definite, y, bool(solved)) if scaled else (x, definite)
 
     def _newton(self, delta, separation, target_load=None):
         """Projected semi-smooth Newton from (delta, separation).
@@ -484,15 +486,17 @@ class DiscreteAsperityModel:
         tangent = np.zeros_like(solution.delta)
         if active.size == 0:
             solution.stiffness, solution.tangent = 0.0, tangent
+            solution.stiffness_converged = True
             return
         s_half = np.sqrt(self._contact_stiffness(solution.delta, active))
-        v, definite, y = self._solve_active(active, s_half, np.ones(active.size), rtol,
-                                            scaled=True)
+        v, definite, y, solved = self._solve_active(active, s_half, np.ones(active.size), rtol,
+                                                    scaled=True)
         tangent[active] = v
         if not definite:                    # negative curvature met at the solution itself
             solution.stable = False
         solution.tangent = tangent
         solution.stiffness = float(s_half @ y)
+        solution.stiffness_converged = solved
 
     def _first_contact(self) -> _Solution:
         """Exact solution at the separation of first contact (highest summit): no force."""
@@ -682,6 +686,13 @@ class DiscreteAsperityModel:
                 if s.stiffness is None:
                     self._tangent(s, self._evaluate(s.delta, s.separation))
             stiffness = np.array([s.stiffness for s in solutions])
+            solved = np.array([s.stiffness_converged for s in solutions], dtype=bool)
+            extras["stiffness_converged"] = solved
+            if not solved.all():
+                warnings.warn(
+                    f"discrete asperity model: the stiffness solve did not converge at "
+                    f"{int(np.count_nonzero(~solved))} of {count} points; see the "
+                    "'stiffness_converged' extra", ConvergenceWarning, stacklevel=3)
             if "conductance" in want:
                 conductance = 2.0 * stiffness / self.e_star
             if "stiffness" not in want:

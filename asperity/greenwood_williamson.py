@@ -225,7 +225,9 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         pressure at d estimates the interaction, ``d1 = d + m W_GW(d)/(E* sqrt A)``; its load
         is W_GW(d1). The approximation loses monotonicity where ``2 m C F_1/2(h) > 1``.
         :meth:`at_load` needs no iteration (the load gives d1 directly) and is exact in both
-        modes, so at_load does not invert the approximate curve.
+        modes, so at_load does not invert the approximate curve. In this mode the stiffness
+        is the slope of the approximate curve itself, ``S1(d1) (1 - m S_GW(d)/(E* sqrt A))``
+        (negative where the approximation's load falls as d decreases).
 
     The curves carry extras ``effective_separation`` (d1 [length]) and ``gw_stiffness`` (S1,
     the GW stiffness dW/dd1 [force/length]); ``stiffness`` is the true dW/dd from
@@ -262,10 +264,20 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         return self.m / (self.e_star * math.sqrt(self.area))
 
     def _improved_curve(self, separation: np.ndarray, h1: np.ndarray, load: np.ndarray | None,
+                        *, one_iteration_h: np.ndarray | None = None,
                         **extras: np.ndarray) -> ContactCurve:
         quantities = self._gw_quantities(h1)
         gw_stiffness = quantities["stiffness"]
-        quantities["stiffness"] = gw_stiffness / (1.0 + self.interaction_compliance * gw_stiffness)
+        compliance = self.interaction_compliance
+        if one_iteration_h is None:
+            # exact theory: series compliance 1/S = 1/S1 + m/(E* sqrt A)
+            quantities["stiffness"] = gw_stiffness / (1.0 + compliance * gw_stiffness)
+        else:
+            # the footnote's approximation W(d) = W_GW(d + c W_GW(d)), c = m/(E* sqrt A), has
+            # its own slope: S = S1(d1) (1 - c S_GW(d)), negative where its load decreases
+            at_d = self._gw_quantities(one_iteration_h)["stiffness"]
+            with np.errstate(invalid="ignore"):
+                quantities["stiffness"] = gw_stiffness * (1.0 - compliance * at_d)
         effective = self.mean + self.sigma * h1
         return self._curve(separation, quantities, load=load, effective_separation=effective,
                            gw_stiffness=gw_stiffness, **extras)
@@ -321,7 +333,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
             with np.errstate(over="ignore", invalid="ignore"):
                 h1 = h + (4.0 / 3.0) * self.m * self.interaction_parameter * f_three_halves
             h1 = np.where(np.isinf(h), h, h1)
-            return self._improved_curve(d, h1, None)
+            return self._improved_curve(d, h1, None, one_iteration_h=h)
         h1, converged = self.effective_reduced_separation(h)
         _warn_unconverged(converged, "improved GW effective separation")
         return self._improved_curve(d, h1, None, converged=converged)

@@ -118,6 +118,10 @@ class PointForceInteraction:
             raise ValueError(f"e_star must be finite and > 0, got {e_star!r}")
         if method not in _METHODS:
             raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+        if x.size > 1 and np.unique(np.stack((x, y), axis=1), axis=0).shape[0] != x.size:
+            # a point force at zero distance is undefined, and the lattice FFT would keep only
+            # one of two coincident forces: the methods would disagree
+            raise ValueError("positions x, y must be distinct (duplicate positions given)")
         self.x, self.y = x, y
         self.x.setflags(write=False)
         self.y.setflags(write=False)

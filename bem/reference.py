@@ -237,14 +237,21 @@ def bisinusoid_area_low_load(psi):
 
     ``psi = p_mean / p*`` with ``p* = sqrt(2) pi E* Delta / lambda`` (THEORY.md).
     """
-    psi = np.asarray(psi, dtype=float)
+    psi = _load_ratio(psi)
     return math.pi * (3.0 * psi / (8.0 * math.pi)) ** (2.0 / 3.0)
 
 
 def bisinusoid_area_high_load(psi):
     """JGH near-full-contact asymptote ``A / lambda^2 = 1 - (3/(2 pi)) (1 - psi)``."""
-    psi = np.asarray(psi, dtype=float)
+    psi = _load_ratio(psi)
     return 1.0 - 3.0 / (2.0 * math.pi) * (1.0 - psi)
+
+
+def _load_ratio(psi) -> np.ndarray:
+    psi = np.asarray(psi, dtype=float)
+    if not np.all((psi >= 0.0) & (psi <= 1.0)):  # also catches NaN
+        raise ValueError("psi = p_mean / p* must lie in [0, 1] (full contact at psi = 1)")
+    return psi
 
 
 def flat_punch_stiffness(radius: float, e_star: float = 1.0) -> float:

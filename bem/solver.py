@@ -289,6 +289,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     flat_contact, flat_weight = contact.reshape(-1), weight.reshape(-1)
     stale = True        # contact / weight / n_contact must be recomputed from p
     n_contact = 0
+    restarted = False   # separation control restarted after losing every contact
     for iteration in range(1, max_iter + 1):
         # contact set: recomputed after bulk changes, else kept up to date pixel by pixel
         if stale:
@@ -381,9 +382,19 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             scale = total / current
             p *= scale
         elif (n_contact == 0) if not stale else not p.any():
-            # separation control and nothing left in contact: no point overlaps -> zero load
-            u.fill(0.0)
-            return _Outcome(p, True, iteration, 0.0, "no contact at this separation")
+            # Separation control and the step clipped every pixel. The caller enters this loop
+            # only when some point overlaps the plane (d < max z), so an empty contact set is an
+            # overshoot (from a poor initial pressure, say), never the answer: restart once from
+            # the interference start, and report failure if it happens again.
+            if restarted:
+                operator._apply(p, u)
+                return _Outcome(p, False, iteration, math.inf,
+                                "lost every contact although the plane overlaps the surface")
+            restarted = True
+            np.copyto(p, _separation_start(operator, z, separation, ws))
+            operator._apply(p, u)
+            reset = shrunk = stale = True
+            continue
         reset, shrunk = entered > 0, clipped > 0
         # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
         # made by the projection and the entering points: by direct sums when they are few,
@@ -434,8 +445,8 @@ def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,
     scaled to minimise the energy along it (one half-space product)."""
     p = np.maximum(z - separation, 0.0)
     operator._apply(p, ws.u)
-    curvature = float(np.dot(p.reshape(-1), ws.u.reshape(-1)))
-    slope = float(np.dot(p.reshape(-1), (z - separation).reshape(-1)))
+    curvature = _dot(p, ws.u)
+    slope = _dot(p, z - separation)
     if curvature > 0.0:
         p *= slope / curvature
     return p

@@ -318,3 +318,17 @@ def test_random_surfaces_converge_to_a_contact_solution(seed, n, periodic, hurst
     assert np.max(np.abs(gap[solution.contact])) <= 1e-7 * scale
     # complementarity: sum p gap relative to W x height range
     assert abs(float(np.sum(solution.pressure * gap))) <= 1e-7 * scale * solution.pressure.sum()
+
+
+def test_separation_control_recovers_from_a_poor_initial_pressure():
+    # Regression: a start far too high made the first step clip every pixel, and the solver
+    # reported "no contact" (zero load, converged) although the plane overlapped the surface.
+    n, h = 64, 1.0 / 64
+    x = (np.arange(n) - n / 2) * h
+    z = -(x[None, :] ** 2 + x[:, None] ** 2) / 2.0
+    d = z.max() - 1e-3
+    good = solve_contact(z, h, separation=d)
+    poor = solve_contact(z, h, separation=d, initial=np.full(z.shape, 10.0))
+    assert good.converged and poor.converged and good.load > 0
+    assert poor.load == pytest.approx(good.load, rel=1e-6)
+    assert poor.gap.min() >= -1e-9 * np.ptp(z)

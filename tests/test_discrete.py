@@ -465,3 +465,16 @@ def test_dense_random_lattice_set_converges_from_far_to_deep():
         curve = DiscreteAsperityModel(summits).at_separation(np.linspace(40e-3, -10e-3, 12))
     assert np.all(curve.converged)
     assert np.all(np.isfinite(curve.load)) and np.all(np.diff(curve.load) >= 0)
+
+
+def test_interaction_operator_rejects_duplicate_positions():
+    with pytest.raises(ValueError, match="distinct"):
+        PointForceInteraction([0.0, 1.0, 0.0], [0.0, 0.0, 0.0])
+
+
+def test_stiffness_solve_status_is_reported():
+    rng = np.random.default_rng(3)
+    summits = Summits.from_points(rng.uniform(0, 1, 40), rng.uniform(0, 1, 40),
+                                  rng.normal(0, 1e-3, 40), np.full(40, 0.05), area=1.0)
+    curve = DiscreteAsperityModel(summits).at_separation([2e-3, 0.0])
+    assert curve.stiffness_converged.dtype == bool and np.all(curve.stiffness_converged)

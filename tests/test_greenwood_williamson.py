@@ -388,3 +388,17 @@ def test_unconverged_solves_warn_and_say_so(monkeypatch):
     with pytest.warns(ConvergenceWarning, match="did not converge"):
         curve = improved().at_separation(PARAMETERS["mean"] + SIGMA * np.array([-2.0, 0.0]))
     assert not curve.converged.all()
+
+
+def test_one_iteration_stiffness_is_the_slope_of_its_own_curve():
+    # Regression: the footnote approximation used to report the exact theory's series
+    # stiffness at its own d1, which is not -dW/dd of the approximate curve (wrong sign where
+    # the approximation's load falls).
+    model = ImprovedGreenwoodWilliamson(density=50.0, radius=1.0, sigma=1.0, area=1.0,
+                                        one_iteration=True)  # C = 50
+    d = np.array([3.0, 2.5, 2.0, 1.0])
+    step = 1e-6
+    curve = model.at_separation(d)
+    slope = -(model.at_separation(d + step).load - model.at_separation(d - step).load) / (2 * step)
+    np.testing.assert_allclose(curve.stiffness, slope, rtol=1e-5)
+    assert curve.stiffness[2] < 0  # d = 2: past the approximation's load maximum
