@@ -54,3 +54,39 @@ def test_summarise_errors_mean_and_sample_std():
     np.testing.assert_allclose(summary.mean, [0.2, 0.2])
     np.testing.assert_allclose(summary.std, [np.std([0.1, 0.3], ddof=1), 0.0])
     assert summary.count == 2
+
+
+def test_compare_realizations_on_synthetic_results():
+    # Two realizations with known errors: area +10 % and +30 % (mean +20 %, sample std 14.1 %),
+    # separation exactly 0.5 sigma high; a non-converged reference point counts as not holding.
+    from types import SimpleNamespace
+
+    from validation.compare import compare_realizations
+
+    load = np.array([1e-4, 1e-3, 1e-2])
+    surface = SimpleNamespace(L=1.0)
+
+    def realization(seed, area_factor, converged):
+        reference = ContactCurve(separation=[3.0, 2.0, 1.0], load=load, area=[0.01, 0.05, 0.2],
+                                 mean_pressure=load, nominal_area=1.0, e_star=1.0,
+                                 extras={"converged": np.array(converged)})
+        model = ContactCurve(separation=[3.5, 2.5, 1.5], load=load,
+                             area=area_factor * np.array([0.01, 0.05, 0.2]), mean_pressure=load,
+                             nominal_area=1.0, e_star=1.0)
+        task = SimpleNamespace(seed=seed, surface=surface, quantities=("area", "separation"), D=2.3)
+        return SimpleNamespace(task=task, curves={"bem": reference, "gw": model}, sigma=1.0)
+
+    results = [realization(0, 1.1, [True, True, True]), realization(1, 1.3, [True, True, False])]
+    comparison = compare_realizations(results, tolerances=(0.25, 0.6))
+    area = comparison.models[("gw", "area")]
+    np.testing.assert_allclose(area.summary.mean[:2], 0.2)
+    np.testing.assert_allclose(area.summary.std[:2], np.std([0.1, 0.3], ddof=1))
+    # the last point: only the converged realization counts
+    np.testing.assert_allclose(area.summary.mean[2], 0.1)
+    assert area.unconverged == 1
+    assert (area.ranges[0].first, area.ranges[0].last) == (0, 2)
+    separation = comparison.models[("gw", "separation")]
+    np.testing.assert_allclose(separation.summary.mean, 0.5)
+    assert not separation.ranges[0].holds_anywhere and separation.ranges[1].points == 3
+    np.testing.assert_allclose(comparison.area_fraction, [0.01, 0.05, 0.2])
+    np.testing.assert_allclose(comparison.load, load)

@@ -234,6 +234,13 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
         The same family on a grid twice as fine (reference only), for the reference's own error.
     tolerances : tuple of float
         Error levels for the validity ranges.
+
+    Notes
+    -----
+    Errors are averaged over realizations point by point. On a load path every realization
+    has the same loads; on a separation path (``loads.quantity = "separation"``) the loads of
+    point k differ between realizations, and ``load`` is that of the first realization: read
+    such a comparison as one per separation point.
     """
     if not results:
         raise ValueError("no realizations to compare")

@@ -110,7 +110,7 @@ class SceneResult:
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)  # by D
     reference_error: dict[float, RealizationResult] = field(default_factory=dict)     # by D
     theory: dict | None = None
-    seconds: float = 0.0
+    seconds: float = 0.0  # wall time from the start of the run until this scene was complete
 
 
 # --------------------------------------------------------------------------------------------
