@@ -62,6 +62,23 @@ def _empty(shape: tuple[int, ...], dtype) -> np.ndarray:
     return np.empty(shape, dtype=dtype)
 
 
+def _check_arguments(shape, backend: str, threads: int | None, planner_effort: str
+                     ) -> tuple[int, int]:
+    """Checked shape of an FFT pair, after checking its other arguments."""
+    shape = tuple(int(s) for s in shape)
+    if len(shape) != 2 or min(shape) < 1:
+        raise ValueError(f"shape must be two positive integers, got {shape!r}")
+    if backend not in ("auto", "pyfftw", "scipy"):
+        raise ValueError(f"backend must be 'auto', 'pyfftw' or 'scipy', got {backend!r}")
+    if backend == "pyfftw" and pyfftw is None:
+        raise ValueError("backend='pyfftw' was asked for but pyFFTW is not installed")
+    if planner_effort not in _PLANNER_EFFORTS:
+        raise ValueError(f"planner_effort must be one of {_PLANNER_EFFORTS}, got {planner_effort!r}")
+    if threads is not None and int(threads) < 1:
+        raise ValueError(f"threads must be >= 1, got {threads!r}")
+    return shape
+
+
 class RealFFT2:
     """Planned real 2-D FFT pair of one real shape.
 
@@ -95,17 +112,7 @@ class RealFFT2:
 
     def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,
                  planner_effort: str = "FFTW_MEASURE") -> None:
-        shape = tuple(int(s) for s in shape)
-        if len(shape) != 2 or min(shape) < 1:
-            raise ValueError(f"shape must be two positive integers, got {shape!r}")
-        if backend not in ("auto", "pyfftw", "scipy"):
-            raise ValueError(f"backend must be 'auto', 'pyfftw' or 'scipy', got {backend!r}")
-        if backend == "pyfftw" and pyfftw is None:
-            raise ValueError("backend='pyfftw' was asked for but pyFFTW is not installed")
-        if planner_effort not in _PLANNER_EFFORTS:
-            raise ValueError(f"planner_effort must be one of {_PLANNER_EFFORTS}, got {planner_effort!r}")
-        if threads is not None and int(threads) < 1:
-            raise ValueError(f"threads must be >= 1, got {threads!r}")
+        shape = _check_arguments(shape, backend, threads, planner_effort)
         self.shape = shape
         self.spectrum_shape = (shape[0], shape[1] // 2 + 1)
         self.size = shape[0] * shape[1]
@@ -209,17 +216,7 @@ class PaddedRealFFT2:
 
     def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,
                  planner_effort: str = "FFTW_MEASURE") -> None:
-        shape = tuple(int(s) for s in shape)
-        if len(shape) != 2 or min(shape) < 1:
-            raise ValueError(f"shape must be two positive integers, got {shape!r}")
-        if backend not in ("auto", "pyfftw", "scipy"):
-            raise ValueError(f"backend must be 'auto', 'pyfftw' or 'scipy', got {backend!r}")
-        if backend == "pyfftw" and pyfftw is None:
-            raise ValueError("backend='pyfftw' was asked for but pyFFTW is not installed")
-        if planner_effort not in _PLANNER_EFFORTS:
-            raise ValueError(f"planner_effort must be one of {_PLANNER_EFFORTS}, got {planner_effort!r}")
-        if threads is not None and int(threads) < 1:
-            raise ValueError(f"threads must be >= 1, got {threads!r}")
+        shape = _check_arguments(shape, backend, threads, planner_effort)
         rows, columns = shape
         self.shape = shape
         self.padded_shape = (2 * rows, 2 * columns)
