@@ -4,7 +4,8 @@ The plan of a surface scene is one :class:`RealizationTask` per (D, realization)
 scene asks for the boundary-element reference's own error, one task per D on a grid twice as
 fine (BEM only). A task computes, in order and only when needed:
 
-* the surface (always, when the task exists; a theory scene has no tasks, so no surface);
+* the surface (only when a result that needs it is not cached; a theory scene has no tasks,
+  so no surface);
 * its summits (when an asperity model is asked for, or separations in units of sigma are);
 * the BEM load path, with its stiffness solves only when conductance or stiffness is asked for;
 * the GW and improved-GW curves fitted to the summits (cheap, never cached);
@@ -97,7 +98,6 @@ class RealizationResult:
     sigma: float                  # std of the summit heights [length] (nan without summits)
     summit_mean: float            # mean summit height above the mean plane [length]
     summit_count: int
-    rms_height: float
     computed: tuple[str, ...]     # log of computations actually done (cache hits excluded)
     seconds: dict[str, float]     # wall time per model (0 for a cache hit)
 
@@ -184,10 +184,17 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     computed: list[str] = []
     seconds: dict[str, float] = {}
     s = task.surface
-    heights = wm_surface(s.n, D=task.D, G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
-                         n_max=s.n_max, seed=task.seed,
-                         slope_grid=task.slope_grid if s.rms_slope is not None else None)
-    computed.append(f"surface {task.describe()}")
+    sampled: list[np.ndarray] = []
+
+    def heights() -> np.ndarray:
+        # The surface is made only when a result that needs it is not in the cache.
+        if not sampled:
+            sampled.append(wm_surface(
+                s.n, D=task.D, G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
+                n_max=s.n_max, seed=task.seed,
+                slope_grid=task.slope_grid if s.rms_slope is not None else None))
+            computed.append(f"surface {task.describe()}")
+        return sampled[0]
     spacing = s.spacing
     nominal_area = s.L**2
     surface_key = _surface_inputs(task)
@@ -198,7 +205,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         key = cache_key("summits", version, surface=surface_key)
         arrays = cache.load(key)
         if arrays is None:
-            summits = asperity.find_summits(heights, spacing)
+            summits = asperity.find_summits(heights(), spacing)
             cache.store(key, asperity.summits_to_arrays(summits))
             computed.append(f"summits {task.describe()}")
         else:
@@ -226,7 +233,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         arrays = cache.load(key)
         start = time.perf_counter()
         if arrays is None:
-            curve = bem.contact_curve(heights, spacing, e_star=task.e_star,
+            curve = bem.contact_curve(heights(), spacing, e_star=task.e_star,
                                       periodic=task.bem.periodic, tol=task.bem.tol,
                                       max_iter=task.bem.max_iter, quantities=curve_quantities, **path)
             cache.store(key, _curve_arrays(curve))
@@ -275,7 +282,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
 
     return RealizationResult(task=task, curves=curves, sigma=sigma, summit_mean=summit_mean,
                              summit_count=0 if summits is None else int(np.size(summits.height)),
-                             rms_height=float(np.std(heights)), computed=tuple(computed),
+                             computed=tuple(computed),
                              seconds=seconds)
 
 
