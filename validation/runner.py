@@ -222,30 +222,35 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     values = np.array(task.loads.values())
     curves: dict[str, ContactCurve] = {}
 
+    def cached_curve(model: str, key: str, compute) -> None:
+        # A load path from the cache, or computed, stored and logged (with its stiffness
+        # solves, when asked for); a cache hit costs 0 s.
+        arrays = cache.load(key)
+        if arrays is not None:
+            curves[model], seconds[model] = _curve_from_arrays(arrays), 0.0
+            return
+        start = time.perf_counter()
+        curve = compute()
+        seconds[model] = time.perf_counter() - start
+        cache.store(key, _curve_arrays(curve))
+        computed.append(f"{model} {task.describe()}")
+        if stiffness:
+            computed.append(f"{model}-stiffness {task.describe()}")
+        curves[model] = curve
+
     loads = None
     if task.loads.quantity == "load":
         loads = values * task.e_star * nominal_area
     if "bem" in task.models:
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        key = cache_key("bem", version, surface=surface_key, e_star=task.e_star,
-                        settings=task.bem, stiffness=stiffness,
-                        **{k: v for k, v in path.items()})
-        arrays = cache.load(key)
-        start = time.perf_counter()
-        if arrays is None:
-            curve = bem.contact_curve(heights(), spacing, e_star=task.e_star,
-                                      periodic=task.bem.periodic, tol=task.bem.tol,
-                                      max_iter=task.bem.max_iter, quantities=curve_quantities, **path)
-            cache.store(key, _curve_arrays(curve))
-            computed.append(f"bem {task.describe()}")
-            if stiffness:
-                computed.append(f"bem-stiffness {task.describe()}")
-        else:
-            curve = _curve_from_arrays(arrays)
-        seconds["bem"] = time.perf_counter() - start if arrays is None else 0.0
-        curves["bem"] = curve
+        cached_curve("bem", cache_key("bem", version, surface=surface_key, e_star=task.e_star,
+                                      settings=task.bem, stiffness=stiffness, **path),
+                     lambda: bem.contact_curve(heights(), spacing, e_star=task.e_star,
+                                               periodic=task.bem.periodic, tol=task.bem.tol,
+                                               max_iter=task.bem.max_iter,
+                                               quantities=curve_quantities, **path))
         if loads is None:  # separation path: the other models follow the reference's loads
-            loads = curve.load
+            loads = curves["bem"].load
 
     for model in ("gw", "improved_gw"):
         if model in task.models:
@@ -262,23 +267,16 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         if model not in task.models:
             continue
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        key = cache_key("discrete", version, surface=surface_key, e_star=task.e_star,
-                        interaction=interaction, stiffness=stiffness, **path)
-        arrays = cache.load(key)
-        start = time.perf_counter()
-        if arrays is None:
+
+        def solve(interaction=interaction):
             discrete = asperity.DiscreteAsperityModel(summits, e_star=task.e_star,
                                                       interaction=interaction)
-            curve = (discrete.at_load(loads, quantities=curve_quantities) if loads is not None
-                     else discrete.at_separation(values * sigma, quantities=curve_quantities))
-            cache.store(key, _curve_arrays(curve))
-            computed.append(f"{model} {task.describe()}")
-            if stiffness:
-                computed.append(f"{model}-stiffness {task.describe()}")
-        else:
-            curve = _curve_from_arrays(arrays)
-        seconds[model] = time.perf_counter() - start if arrays is None else 0.0
-        curves[model] = curve
+            if loads is not None:
+                return discrete.at_load(loads, quantities=curve_quantities)
+            return discrete.at_separation(values * sigma, quantities=curve_quantities)
+
+        cached_curve(model, cache_key("discrete", version, surface=surface_key, e_star=task.e_star,
+                                      interaction=interaction, stiffness=stiffness, **path), solve)
 
     return RealizationResult(task=task, curves=curves, sigma=sigma, summit_mean=summit_mean,
                              summit_count=0 if summits is None else int(np.size(summits.height)),
