@@ -203,13 +203,13 @@ def _memory(config: BenchConfig, log) -> list[tuple[str, int, float, float]]:
         height = rng.normal(0.0, 1e-3, count)
         radius = np.full(count, 0.05)
         summits = asperity.Summits.from_points(x, y, height, radius, area=1.0, spacing=spacing)
-        load = 0.05 * count * 1e-9  # a light load: a few percent of the asperities in contact
         tracemalloc.start()
         import warnings
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            asperity.DiscreteAsperityModel(summits).at_load([load], quantities=("area", "load",
-                                                                                "separation", "conductance"))
+            # from one sigma above the mean summit height down to it
+            asperity.DiscreteAsperityModel(summits).at_separation(
+                [1e-3, 0.0], quantities=("area", "load", "separation", "conductance"))
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
         out.append(("discrete model + stiffness", count, peak / 2**20, peak / count))
