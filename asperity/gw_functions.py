@@ -246,7 +246,9 @@ def _central_values(orders: Sequence[float], h: np.ndarray) -> list[np.ndarray]:
     return [results[n] for n in orders]
 
 
-def _gaussian_values(orders: Sequence[float], h: np.ndarray) -> list[np.ndarray]:
+def _gaussian(orders: Sequence[float], h: np.ndarray, *, log: bool) -> list[np.ndarray]:
+    """F_n(h) (or log F_n(h)) for Gaussian heights: series in both tails, quadrature between."""
+    upper_tail, lower_tail = (_upper_log, _lower_log) if log else (_upper_value, _lower_value)
     flat = h.ravel()
     outputs = [np.empty_like(flat) for _ in orders]
     upper = flat >= _SERIES_THRESHOLD
@@ -254,25 +256,10 @@ def _gaussian_values(orders: Sequence[float], h: np.ndarray) -> list[np.ndarray]
     middle = ~(upper | lower)
     central = _central_values(orders, flat[middle]) if middle.any() else None
     for k, n in enumerate(orders):
-        outputs[k][upper] = _upper_value(n, flat[upper])
-        outputs[k][lower] = _lower_value(n, flat[lower])
+        outputs[k][upper] = upper_tail(n, flat[upper])
+        outputs[k][lower] = lower_tail(n, flat[lower])
         if central is not None:
-            outputs[k][middle] = central[k]
-    return [out.reshape(h.shape) for out in outputs]
-
-
-def _gaussian_logs(orders: Sequence[float], h: np.ndarray) -> list[np.ndarray]:
-    flat = h.ravel()
-    outputs = [np.empty_like(flat) for _ in orders]
-    upper = flat >= _SERIES_THRESHOLD
-    lower = flat <= -_SERIES_THRESHOLD
-    middle = ~(upper | lower)
-    central = _central_values(orders, flat[middle]) if middle.any() else None
-    for k, n in enumerate(orders):
-        outputs[k][upper] = _upper_log(n, flat[upper])
-        outputs[k][lower] = _lower_log(n, flat[lower])
-        if central is not None:
-            outputs[k][middle] = np.log(central[k])
+            outputs[k][middle] = np.log(central[k]) if log else central[k]
     return [out.reshape(h.shape) for out in outputs]
 
 
@@ -285,7 +272,7 @@ def gw_integrals(orders: Sequence[float], h: np.ndarray, distribution: str = "ga
     if distribution == "exponential":
         with np.errstate(over="ignore"):
             return [np.exp(math.lgamma(n + 1.0) - h) for n in orders]
-    return _gaussian_values(orders, h)
+    return _gaussian(orders, h, log=False)
 
 
 def log_gw_integrals(orders: Sequence[float], h: np.ndarray, distribution: str = "gaussian"
@@ -293,7 +280,7 @@ def log_gw_integrals(orders: Sequence[float], h: np.ndarray, distribution: str =
     """log F_n(h) for several orders at once (h already checked); finite where F_n underflows."""
     if distribution == "exponential":
         return [math.lgamma(n + 1.0) - h for n in orders]
-    return _gaussian_logs(orders, h)
+    return _gaussian(orders, h, log=True)
 
 
 def gw_integral(n: float, h: ArrayLike, distribution: str = "gaussian") -> np.ndarray:

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bem.checks import frozen_array
 from bem.checks import positive as _finite_positive
 
 __all__ = ["Summits", "find_summits", "summits_to_arrays", "summits_from_arrays"]
@@ -29,9 +30,7 @@ _CURVATURES = ("geometric", "mean")
 
 
 def _frozen(array, dtype) -> np.ndarray:
-    array = np.array(array, dtype=dtype, copy=True).ravel()
-    array.setflags(write=False)
-    return array
+    return frozen_array(array, dtype).ravel()  # a view of a read-only array stays read-only
 
 
 @dataclass(frozen=True, eq=False)

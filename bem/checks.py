@@ -45,7 +45,8 @@ def non_negative(name: str, value: Any) -> float:
 
 
 def frozen_array(values: Any, dtype=float) -> np.ndarray | None:
-    """A read-only copy of ``values`` as an array (``None`` stays ``None``)."""
+    """A read-only copy of ``values`` as an array (``None`` stays ``None``); ``dtype=None``
+    keeps the input's type."""
     if values is None:
         return None
     array = np.array(values, dtype=dtype, copy=True)

@@ -66,9 +66,7 @@ _STIFFNESS_TOLERANCE = 1e-11
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
-    array = np.array(array, copy=True)
-    array.setflags(write=False)
-    return array
+    return checks.frozen_array(array, dtype=None)
 
 
 @dataclass(frozen=True, eq=False)
