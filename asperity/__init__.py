@@ -2,7 +2,7 @@
 interaction, the discrete asperity model with first-order interaction, Holm-Greenwood
 constriction resistance, and summit detection on a height map.
 
-Conventions (THEORY.md): separation d from the rigid plane to the mean plane of the surface
+Conventions (docs/theory.md): separation d from the rigid plane to the mean plane of the surface
 heights; summit heights have mean mu_s above that plane and standard deviation sigma; loads are
 total forces W on the nominal area A; every model returns a :class:`bem.ContactCurve`.
 """

@@ -6,7 +6,7 @@ Two families of dimensionless forms appear in Ciavarella, Greenwood & Paggi (200
   sigma^(3/2))`` (eq. 3) and the interaction parameter ``C = eta sqrt(A R sigma)`` (eq. 4);
   the improved theory reads ``p_bar = (4/3) F_3/2(d/sigma + m C p_bar)``, so for given m the
   curves depend on C only.
-* Section 4 (comparisons, THEORY.md "Conventions"): Area = A_real/L^2, Load = W/(E* L^2),
+* Section 4 (comparisons, docs/theory.md eq. T4): Area = A_real/L^2, Load = W/(E* L^2),
   Separation = d/sigma, Conductance = -2 dLoad/dSeparation = 2 S sigma/(E* L^2).
 
 Example (the paper's Figs. 1-3 for C = 5 and C = 50)::

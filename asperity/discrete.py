@@ -1,6 +1,6 @@
 """The discrete asperity model with first-order elastic interaction.
 
-THEORY.md, "The discrete asperity model" (paper Section 4; Ciavarella et al. 2006). Every summit
+docs/theory.md, eqs. T18-T21 (paper Section 4; Ciavarella et al. 2006). Every summit
 i (height z_i above the mean plane, radius R_i) is a Hertzian asperity::
 
     approach  delta_i = a_i^2 / R_i
@@ -161,7 +161,7 @@ def _cg(apply, rhs, *, rtol, max_iter):
 
 
 class DiscreteAsperityModel:
-    """Hertzian summits with first-order elastic interaction (THEORY.md, discrete model).
+    """Hertzian summits with first-order elastic interaction (docs/theory.md, discrete model).
 
     Parameters
     ----------

@@ -1,6 +1,6 @@
 """Greenwood-Williamson (GW) theory and the improved GW theory with uniform interaction.
 
-Paper: Ciavarella, Greenwood & Paggi, Wear 2008, Section 2; equations in THEORY.md, sections
+Paper: Ciavarella, Greenwood & Paggi, Wear 2008, Section 2; equations in docs/theory.md, sections
 "GW theory" and "Improved GW".
 
 Conventions and units

@@ -1,6 +1,6 @@
 """The Greenwood-Williamson functions F_n(h), evaluated to full double precision.
 
-For a Gaussian distribution of summit heights (THEORY.md, "GW functions")
+For a Gaussian distribution of summit heights (docs/theory.md, "GW functions")
 
     F_n(h) = (1/sqrt(2 pi)) * integral_h^inf (s - h)^n exp(-s^2/2) ds
            = Gamma(n+1)/sqrt(2 pi) * exp(-h^2/4) * D_{-n-1}(h)      (D: parabolic cylinder),
@@ -284,7 +284,7 @@ def log_gw_integrals(orders: Sequence[float], h: np.ndarray, distribution: str =
 
 
 def gw_integral(n: float, h: ArrayLike, distribution: str = "gaussian") -> np.ndarray:
-    """The Greenwood-Williamson function F_n(h) (THEORY.md "GW functions"; paper Section 2).
+    """The Greenwood-Williamson function F_n(h) (docs/theory.md, eq. T6; paper Section 2).
 
     ``F_n(h) = integral_h^inf (s - h)^n phi*(s) ds`` for the standardised summit-height
     density phi*: F_0 is the fraction of summits in contact, F_1 gives the real area,

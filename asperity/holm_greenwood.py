@@ -1,6 +1,6 @@
 """Holm-Greenwood constriction resistance of a set of circular contact spots.
 
-Paper Section 3, eq. (6) (Greenwood 1966), THEORY.md "Holm-Greenwood":
+Paper Section 3, eq. (6) (Greenwood 1966), docs/theory.md "Holm-Greenwood":
 
     R / rho = 1 / (2 sum_i a_i) + (1/pi) sum_{i != j} (a_i a_j / s_ij) / (sum_i a_i)^2
 

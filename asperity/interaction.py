@@ -1,7 +1,7 @@
 """First-order elastic interaction of asperities: fast sums of point-force displacements.
 
 A point force P_j on the elastic half-space lowers the surface at distance r by
-``P_j / (pi E* r)`` (THEORY.md, conventions). The discrete asperity model (THEORY.md, "The
+``P_j / (pi E* r)`` (docs/theory.md, eq. T2). The discrete asperity model (docs/theory.md, "The
 discrete asperity model", step 3) needs, at every asperity centre i, the interaction sum::
 
     u_i = sum_{j != i} P_j / (pi E* r_ij)                                   [length]
@@ -18,7 +18,7 @@ memory linear in the number of asperities, choosing per call the cheaper of two 
   Periodic summits: the convolution on the periodic grid itself with the *minimum-image* kernel
   (each pair interacts once, through its shortest periodic distance). A full periodic lattice sum
   of 1/r diverges in two dimensions unless a uniform background is removed, which would change
-  the separation reference; the minimum image keeps the far-field reference of THEORY.md and is
+  the separation reference; the minimum image keeps the far-field reference of docs/theory.md and is
   exact for the nearest periodic copy. Cost O(M log M) for an M-point padded grid, whatever the
   number of forces.
 * ``"direct"`` (any positions): blocked dense sums, memory O(block x N_sources) with blocks of

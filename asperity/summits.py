@@ -1,6 +1,6 @@
 """Summits of a height map: the asperities of the GW and discrete asperity models.
 
-THEORY.md, "The discrete asperity model", step 1: asperities are the summits of the sampled
+docs/theory.md, "The discrete asperity model", step 1: asperities are the summits of the sampled
 surface (grid points higher than their 8 neighbours), each with its position, height and radius
 R = geometric mean of the principal radii of curvature (Greenwood's suggestion, the paper's
 choice) from the local second derivatives.
@@ -232,7 +232,7 @@ class Summits:
                     mean=float(np.mean(self.height)), area=area)
 
     def greenwood_williamson(self, area: float | None = None, *, e_star: float = 1.0):
-        """The "original GW" fit of the paper (THEORY.md, last paragraph of the discrete model).
+        """The "original GW" fit of the paper (docs/theory.md, end of "Summits and their radii").
 
         eta = N / area, summit heights fitted by a Gaussian of mean mu_s and standard deviation
         sigma (the maximum-likelihood values: ``np.mean`` and ``np.std`` with ddof = 0), R the

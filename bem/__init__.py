@@ -1,6 +1,6 @@
 """Full elastic half-space contact by FFT boundary elements: the exact reference.
 
-Conventions (shared with the whole project, THEORY.md): frictionless normal contact of a rough
+Conventions (shared with the whole project, docs/theory.md): frictionless normal contact of a rough
 surface against a rigid plane; pressure positive in compression; gap >= 0; separation d measured
 from the rigid plane to the mean plane of the heights in the far field; a point force P at
 distance r lowers the surface by P / (pi E* r). Lengths in any consistent unit, pressures in the

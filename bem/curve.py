@@ -5,8 +5,8 @@ the boundary-element reference) answers the same question, "what happens at thes
 or loads?", with a :class:`ContactCurve`. The validation package compares curves field by field
 without adapters.
 
-Units and conventions (THEORY.md, "Conventions used everywhere")
-------------------------------------------------------------------
+Units and conventions (docs/theory.md, "Conventions used everywhere")
+-----------------------------------------------------------------------
 * ``separation`` d [length]: rigid plane to the mean plane of the surface heights, in the far
   field.
 * ``load`` W [force]: total normal force on the nominal area.

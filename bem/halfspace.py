@@ -1,7 +1,7 @@
 """The elastic half-space as a linear operator: pressure on a grid -> surface displacement.
 
-Conventions (THEORY.md, "The reference")
-----------------------------------------
+Conventions (docs/theory.md, "The reference")
+---------------------------------------------
 Pressure ``p`` is positive in compression and uniform over each pixel of side ``spacing`` h;
 the displacement ``u = K * p`` is positive into the body (a point force P lowers the surface by
 ``P / (pi E* r)`` at distance r). Grids are indexed ``[j, i]`` (row j is y, column i is x).

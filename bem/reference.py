@@ -1,4 +1,4 @@
-"""Analytic reference solutions of frictionless normal contact (THEORY.md, "Analytic checks").
+"""Analytic reference solutions of frictionless normal contact (docs/theory.md, "Analytic checks").
 
 These are the closed forms the boundary-element solver is tested against; they are shared by the
 tests and by users who want to check a model on a known case. All functions take physical
@@ -42,7 +42,7 @@ __all__ = [
 ]
 
 #: Mean deflection over a uniformly loaded square of side L, in units of p L / E*:
-#: ``(4/pi) [ln(1 + sqrt 2) - (sqrt 2 - 1)/3]`` (THEORY.md, "Love's pixel kernel").
+#: ``(4/pi) [ln(1 + sqrt 2) - (sqrt 2 - 1)/3]`` (docs/theory.md, "Love's pixel kernel").
 UNIFORM_SQUARE_MEAN_DEFLECTION = 4.0 / math.pi * (math.log(1.0 + math.sqrt(2.0))
                                                   - (math.sqrt(2.0) - 1.0) / 3.0)
 
@@ -71,7 +71,7 @@ def love_pixel_displacement(x, y, *, half_width_x: float, half_width_y: float | 
         u(x, y) = p / (pi E*) [f(x+a, y+b) - f(x+a, y-b) - f(x-a, y+b) + f(x-a, y-b)]
         f(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|)      (each term 0 where its denominator is 0)
 
-    (THEORY.md, "Love's pixel kernel"). This is the integral of the point-force Green's function
+    (docs/theory.md, eq. T23). This is the integral of the point-force Green's function
     ``P / (pi E* r)`` over the rectangle. The asinh form is used because the textbook log form
     ``X ln(Y + r) + Y ln(X + r)`` evaluates ``0 * log(0)`` (NaN) on some grid points.
 
@@ -152,7 +152,7 @@ class HertzSolution:
         """Surface displacement u(r) into the body [length].
 
         Inside (r <= a): ``u = delta - r^2/(2R)``; outside:
-        ``u = p0/(2 a E*) [(2a^2 - r^2) asin(a/r) + a sqrt(r^2 - a^2)]`` (THEORY.md).
+        ``u = p0/(2 a E*) [(2a^2 - r^2) asin(a/r) + a sqrt(r^2 - a^2)]`` (docs/theory.md, eq. T28).
         """
         r = np.abs(np.asarray(r, dtype=float))
         a = self.contact_radius
@@ -166,7 +166,7 @@ class HertzSolution:
 
 
 def hertz(load: float, radius: float, e_star: float = 1.0) -> HertzSolution:
-    """Hertz solution for force ``load`` on a sphere of radius ``radius`` (THEORY.md).
+    """Hertz solution for force ``load`` on a sphere of radius ``radius`` (docs/theory.md, eq. T27).
 
     R = E* = P = 1 gives a = 0.908560, delta = 0.825482, p0 = 0.578407.
     """
@@ -235,7 +235,7 @@ def westergaard(mean_pressure: float, *, amplitude: float, wavelength: float,
 def bisinusoid_area_low_load(psi):
     """JGH low-load asymptote ``A / lambda^2 = pi (3 psi / (8 pi))^(2/3)`` for the bisinusoid.
 
-    ``psi = p_mean / p*`` with ``p* = sqrt(2) pi E* Delta / lambda`` (THEORY.md).
+    ``psi = p_mean / p*`` with ``p* = sqrt(2) pi E* Delta / lambda`` (docs/theory.md, eq. T30).
     """
     psi = _load_ratio(psi)
     return math.pi * (3.0 * psi / (8.0 * math.pi)) ** (2.0 / 3.0)

@@ -1,7 +1,7 @@
 """Frictionless normal contact of a rough surface with a rigid plane: constrained conjugate gradients.
 
-The problem (THEORY.md, "The reference")
------------------------------------------
+The problem (docs/theory.md, "The reference")
+----------------------------------------------
 Find pixel pressures ``p >= 0`` with ``gap = d - z + u >= 0`` and ``p * gap = 0`` everywhere,
 where ``z`` are the heights (as given: the solver never re-centres them), ``u = K * p`` the
 half-space displacement (:class:`bem.HalfSpace`) and ``d`` the separation, i.e. the height of
@@ -34,7 +34,7 @@ whose spinning threads stall the FFT threads.
 
 Stiffness: the incremental problem on the converged contact set C, ``K_CC q = 1`` (unit rigid
 approach) solved by conjugate gradients; ``S = -dW/dd = h^2 sum q``, and the conductance by
-Barber's analogy ``C rho = 2 S / E*`` (THEORY.md, "Conventions").
+Barber's analogy ``C rho = 2 S / E*`` (docs/theory.md, eq. T5).
 """
 
 from __future__ import annotations
@@ -513,7 +513,7 @@ def solve_contact(
     """Contact of a rough elastic surface with a rigid plane, at given load or separation.
 
     Constrained conjugate gradients (Polonsky & Keer 1999; separation control after Rey,
-    Anciaux & Molinari 2017) on the boundary-element half-space of THEORY.md, "The reference".
+    Anciaux & Molinari 2017) on the boundary-element half-space of docs/theory.md, "The reference".
     Conventions (gap, separation d, periodic mean plane): module docstring.
 
     Parameters

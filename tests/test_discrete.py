@@ -1,4 +1,4 @@
-"""The discrete asperity model with first-order interaction (THEORY.md, "The discrete asperity
+"""The discrete asperity model with first-order interaction (docs/theory.md, "The discrete asperity
 model"): Hertz limits, independent dense solves, incremental stiffness, exact interaction sums,
 random summit sets, warnings and bad input."""
 
@@ -64,7 +64,7 @@ def test_one_summit_is_exactly_hertz():
     np.testing.assert_allclose(curve.holm_greenwood_conductance, 4 * a, rtol=1e-13)
     np.testing.assert_array_equal(curve.contacts, 1)
     assert curve.converged.all() and curve.mean_pressure == pytest.approx(curve.load)
-    # THEORY.md's reference numbers: R = E* = P = 1 gives a = 0.908560, delta = 0.825482.
+    # docs/theory.md, eq. T27: R = E* = P = 1 gives a = 0.908560, delta = 0.825482.
     unit = DiscreteAsperityModel(Summits.from_points([0.0], [0.0], [1.0], [1.0], area=1.0))
     by_load = unit.at_load(1.0)
     assert by_load.contact_radii[0, 0] == pytest.approx(0.908560, abs=5e-7)

@@ -63,7 +63,7 @@ def test_against_mpmath_far_below_the_summits(n):
 
 
 def test_table_of_theory_md():
-    table = {  # THEORY.md, 40-digit quadrature, printed to 17 digits
+    table = {  # docs/theory.md, "GW functions": 40-digit quadrature, printed to 17 digits
         0.0: (0.5, 0.022750131948179207, 2.8665157187919391e-7, 7.6198530241605261e-24),
         0.5: (0.41108947933122928, 0.012480040296439067, 1.1014563207789281e-7,
               2.1174792991416109e-24),

@@ -20,7 +20,7 @@ def dense_love_matrix(shape, spacing, e_star):
 
 
 def test_love_pixel_reference_values():
-    # THEORY.md: unit square, p = E* = 1: centre 4 ln(1 + sqrt 2)/pi, corner half of it.
+    # docs/theory.md, eq. T23: unit square, p = E* = 1: centre 4 ln(1 + sqrt 2)/pi, corner half of it.
     assert love_pixel_displacement(0.0, 0.0, half_width_x=0.5) == pytest.approx(1.1221997, abs=1e-7)
     assert love_pixel_displacement(0.5, 0.5, half_width_x=0.5) == pytest.approx(0.5610999, abs=1e-7)
     assert love_pixel_displacement(0.5, -0.5, half_width_x=0.5) == pytest.approx(0.5610999, abs=1e-7)
@@ -101,7 +101,7 @@ def test_periodic_operator_single_cosine(wave):
     kx, ky = (2 * math.pi * w / length for w in wave)
     pressure = np.cos(kx * x[None, :] + ky * x[:, None] + 0.3)
     operator = HalfSpace((n, n), spacing, e_star=e_star, periodic=True)
-    # u = 2 p / (E* |q|) for a cosine of wavevector q (THEORY.md, periodic kernel).
+    # u = 2 p / (E* |q|) for a cosine of wavevector q (docs/theory.md, eq. T24).
     expected = 2.0 * pressure / (e_star * math.hypot(kx, ky))
     assert np.max(np.abs(operator.displacement(pressure) - expected)) <= 1e-13 * np.max(np.abs(expected))
 

@@ -1,4 +1,4 @@
-"""Weierstrass-Mandelbrot surfaces (THEORY.md eqs. 11-12) and surface statistics."""
+"""Weierstrass-Mandelbrot surfaces (docs/theory.md eqs. 11-12) and surface statistics."""
 
 import math
 

@@ -3,7 +3,7 @@
 Only this module makes figures; matplotlib is imported here, lazily, with the Agg backend.
 Plot functions take an ``ax`` and return what they drew.
 
-Dimensionless quantities (the paper's Section 4, THEORY.md conventions):
+Dimensionless quantities (the paper's Section 4, docs/theory.md eq. T4):
 ``Area = A_real / L^2``, ``Load = W / (E* L^2)``, ``Separation = d / sigma``,
 ``Conductance = C rho sigma / L^2 = 2 S sigma / (E* L^2) = -2 dLoad/dSeparation``.
 """

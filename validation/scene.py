@@ -14,7 +14,7 @@ File format (every key, with its default)::
     kind = "surface"                # "surface" (surfaces, models, BEM) or "theory" (Figs. 1-3)
 
     [surface]                       # kind = "surface" only
-    family = "wm"                   # Weierstrass-Mandelbrot, THEORY.md eqs. (11)-(12)
+    family = "wm"                   # Weierstrass-Mandelbrot, docs/theory.md eqs. (11)-(12)
     D = 2.05                        # a number, or a list of numbers for a sweep (validity map)
     rms_slope = 0.1                 # exactly one of rms_slope and G
     gamma = 1.5

@@ -1,7 +1,7 @@
 """Weierstrass-Mandelbrot rough surfaces and their statistics.
 
 The surface is eq. (11)-(12) of Ciavarella, Greenwood & Paggi (2008) (Yan & Komvopoulos /
-Ausloos-Berman form; THEORY.md, "Weierstrass-Mandelbrot surfaces")::
+Ausloos-Berman form; docs/theory.md, "Weierstrass-Mandelbrot surfaces")::
 
     z(x, y) = B sum_{m=1..M} sum_{n=0..n_max} gamma^{(D-3) n}
               [cos phi_mn - cos(2 pi gamma^n (x cos(pi m/M) + y sin(pi m/M)) / L + phi_mn)]
