@@ -2,6 +2,8 @@
 SurfaceTopography reader."""
 
 import dataclasses
+import importlib.util
+import pathlib
 import sys
 
 import numpy as np
@@ -35,7 +37,7 @@ def test_gwyddion_ascii_units_spacing_and_plane(tmp_path):
     basis = np.stack((np.ones(x.size), x.ravel(), y.ravel()), axis=1)
     fitted = basis @ np.linalg.lstsq(basis, residual.ravel(), rcond=None)[0]
     expected = (residual.ravel() - fitted).reshape(residual.shape) * 1e-6
-    np.testing.assert_allclose(top.heights, expected, atol=1e-12)
+    np.testing.assert_allclose(top.heights, expected, rtol=0, atol=1e-12)   # 7 digits of ~1 µm
     in_nm = read_topography(path, height_unit="nm")
     np.testing.assert_allclose(in_nm.heights, top.heights * 1e9, rtol=1e-12, atol=1e-9)
     assert in_nm.spacing == pytest.approx(250.0) and "Gwyddion" in in_nm.source
@@ -159,6 +161,34 @@ def test_instrument_format_without_the_extra_says_how_to_install(tmp_path, monke
         read_topography(tmp_path / "scan.ibw")
 
 
+EXAMPLE = pathlib.Path(__file__).resolve().parents[1] / "examples" / "example_topography.txt"
+
+
+def test_example_file_is_what_the_script_writes(tmp_path):
+    """The committed example scan: 10 µm square, 128 x 128, rms slope 0.1 after the tilt is
+    removed, and the script that makes it reproduces it."""
+    spec = importlib.util.spec_from_file_location(
+        "make_example_topography", EXAMPLE.with_name("make_example_topography.py"))
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    script.main(tmp_path / "again.txt")
+    committed = read_topography(EXAMPLE, height_unit="um")
+    again = read_topography(tmp_path / "again.txt", height_unit="um")
+    assert committed.heights.shape == (128, 128) and committed.physical_size == (10.0, 10.0)
+    np.testing.assert_allclose(again.heights, committed.heights, rtol=0, atol=1e-6)
+    slope = validation.surface_statistics(committed.heights, committed.spacing).rms_gradient
+    assert slope == pytest.approx(0.1, rel=0.01)
+    assert EXAMPLE.stat().st_size < 300_000
+
+
+def test_writer_size_unit_differs_from_value_unit(tmp_path):
+    path = write_gwyddion_ascii(tmp_path / "a.txt", np.ones((3, 3)) * 2e-9, 1e-6, size_unit="µm")
+    assert "# Width: 3 µm" in path.read_text(encoding="utf-8")
+    top = read_topography(path, detrend=None, height_unit="nm")
+    assert top.spacing == pytest.approx(1000.0)
+    np.testing.assert_allclose(top.heights, 2.0)
+
+
 def test_unit_table():
     assert LENGTH_UNITS["µm"] == LENGTH_UNITS["um"] == LENGTH_UNITS["\u03bcm"] == 1e-6
     assert LENGTH_UNITS["\u00c5"] == LENGTH_UNITS["\u212b"] == 1e-10
@@ -187,6 +217,12 @@ class TestSurfaceTopographyReader:
         top = read_topography(tmp_path / "a.nc", detrend=None)
         np.testing.assert_allclose(top.heights, heights * 1e-9, rtol=1e-12)
         assert top.spacing == pytest.approx(0.5e-9)
+
+    def test_builtin_gwyddion_parser_agrees_with_surfacetopography(self):
+        ours = read_topography(EXAMPLE, reader="builtin")
+        theirs = read_topography(EXAMPLE, reader="surfacetopography")
+        assert ours.spacing == pytest.approx(theirs.spacing, rel=1e-12)
+        np.testing.assert_allclose(ours.heights, theirs.heights, rtol=0, atol=1e-15)
 
     def test_unreadable_file_is_a_value_error(self, tmp_path):
         (tmp_path / "noise.ibw").write_bytes(bytes(range(256)) * 4)

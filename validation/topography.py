@@ -302,20 +302,23 @@ def read_topography(
 
 
 def write_gwyddion_ascii(path: str | pathlib.Path, heights: np.ndarray, spacing: float, *,
-                         unit: str = "m", channel: str = "Height") -> pathlib.Path:
+                         unit: str = "m", size_unit: str | None = None, channel: str = "Height"
+                         ) -> pathlib.Path:
     """Write heights[j, i] [unit] as a Gwyddion ASCII matrix with its informational header.
 
-    The header states ``Width`` and ``Height`` (columns and rows times ``spacing``) and the
-    ``Value units``, all in ``unit``, so :func:`read_topography` needs no extra argument.
+    The header states ``Width`` and ``Height`` (columns and rows times ``spacing`` [unit]) in
+    ``size_unit`` (default ``unit``; Gwyddion itself writes values in m and sizes in µm) and
+    the ``Value units``, so :func:`read_topography` needs no extra argument.
     """
     heights = np.asarray(heights, dtype=float)
     if heights.ndim != 2:
         raise ValueError(f"heights must be a 2-D array, got shape {heights.shape}")
     spacing = positive("spacing", spacing)
-    _unit_factor("unit", unit)
+    size_unit = unit if size_unit is None else size_unit
+    scale = _unit_factor("unit", unit) / _unit_factor("size_unit", size_unit)
     rows, columns = heights.shape
-    header = (f"Channel: {channel}\nWidth: {columns * spacing:.6g} {unit}\n"
-              f"Height: {rows * spacing:.6g} {unit}\nValue units: {unit}")
+    header = (f"Channel: {channel}\nWidth: {columns * spacing * scale:.6g} {size_unit}\n"
+              f"Height: {rows * spacing * scale:.6g} {size_unit}\nValue units: {unit}")
     path = pathlib.Path(path)
     np.savetxt(path, heights, fmt="%.6e", delimiter="\t", header=header, comments="# ",
                encoding="utf-8")
