@@ -1,6 +1,6 @@
 """Self-affine Gaussian random surfaces by Fourier filtering, and their power spectrum.
 
-Power-spectrum convention (THEORY.md): for a surface of mean zero,
+Power-spectrum convention, for a surface of mean zero,
 
     C(q) = (2 pi)^-2 \\int <h(0) h(x)> exp(-i q.x) d^2x,      so that  h_rms^2 = \\int C(q) d^2q.
 
