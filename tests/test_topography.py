@@ -70,6 +70,18 @@ def test_csv_with_comment_header_needs_unit_and_size(tmp_path):
     np.testing.assert_allclose(same.heights, top.heights * 1e-6, atol=1e-20)
 
 
+def test_decimal_comma_and_comma_space_separated(tmp_path):
+    (tmp_path / "de.txt").write_text("# Width: 2 mm\n# Height: 2 mm\n# Value units: nm\n"
+                                     "1,5\t2,5\n3,5\t-4,5e1\n", encoding="utf-8")
+    top = read_topography(tmp_path / "de.txt", detrend=None, square="keep", height_unit="nm")
+    np.testing.assert_allclose(top.heights, [[1.5, 2.5], [3.5, -45.0]])
+    assert top.spacing == pytest.approx(1e6)
+    (tmp_path / "en.csv").write_text("1.5, 2.5\n3.5, -45\n", encoding="utf-8")
+    top = read_topography(tmp_path / "en.csv", detrend=None, file_unit="nm", physical_size=2.0,
+                          height_unit="nm")
+    np.testing.assert_allclose(top.heights, [[1.5, 2.5], [3.5, -45.0]])
+
+
 def test_npy_non_square_is_cropped_to_centred_square_or_kept(tmp_path):
     heights = rough(8, 12)
     path = tmp_path / "map.npy"
@@ -204,6 +216,8 @@ class TestSurfaceTopographyReader:
     def test_x3p_transposed_to_row_y_and_converted(self, tmp_path):
         heights = rough(10, 14)                               # heights[j, i]: 10 rows (y), 14 x
         instrument = self.st.Topography(heights.T.copy(), (7.0, 5.0), unit="µm")  # [x, y]
+        if not hasattr(instrument, "to_x3p"):
+            pytest.skip("this SurfaceTopography version has no x3p writer")
         instrument.to_x3p(str(tmp_path / "scan.x3p"))
         top = read_topography(tmp_path / "scan.x3p", square="keep", detrend=None,
                               height_unit="nm")
@@ -217,6 +231,21 @@ class TestSurfaceTopographyReader:
         top = read_topography(tmp_path / "a.nc", detrend=None)
         np.testing.assert_allclose(top.heights, heights * 1e-9, rtol=1e-12)
         assert top.spacing == pytest.approx(0.5e-9)
+
+    def test_masked_points_are_missing_data_and_size_from_the_caller(self, tmp_path):
+        heights = np.ma.masked_array(rough(6, 6), mask=np.zeros((6, 6), dtype=bool))
+        heights.mask[2, 3] = True
+        self.st.Topography(heights.T.copy(), (3.0, 3.0), unit="nm").to_netcdf(str(tmp_path / "m.nc"))
+        with pytest.raises(ValueError, match="1 of 36 points are missing"):
+            read_topography(tmp_path / "m.nc")
+        assert np.isfinite(read_topography(tmp_path / "m.nc", fill="mean").heights).all()
+        np.save(tmp_path / "bare.npy", rough(6, 6))          # states neither size nor unit
+        with pytest.raises(ValueError, match="physical_size"):
+            read_topography(tmp_path / "bare.npy", reader="surfacetopography", file_unit="nm")
+        top = read_topography(tmp_path / "bare.npy", reader="surfacetopography", file_unit="nm",
+                              physical_size="3 um", detrend=None, height_unit="nm")
+        assert top.spacing == pytest.approx(500.0)
+        np.testing.assert_allclose(top.heights, rough(6, 6).T, rtol=1e-12)  # its [x, y] order
 
     def test_builtin_gwyddion_parser_agrees_with_surfacetopography(self):
         ours = read_topography(EXAMPLE, reader="builtin")

@@ -1,7 +1,8 @@
 """Measured height maps from instrument files, as heights z[j, i] and a grid spacing.
 
 Built in (no extra dependency): ``.npy`` arrays and plain-text matrices (``.txt``, ``.csv``,
-``.asc``, ``.dat``, ``.tsv``: whitespace- or comma-separated, ``#`` comment lines), including
+``.asc``, ``.dat``, ``.tsv``: whitespace- or comma-separated, or whitespace-separated with
+decimal commas; ``#`` comment lines), including
 Gwyddion's "ASCII data matrix" export with its informational header::
 
     # Channel: Height
@@ -19,6 +20,7 @@ from __future__ import annotations
 import math
 import pathlib
 import re
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -80,6 +82,14 @@ def _length(name: str, value: float | str) -> tuple[float, str | None]:
     return positive(name, value), None
 
 
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _read_text(path: pathlib.Path) -> tuple[np.ndarray, tuple | None, str | None, str]:
     """Plain-text matrix; header keys Width/Height/Value units (Gwyddion ASCII) are honoured."""
     header: dict[str, str] = {}
@@ -92,9 +102,14 @@ def _read_text(path: pathlib.Path) -> tuple[np.ndarray, tuple | None, str | None
             elif line.strip() and not line.lstrip().startswith("#"):
                 first_data = line
                 break
-    delimiter = "," if "," in first_data else None
+    delimiter, decimal_comma = None, False
+    if "," in first_data:                   # "1.5, 2.5" separates; "1,5\t2,5" is a decimal comma
+        delimiter = "," if all(_is_number(field) for field in first_data.split(",")) else None
+        decimal_comma = delimiter is None
     try:
-        heights = np.loadtxt(path, comments="#", delimiter=delimiter, ndmin=2, encoding="utf-8")
+        with path.open(encoding="utf-8", errors="replace") as stream:
+            lines = (line.replace(",", ".") for line in stream) if decimal_comma else stream
+            heights = np.loadtxt(lines, comments="#", delimiter=delimiter, ndmin=2)
     except ValueError as error:
         raise ValueError(f"{path}: not a numeric matrix ({error})") from None
     unit = header.get("value units")
@@ -107,7 +122,13 @@ def _read_text(path: pathlib.Path) -> tuple[np.ndarray, tuple | None, str | None
     return heights, size, unit, reader
 
 
-def _read_surfacetopography(path: pathlib.Path, channel: int | None) -> tuple[np.ndarray, tuple, str | None, str]:
+def _read_surfacetopography(path: pathlib.Path, channel: int | None
+                            ) -> tuple[np.ndarray, tuple | None, str | None, str]:
+    """Heights[j, i] through SurfaceTopography's reader (its arrays are [x, y]: transposed).
+
+    Size and unit that the file does not state come back as None; read_topography applies
+    the caller's.
+    """
     try:
         from SurfaceTopography import open_topography
     except ImportError:
@@ -116,30 +137,37 @@ def _read_surfacetopography(path: pathlib.Path, channel: int | None) -> tuple[np
                           ) from None
     try:
         reader = open_topography(str(path))
-        info = reader.default_channel if channel is None else reader.channels[channel]
-    except IndexError:
-        raise ValueError(f"channel must index one of the {len(reader.channels)} channels "
-                         f"of {path}, got {channel!r}") from None
-    except Exception as error:  # the reader's own exception types vary by format
+    except Exception as error:  # the readers' own exception types vary by format
         raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
-    if len(info.nb_grid_pts) != 2:
-        raise ValueError(f"{path}: a line scan ({info.nb_grid_pts} points), not a height map")
-    # Size and unit the file does not state are applied afterwards by read_topography.
-    arguments: dict = {"channel_index": info.index}
-    if info.physical_sizes is None:
-        arguments["physical_sizes"] = (1.0, 1.0)
-    if info.unit is None:
-        arguments["unit"] = "m"
     try:
-        topography = reader.topography(**arguments)
-    except Exception as error:
-        raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
-    if topography.dim != 2 or not topography.is_uniform:
-        raise ValueError(f"{path}: not a uniform 2-D height map (line scan or scattered points)")
-    heights = np.ma.filled(np.ma.asarray(topography.heights(), dtype=float), np.nan).T
-    width, height = topography.physical_sizes
+        if channel is not None and not 0 <= channel < len(reader.channels):
+            raise ValueError(f"channel must index one of the {len(reader.channels)} channels "
+                             f"of {path}, got {channel!r}")
+        info = reader.default_channel if channel is None else reader.channels[channel]
+        if len(info.nb_grid_pts) != 2:
+            raise ValueError(f"{path}: a line scan ({info.nb_grid_pts} points), not a height map")
+        arguments: dict = {"channel_index": info.index}
+        if info.physical_sizes is None:
+            arguments["physical_sizes"] = (1.0, 1.0)    # placeholder, replaced by the caller's
+        if info.unit is None:
+            arguments["unit"] = "m"                     # placeholder, replaced by file_unit
+        try:
+            topography = reader.topography(**arguments)
+        except Exception as error:
+            raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
+        if topography.dim != 2 or not topography.is_uniform:
+            raise ValueError(f"{path}: not a uniform 2-D height map (line scan or scattered "
+                             "points)")
+        heights = np.array(np.ma.filled(np.ma.asarray(topography.heights(), dtype=float),
+                                        np.nan).T)      # a copy: the file may be memory-mapped
+        (width, height), unit = topography.physical_sizes, topography.unit
+        del topography                                  # release the mapping before closing
+    finally:
+        with warnings.catch_warnings():  # scipy's netCDF warns that the reader keeps a mapping
+            warnings.filterwarnings("ignore", "Cannot close a netcdf_file", RuntimeWarning)
+            reader.close()
     size = None if info.physical_sizes is None else ((float(width), None), (float(height), None))
-    unit = None if info.unit is None else topography.unit
+    unit = None if info.unit is None else unit
     return heights, size, unit, f"SurfaceTopography, channel {info.name!r}"
 
 
@@ -219,6 +247,8 @@ def read_topography(
         Unit of the numbers in a file that states none (``.npy``, bare text); required then.
     channel : int, optional
         Channel index for multi-channel instrument files (default: the reader's default).
+        SurfaceTopography stores arrays as [x, y]; they are transposed to [y, x] here (so an
+        ``.npy`` read with ``reader="surfacetopography"`` comes back transposed).
     reader : {"auto", "builtin", "surfacetopography"}
         Force the built-in reader or SurfaceTopography's.
 
