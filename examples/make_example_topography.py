@@ -34,7 +34,9 @@ def example_heights() -> tuple[np.ndarray, float]:
     return heights + TILT[0] * x + TILT[1] * y, spacing
 
 
-def main(path: pathlib.Path = pathlib.Path(__file__).with_name("example_topography.txt")) -> None:
+def main(path: pathlib.Path | None = None) -> None:
+    """Write the example file (default: ``example_topography.txt`` beside this script)."""
+    path = pathlib.Path(__file__).with_name("example_topography.txt") if path is None else path
     heights_um, spacing_um = example_heights()
     write_gwyddion_ascii(path, heights_um * 1e-6, spacing_um * 1e-6, unit="m", size_unit="µm",
                          channel="Height (synthetic self-affine)")

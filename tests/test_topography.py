@@ -71,7 +71,7 @@ def test_csv_with_comment_header_needs_unit_and_size(tmp_path):
 
 
 def test_decimal_comma_and_comma_space_separated(tmp_path):
-    (tmp_path / "de.txt").write_text("# Width: 2 mm\n# Height: 2 mm\n# Value units: nm\n"
+    (tmp_path / "de.txt").write_text("# Width: 2,000 mm\n# Height: 2 mm\n# Value units: nm\n"
                                      "1,5\t2,5\n3,5\t-4,5e1\n", encoding="utf-8")
     top = read_topography(tmp_path / "de.txt", detrend=None, square="keep", height_unit="nm")
     np.testing.assert_allclose(top.heights, [[1.5, 2.5], [3.5, -45.0]])
@@ -158,6 +158,9 @@ def test_bad_files(tmp_path):
     (tmp_path / "words.txt").write_text("a b c\nd e f\n")
     with pytest.raises(ValueError, match="numeric"):
         read_topography(tmp_path / "words.txt", file_unit="m", physical_size=1.0)
+    np.save(tmp_path / "complex.npy", np.ones((4, 4), dtype=complex))
+    with pytest.raises(ValueError, match="real numbers"):
+        read_topography(tmp_path / "complex.npy", file_unit="m", physical_size=1.0)
     path = write_gwyddion_ascii(tmp_path / "map.txt", rough(4, 4), 1.0)
     with pytest.raises(ValueError, match="states its physical size"):
         read_topography(path, physical_size=4.0)

@@ -73,7 +73,7 @@ def _unit_factor(name: str, unit: str) -> float:
 def _length(name: str, value: float | str) -> tuple[float, str | None]:
     """A length as (number, unit or None): ``2.5`` or ``"10 µm"``."""
     if isinstance(value, str):
-        match = re.fullmatch(r"\s*([-+0-9.eE]+)\s*(\S+)\s*", value)
+        match = re.fullmatch(r"\s*([-+0-9.,eE]+)\s*(\S+)\s*", value.replace(",", "."))
         if match is None:
             raise ValueError(f"{name} must be a number or 'number unit' like '10 um', got {value!r}")
         unit = match.group(2)
@@ -137,7 +137,7 @@ def _read_surfacetopography(path: pathlib.Path, channel: int | None
                           ) from None
     try:
         reader = open_topography(str(path))
-    except Exception as error:  # the readers' own exception types vary by format
+    except Exception as error:  # noqa: BLE001 -- the readers' exception types vary by format
         raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
     try:
         if channel is not None and not 0 <= channel < len(reader.channels):
@@ -153,7 +153,7 @@ def _read_surfacetopography(path: pathlib.Path, channel: int | None
             arguments["unit"] = "m"                     # placeholder, replaced by file_unit
         try:
             topography = reader.topography(**arguments)
-        except Exception as error:
+        except Exception as error:  # noqa: BLE001
             raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
         if topography.dim != 2 or not topography.is_uniform:
             raise ValueError(f"{path}: not a uniform 2-D height map (line scan or scattered "
@@ -278,30 +278,17 @@ def read_topography(
     if file_unit is not None:
         _unit_factor("file_unit", file_unit)
     user_size = None if physical_size is None else _physical_size(physical_size)
-    suffix = path.suffix.lower()
-    builtin = reader == "builtin" or (reader == "auto" and suffix in (".npy",) + TEXT_SUFFIXES)
 
-    if builtin:
-        if suffix == ".npy":
-            heights, size, unit, source = np.load(path, allow_pickle=False), None, None, "npy"
-        else:
-            heights, size, unit, source = _read_text(path)
-    else:
-        heights, size, unit, source = _read_surfacetopography(path, channel)
-    heights = np.asarray(heights, dtype=float)
-    if heights.ndim != 2 or min(heights.shape) < 2:
-        raise ValueError(f"{path}: a line scan or single point (shape {heights.shape}), "
-                         "not a height map")
-
+    heights, size, unit, source = _load(path, reader, channel)
     if unit is None:
         if file_unit is None:
             raise ValueError(f"{path} does not state its height unit: pass file_unit, e.g. 'nm'")
         unit = file_unit
-    height_factor = _unit_factor(f"the height unit in {path}", unit) / out_factor
     if size is not None and user_size is not None:
         raise ValueError(f"{path} states its physical size; leave physical_size out")
     if size is None and user_size is None:
         raise ValueError(f"{path} does not state its physical size: pass physical_size")
+    file_factor = _unit_factor(f"the height unit in {path}", unit)
     width, height = ((v * (LENGTH_UNITS[u] / out_factor if u else 1.0) for v, u in user_size)
                      if size is None else
                      (v * _unit_factor(f"the size unit in {path}", u or unit) / out_factor
@@ -311,11 +298,46 @@ def read_topography(
     if not math.isclose(spacing, spacing_y, rel_tol=1e-6):
         raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = {spacing_y:g} "
                          f"{height_unit}); resample the map first")
+    heights = _clean(_crop(heights) if square == "crop" else heights, detrend, fill, path)
+    heights *= file_factor / out_factor
+    return Topography(heights=frozen_array(heights), spacing=spacing,
+                      physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
+                      unit=height_unit, source=f"{path} ({source})")
 
-    if square == "crop" and rows != columns:
-        side = min(rows, columns)
-        top, left = (rows - side) // 2, (columns - side) // 2
-        heights = heights[top:top + side, left:left + side]
+
+def _load(path: pathlib.Path, reader: str, channel: int | None
+          ) -> tuple[np.ndarray, tuple | None, str | None, str]:
+    """Heights[j, i] as stored, the size and unit the file states (or None), the reader."""
+    suffix = path.suffix.lower()
+    if reader == "builtin" or (reader == "auto" and suffix in (".npy",) + TEXT_SUFFIXES):
+        if suffix == ".npy":
+            try:
+                heights, size, unit, source = np.load(path, allow_pickle=False), None, None, "npy"
+            except ValueError as error:
+                raise ValueError(f"{path}: not a numeric .npy array ({error})") from None
+        else:
+            heights, size, unit, source = _read_text(path)
+    else:
+        heights, size, unit, source = _read_surfacetopography(path, channel)
+    heights = np.asarray(heights)
+    if not (np.issubdtype(heights.dtype, np.integer) or np.issubdtype(heights.dtype, np.floating)):
+        raise ValueError(f"{path}: heights must be real numbers, got dtype {heights.dtype}")
+    if heights.ndim != 2 or min(heights.shape) < 2:
+        raise ValueError(f"{path}: a line scan or single point (shape {heights.shape}), "
+                         "not a height map")
+    return heights.astype(float), size, unit, source
+
+
+def _crop(heights: np.ndarray) -> np.ndarray:
+    """The largest centred square of a map."""
+    rows, columns = heights.shape
+    side = min(rows, columns)
+    top, left = (rows - side) // 2, (columns - side) // 2
+    return heights[top:top + side, left:left + side]
+
+
+def _clean(heights: np.ndarray, detrend: str | None, fill: str | None, path) -> np.ndarray:
+    """Detrended over the valid points, missing points filled as asked (a new array)."""
     valid = np.isfinite(heights)
     if not valid.any():
         raise ValueError(f"{path}: no valid height in the map")
@@ -323,12 +345,7 @@ def read_topography(
         raise ValueError(f"{path}: {np.count_nonzero(~valid)} of {valid.size} points are "
                          "missing (NaN or masked): pass fill='mean' or fill='interpolate'")
     heights = _detrend(heights, valid, detrend)
-    if not valid.all():
-        heights = _fill(heights, valid, fill)
-    heights = heights * height_factor
-    return Topography(heights=frozen_array(heights), spacing=spacing,
-                      physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
-                      unit=height_unit, source=f"{path} ({source})")
+    return heights.copy() if valid.all() else _fill(heights, valid, fill)
 
 
 def write_gwyddion_ascii(path: str | pathlib.Path, heights: np.ndarray, spacing: float, *,
