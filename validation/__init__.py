@@ -7,6 +7,8 @@ asks for, and reports of where each asperity model holds against the exact half-
 from importlib import metadata as _metadata
 
 from validation.surfaces import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
+from validation.self_affine import radial_power_spectrum, self_affine_surface
+from validation.topography import Topography, read_topography
 from validation.scene import Scene, SceneError, builtin_scenes, load_scene, parse_scene
 from validation.runner import run_scenes
 from validation.compare import compare_realizations, curve_errors, validity_range
@@ -18,7 +20,8 @@ except _metadata.PackageNotFoundError:  # running from a source tree that is not
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
-           "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__"]
+           "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__",
+           "self_affine_surface", "radial_power_spectrum", "read_topography", "Topography"]
 
 
 def write_report(*args, **kwargs):
