@@ -6,9 +6,18 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy import stats
 
-from validation.verdicts import (FAILS, HOLDS, UNDECIDED, classify, confidence_interval,
-                                 reference_band, validity_range, verdict_counts, verdict_range,
-                                 verdict_strip)
+from validation.verdicts import (
+    FAILS,
+    HOLDS,
+    UNDECIDED,
+    classify,
+    confidence_interval,
+    reference_band,
+    validity_range,
+    verdict_counts,
+    verdict_range,
+    verdict_strip,
+)
 
 
 def synthetic(means, spread, realizations=25, seed=0):

@@ -21,14 +21,34 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from validation.verdicts import (HOLDS, ErrorInterval, ValidityRange, classify,
-                                 confidence_interval, reference_band, validity_range,
-                                 verdict_counts, verdict_range)
+from validation.verdicts import (
+    HOLDS,
+    ErrorInterval,
+    ValidityRange,
+    classify,
+    confidence_interval,
+    reference_band,
+    validity_range,
+    verdict_counts,
+    verdict_range,
+)
 
-__all__ = ["RELATIVE_QUANTITIES", "ABSOLUTE_QUANTITIES", "COMPARED_QUANTITIES", "REFERENCE_FIELDS",
-           "curve_errors", "converged_points", "pairwise_errors", "validity_range",
-           "ValidityRange", "ErrorSummary", "summarise_errors", "ModelComparison", "Comparison",
-           "compare_realizations"]
+__all__ = [
+    "ABSOLUTE_QUANTITIES",
+    "COMPARED_QUANTITIES",
+    "REFERENCE_FIELDS",
+    "RELATIVE_QUANTITIES",
+    "Comparison",
+    "ErrorSummary",
+    "ModelComparison",
+    "ValidityRange",
+    "compare_realizations",
+    "converged_points",
+    "curve_errors",
+    "pairwise_errors",
+    "summarise_errors",
+    "validity_range",
+]
 
 #: Quantities compared by relative error.
 RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")

@@ -29,9 +29,23 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-__all__ = ["HOLDS", "FAILS", "UNDECIDED", "SYMBOLS", "CONFIDENCE", "REFERENCE_ACCURACY",
-           "ErrorInterval", "confidence_interval", "reference_band", "classify", "verdict_counts",
-           "verdict_strip", "ValidityRange", "validity_range", "verdict_range"]
+__all__ = [
+    "CONFIDENCE",
+    "FAILS",
+    "HOLDS",
+    "REFERENCE_ACCURACY",
+    "SYMBOLS",
+    "UNDECIDED",
+    "ErrorInterval",
+    "ValidityRange",
+    "classify",
+    "confidence_interval",
+    "reference_band",
+    "validity_range",
+    "verdict_counts",
+    "verdict_range",
+    "verdict_strip",
+]
 
 HOLDS, FAILS, UNDECIDED = "holds", "fails", "undecided"
 #: One character per verdict, for tables and figures.
