@@ -113,7 +113,7 @@ def test_closest_model_and_where_none_holds():
     assert "none holds at Load nowhere" in finding.evidence
     worse = results(gw=dict(area=1.5), discrete=dict(area=1.3))
     text = closest_models(compare_realizations(worse, tolerances=(0.05, 0.2))).evidence
-    assert f"area: discrete (interaction) (0 of 8 points hold within 0.2); none holds at Load " \
+    assert f"area: no model holds within 0.2 anywhere; none holds at Load " \
            f"{LOAD[0]:.2g}–{LOAD[-1]:.2g}" in text
 
 

@@ -1,27 +1,8 @@
 """The paper's findings checked point by point, from the results (pure functions, no I/O).
 
 Each check returns a :class:`Finding` with the numbers that decide it and a verdict:
-``reproduced``, ``contradicted`` or ``undecided``. Per-point decisions use the verdict rule of
-:mod:`validation.verdicts` (95 % Student-t interval over realizations, paired by realization)
-with the thresholds below; a claim over many load points is decided by :func:`majority`:
-reproduced where no point contradicts it and at least half the points support it,
-contradicted where at least half contradict it, undecided otherwise.
-
-(a) Interaction leaves the area-load relation nearly unchanged: the relative area difference
-    of the discrete model with and without interaction, at equal load, within
-    ±:data:`UNCHANGED_TOLERANCE`.
-(b) Interaction shifts the separation and the conductance at a given load: over the heavier
-    half of the load path the same pair differs by more than the scene's smallest tolerance
-    (separation in σ, conductance relative), downwards (interaction lowers both).
-(c) The scatter between realizations is large at low load and shrinks with load: the
-    coefficient of variation over realizations of the exact (BEM) area and conductance at
-    equal load, lightest against heaviest load point, with an F-distribution 95 % interval
-    of the ratio (the two points are treated as independent samples: approximate).
-(d) Improved GW follows the discrete model with interaction: improved GW against the discrete
-    model, per realization, within the scene's largest tolerance (majority rule).
-(e) Not tested in the paper: which asperity model is closest to the BEM for each quantity
-    (most points that hold at the largest tolerance; ties to the smaller median |mean error|),
-    and the loads where none holds.
+``reproduced``, ``contradicted`` or ``undecided``; :data:`RULES` states the thresholds (the
+report prints it).
 """
 
 from __future__ import annotations
@@ -63,6 +44,26 @@ NEW = "not in the paper"
 #: Largest relative area difference still "nearly unchanged" in finding (a).
 UNCHANGED_TOLERANCE = 0.10
 INTERACTION, NO_INTERACTION = "discrete", "discrete_no_interaction"
+#: How each finding is decided (Markdown, printed in the report).
+RULES = f"""Per-point decisions use the verdict rule of the report (95 % Student-t interval over
+realizations, the two models paired realization by realization, no reference band). A claim
+over many load points is decided by majority: *reproduced* where no point contradicts it and
+at least half of the points support it, *contradicted* where at least half contradict it,
+*undecided* otherwise.
+(a) The relative area difference of the discrete model with and without interaction, at equal
+load, within ±{100 * UNCHANGED_TOLERANCE:g} % supports "nearly unchanged", wholly outside contradicts it.
+(b) Over the heavier half of the load path, the same pair differing by more than the scene's
+smallest tolerance (separation in σ, conductance relative) downwards supports a shift (the
+interaction lowers both at a given load); within the tolerance, or upwards, contradicts it;
+both quantities must be reproduced.
+(c) The coefficient of variation over realizations of the exact (BEM) area and conductance at
+equal load, lightest against heaviest load point: reproduced where the 95 % F-distribution
+interval of their ratio lies above 1, contradicted where below 1 (the two points are treated
+as independent samples, so the interval is approximate).
+(d) Improved GW against the discrete model with interaction, within the scene's largest
+tolerance, every quantity by majority (original GW beside it for contrast).
+(e) Not tested in the paper: the asperity model with the most points that hold against the BEM
+at the largest tolerance (ties: smaller median |mean error|), and the loads where none holds."""
 
 
 @dataclass(frozen=True)
@@ -169,6 +170,10 @@ def scatter_shrinks(results, reference_model: str = "bem") -> Finding:
         values = np.vstack([np.where(converged_points(c), getattr(c, quantity), np.nan)
                             for c in curves]).astype(float)
         ratio, low, high, cv = _cv_ratio(values)
+        if not np.isfinite(ratio):
+            parts.append(f"{quantity}: fewer than two converged BEM realizations at an end point")
+            verdicts.append(UNDECIDED)
+            continue
         verdicts.append(REPRODUCED if low > 1 else CONTRADICTED if high < 1 else UNDECIDED)
         parts.append(f"{quantity}: coefficient of variation {100 * cv[0]:.3g} % at the lightest "
                      f"load, {100 * cv[len(cv) // 2]:.3g} % mid-path, {100 * cv[-1]:.3g} % at the "
@@ -224,9 +229,10 @@ def closest_models(comparison: Comparison) -> Finding:
 
         best = min(entries, key=score)
         none = np.all([e.verdicts[index] != HOLDS for e in entries], axis=0)
-        parts.append(f"{quantity}: {model_label(best.model)} ({best.counts(index)[HOLDS]} of "
-                     f"{none.size} points hold within {tolerance:g}); none holds at Load "
-                     f"{_runs_text(comparison.load, none)}")
+        held = best.counts(index)[HOLDS]
+        closest = (f"{model_label(best.model)} ({held} of {none.size} points hold within "
+                   f"{tolerance:g})" if held else f"no model holds within {tolerance:g} anywhere")
+        parts.append(f"{quantity}: {closest}; none holds at Load {_runs_text(comparison.load, none)}")
     return Finding("e", claim, "; ".join(parts) or "no comparison", NEW)
 
 

@@ -50,7 +50,12 @@ def model_label(model: str) -> str:
     return MODEL_LABELS.get(model, model)
 
 
+def model_rank(model: str) -> int:
+    """Position of a model in report order (models without an entry come last)."""
+    order = list(MODEL_LABELS)
+    return order.index(model) if model in order else len(order)
+
+
 def model_order(models) -> list[str]:
     """Models in report order: the table's order first, then any others as given."""
-    known = [m for m in MODEL_LABELS if m in models]
-    return known + [m for m in models if m not in MODEL_LABELS]
+    return sorted(models, key=model_rank)
