@@ -79,3 +79,25 @@ def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
     assert not (folder / "stale-figure.png").exists() and (folder / "notes.txt").exists()
     assert f"Command: `python -m validation report paper-theory --publish {folder} " in text
     assert "mode: full" in text and "## Findings" in text
+
+
+def test_report_only_modules_do_not_compute_results():
+    # The cache hash leaves out the modules that only read results; none of them may be
+    # imported by a module that computes the cached results.
+    import ast
+    import pathlib
+
+    from validation.runner import REPORT_ONLY_MODULES
+
+    package = pathlib.Path(__file__).resolve().parents[1] / "validation"
+    for path in package.glob("*.py"):
+        if path.name in REPORT_ONLY_MODULES:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        imported = {f"{alias.name.split('.')[-1]}.py" for node in ast.walk(tree)
+                    if isinstance(node, ast.Import) for alias in node.names}
+        imported |= {f"{node.module.split('.')[-1]}.py" for node in ast.walk(tree)
+                     if isinstance(node, ast.ImportFrom) and node.module}
+        allowed = {"bench.py", "stress.py", "__init__.py"}  # entry points, not result makers
+        if path.name not in allowed:
+            assert not imported & REPORT_ONLY_MODULES, (path.name, imported & REPORT_ONLY_MODULES)
