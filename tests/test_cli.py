@@ -71,7 +71,8 @@ def test_csv_numbers_match_the_library(report):
     for model, curve in (("bem", direct), ("gw", gw)):
         mine = [r for r in table if r["model"] == model and r["seed"] == "4" and r["n"] == "32"]
         assert len(mine) == 4
-        np.testing.assert_allclose([float(r["Area"]) for r in mine], curve.area, rtol=1e-12)
+        # the tables carry 10 significant digits
+        np.testing.assert_allclose([float(r["Area"]) for r in mine], curve.area, rtol=1e-9)
         np.testing.assert_allclose([float(r["Load"]) for r in mine], loads, rtol=1e-9)
         np.testing.assert_allclose([float(r["Separation"]) for r in mine], curve.separation / sigma,
                                    rtol=1e-9)

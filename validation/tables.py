@@ -94,8 +94,17 @@ def _theory_rows(analysis) -> list[list]:
             for C in theory["C"] for c in (theory[C],) for k in range(c.separation.size)]
 
 
+def _cell(value):
+    """Floats with 10 significant digits (beyond any solver's tolerance; halves the files)."""
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.10g}"
+    return value
+
+
 def write_tables(folder: pathlib.Path, analyses) -> list[str]:
-    """Write every non-empty table into ``folder``; returns the names written."""
+    """Write every non-empty table into ``folder``; returns the names written.
+
+    Floats carry 10 significant digits."""
     rows: dict[str, list[list]] = {name: [] for name in TABLES}
     for analysis in analyses:
         rows["curves.csv"] += _curve_rows(analysis)
@@ -111,6 +120,6 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
             with open(pathlib.Path(folder) / name, "w", newline="", encoding="utf-8") as stream:
                 writer = csv.writer(stream)
                 writer.writerow(TABLES[name])
-                writer.writerows(table)
+                writer.writerows([_cell(value) for value in row] for row in table)
             written.append(name)
     return written
