@@ -87,12 +87,29 @@ def _percent_or_sigma(value: float, quantity: str) -> str:
 # --------------------------------------------------------------------------------------------
 # sections
 
+def _git_commit() -> str:
+    """The source tree's git commit (with "+changes" when it has uncommitted edits), or ""."""
+    import subprocess
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    try:
+        commit = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
+                                capture_output=True, text=True, timeout=10, check=True).stdout
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--",
+                                "asperity", "bem", "validation"], capture_output=True, text=True,
+                               timeout=10, check=True).stdout
+    except (OSError, subprocess.SubprocessError):
+        return ""
+    return f"git {commit.strip()}" + ("+changes" if dirty.strip() else "")
+
+
 def _header(seconds, mode, command) -> list[str]:
     import bem.fft
-    import validation
+    from validation.runner import _version
 
+    commit = _git_commit()
     run = [f"Command: `{command}`" if command else "",
-           f"asperity-validation {validation.__version__}",
+           f"asperity-validation {_version()}" + (f" ({commit})" if commit else ""),
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
            f"mode: {mode}" if mode else ""]
     return [
