@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from validation.cost import BEM_EXPONENT, remaining_seconds, task_cost
+from validation.cost import BEM_EXPONENT, remaining_seconds, schedule, task_cost
 from validation.runner import plan_scene
 from validation.scene import load_scene
 
@@ -48,3 +48,16 @@ def test_remaining_time_is_learnt_per_grid_size(tasks):
     slow = SimpleNamespace(seconds={"bem": 30.0 * task_cost(big)}, computed=("bem b",))
     assert remaining_seconds([(small, ran), (big, slow)], [big, small]) == \
         pytest.approx(30.0 * task_cost(big) + 10.0 * task_cost(small))
+    # the first task of a size (set-up included) stops counting once a second one is done
+    warm = SimpleNamespace(seconds={"bem": 8.0 * task_cost(small)}, computed=ran.computed)
+    assert remaining_seconds([(small, ran), (small, warm)], [small]) == \
+        pytest.approx(8.0 * task_cost(small))
+
+
+def test_schedule_leads_with_one_task_per_grid_size(tasks):
+    small = replace(tasks[0], surface=replace(tasks[0].surface, n=128))
+    order = schedule(tasks + [small])
+    assert [t.surface.n for t in order[:3]] == [1024, 512, 128]
+    assert sorted(order, key=id) == sorted(tasks + [small], key=id)
+    rest = [task_cost(t) for t in order[3:]]
+    assert rest == sorted(rest, reverse=True)
