@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from bem.curve import ContactCurve
-from validation.compare import curve_errors, summarise_errors, validity_range
+from validation.compare import curve_errors, summarise_errors
 
 
 def curve(load, area, separation, conductance=None):
@@ -28,27 +28,6 @@ def test_curve_errors_need_equal_loads():
         curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 3], [1, 1], [1, 1]), 1.0, ("area",))
 
 
-def test_validity_range_picks_longest_contiguous_run():
-    loads = np.logspace(-5, -2, 10)
-    errors = np.array([0.5, 0.3, 0.04, -0.01, 0.02, 0.3, 0.01, 0.0, -0.03, 0.2])
-    area = np.linspace(0.001, 0.3, 10)
-    rng = validity_range(loads, errors, 0.05, area)
-    assert (rng.first, rng.last, rng.points, rng.total) == (2, 4, 3, 10)
-    assert rng.load_min == loads[2] and rng.load_max == loads[4]
-    assert rng.area_fraction_min == area[2] and rng.area_fraction_max == area[4]
-    wide = validity_range(loads, errors, 0.3)
-    assert (wide.first, wide.last) == (1, 9)
-    everywhere = validity_range(loads, errors, 1.0)
-    assert everywhere.points == 10 and "whole range" in everywhere.describe()
-    nowhere = validity_range(loads, np.abs(errors) + 0.06, 0.05)
-    assert not nowhere.holds_anywhere and nowhere.describe() == "nowhere"
-
-
-def test_validity_range_nan_does_not_hold():
-    rng = validity_range(np.arange(1.0, 5.0), np.array([0.0, np.nan, 0.0, 0.0]), 0.1)
-    assert (rng.first, rng.last) == (2, 3)
-
-
 def test_summarise_errors_mean_and_sample_std():
     summary = summarise_errors("area", [np.array([0.1, 0.2]), np.array([0.3, np.nan])])
     np.testing.assert_allclose(summary.mean, [0.2, 0.2])
@@ -56,37 +35,83 @@ def test_summarise_errors_mean_and_sample_std():
     assert summary.count == 2
 
 
-def test_compare_realizations_on_synthetic_results():
-    # Two realizations with known errors: area +10 % and +30 % (mean +20 %, sample std 14.1 %),
-    # separation exactly 0.5 sigma high; a non-converged reference point counts as not holding.
+def realization(seed, load, model_area, model_separation, converged=(True, True, True),
+                reference_extras=None, sigma=1.0):
+    """A synthetic realization: a BEM reference curve and a GW curve with known errors."""
     from types import SimpleNamespace
 
+    extras = {"converged": np.array(converged)} | dict(reference_extras or {})
+    reference = ContactCurve(separation=[3.0, 2.0, 1.0], load=load, area=[0.01, 0.05, 0.2],
+                             mean_pressure=load, nominal_area=1.0, e_star=1.0, extras=extras)
+    model = ContactCurve(separation=model_separation, load=load, area=model_area,
+                         mean_pressure=load, nominal_area=1.0, e_star=1.0)
+    task = SimpleNamespace(seed=seed, surface=SimpleNamespace(L=1.0),
+                           quantities=("area", "separation"), D=2.3)
+    return SimpleNamespace(task=task, curves={"bem": reference, "gw": model}, sigma=sigma)
+
+
+LOAD = np.array([1e-4, 1e-3, 1e-2])
+AREA = np.array([0.01, 0.05, 0.2])
+
+
+def test_compare_realizations_on_synthetic_results():
+    # Two realizations with known errors: area +10 % and +30 % (mean +20 %, sample std 14.1 %),
+    # separation exactly 0.5 sigma high; a non-converged reference point drops out.
     from validation.compare import compare_realizations
 
-    load = np.array([1e-4, 1e-3, 1e-2])
-    surface = SimpleNamespace(L=1.0)
-
-    def realization(seed, area_factor, converged):
-        reference = ContactCurve(separation=[3.0, 2.0, 1.0], load=load, area=[0.01, 0.05, 0.2],
-                                 mean_pressure=load, nominal_area=1.0, e_star=1.0,
-                                 extras={"converged": np.array(converged)})
-        model = ContactCurve(separation=[3.5, 2.5, 1.5], load=load,
-                             area=area_factor * np.array([0.01, 0.05, 0.2]), mean_pressure=load,
-                             nominal_area=1.0, e_star=1.0)
-        task = SimpleNamespace(seed=seed, surface=surface, quantities=("area", "separation"), D=2.3)
-        return SimpleNamespace(task=task, curves={"bem": reference, "gw": model}, sigma=1.0)
-
-    results = [realization(0, 1.1, [True, True, True]), realization(1, 1.3, [True, True, False])]
+    results = [realization(0, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5]),
+               realization(1, LOAD, 1.3 * AREA, [3.5, 2.5, 1.5], converged=(True, True, False))]
     comparison = compare_realizations(results, tolerances=(0.25, 0.6))
     area = comparison.models[("gw", "area")]
     np.testing.assert_allclose(area.summary.mean[:2], 0.2)
     np.testing.assert_allclose(area.summary.std[:2], np.std([0.1, 0.3], ddof=1))
-    # the last point: only the converged realization counts
-    np.testing.assert_allclose(area.summary.mean[2], 0.1)
+    np.testing.assert_allclose(area.summary.mean[2], 0.1)  # only the converged realization
     assert area.unconverged == 1
-    assert (area.ranges[0].first, area.ranges[0].last) == (0, 2)
+    # two realizations 0.2 apart: t(0.975, 1) = 12.7 makes the interval +-1.27 wide
+    np.testing.assert_allclose(area.interval.half_width[:2], 12.706 * 0.1, rtol=1e-4)
+    assert [area.counts(i) for i in (0, 1)] == [{"holds": 0, "fails": 0, "undecided": 3}] * 2
+    assert not area.ranges[1].holds_anywhere
+    # identical separation errors in both realizations: a zero-width interval at 0.5 sigma
     separation = comparison.models[("gw", "separation")]
     np.testing.assert_allclose(separation.summary.mean, 0.5)
-    assert not separation.ranges[0].holds_anywhere and separation.ranges[1].points == 3
-    np.testing.assert_allclose(comparison.area_fraction, [0.01, 0.05, 0.2])
-    np.testing.assert_allclose(comparison.load, load)
+    # the last point has one converged realization: no interval, so no verdict
+    assert list(separation.verdicts[0]) == ["fails", "fails", "undecided"]
+    assert list(separation.verdicts[1]) == ["holds", "holds", "undecided"]
+    assert (separation.ranges[1].first, separation.ranges[1].last) == (0, 1)
+    assert comparison.band_source["separation"] == "not estimated"
+    np.testing.assert_allclose(comparison.area_fraction, AREA)
+    np.testing.assert_allclose(comparison.load, LOAD)
+
+
+def test_reference_band_from_per_point_error_estimates():
+    # The BEM curves carry absolute error estimates: area 0.002 of 0.01 (20 %) at the first
+    # point, 1 % at the others; separation 0.01 and 0.03 (in units of sigma = 0.5 and 1).
+    from validation.compare import compare_realizations
+
+    extras = {"area_error": AREA * [0.2, 0.01, 0.01], "separation_error": np.full(3, 0.01)}
+    results = [realization(0, LOAD, AREA, [3.0, 2.0, 1.0], reference_extras=extras, sigma=0.5),
+               realization(1, LOAD, AREA, [3.0, 2.0, 1.0], sigma=1.0,
+                           reference_extras=extras | {"separation_error": np.full(3, 0.03)})]
+    comparison = compare_realizations(results, tolerances=(0.05, 0.2))
+    area = comparison.models[("gw", "area")]
+    np.testing.assert_allclose(area.band, [0.2, 0.01, 0.01])
+    # exact agreement: undecided where the reference resolves only 20 % (> 0.05 / 4)
+    assert list(area.verdicts[0]) == ["undecided", "holds", "holds"]
+    separation = comparison.models[("gw", "separation")]
+    np.testing.assert_allclose(separation.band, (0.01 / 0.5 + 0.03 / 1.0) / 2)
+    assert comparison.band_source["area"].startswith("per-point")
+
+
+def test_a_model_compared_with_another_reference_field():
+    # a model whose separation is compared with the reference's mean gap (Persson's theory)
+    from validation.compare import compare_realizations
+
+    gap = {"mean_gap": np.array([3.2, 2.2, 1.2])}
+    results = [realization(k, LOAD, AREA, [3.2, 2.2, 1.2], reference_extras=gap) for k in (0, 1)]
+    fields = {"gw": {"separation": "mean_gap"}}
+    comparison = compare_realizations(results, reference_fields=fields)
+    separation = comparison.models[("gw", "separation")]
+    np.testing.assert_allclose(separation.summary.mean, 0.0, atol=1e-12)
+    assert separation.reference_field == "mean_gap"
+    identity = compare_realizations(results, reference_fields={})
+    np.testing.assert_allclose(identity.models[("gw", "separation")].summary.mean, 0.2)

@@ -306,11 +306,12 @@ def _tolerance_only(row: BenchRow, config: BenchConfig) -> bool:
 
 
 def _figure(rows: list[BenchRow], path: pathlib.Path, config: BenchConfig) -> None:
-    from validation.report import MODEL_LABELS, MODEL_STYLES, _pyplot, _subplots
+    from validation.figures import pyplot, subplots
+    from validation.labels import MODEL_LABELS, MODEL_STYLES
 
-    plt = _pyplot()
+    plt = pyplot()
     Ds = sorted({r.D for r in rows})
-    fig, axes = _subplots(plt, len(Ds), len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 3.6 * len(Ds)),
+    fig, axes = subplots(len(Ds), len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 3.6 * len(Ds)),
                           squeeze=False)
     for i, D in enumerate(Ds):
         # the reference grid's own rows measure only the tolerance: not on the time-error plane

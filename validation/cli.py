@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import argparse
 import os
+import pathlib
+import shlex
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -52,6 +54,9 @@ def _report(args: argparse.Namespace) -> int:
     if repeated:
         raise SceneError(f"scene names must be unique in one report (they name its files); "
                          f"repeated: {', '.join(repeated)}")
+    if args.publish:
+        _clear_published(pathlib.Path(args.publish))
+        args.out, args.full = args.publish, not args.quick
     quick = args.quick or (not args.full and not args.scenes)
     if quick:
         scenes = [scene.quick_version() for scene in scenes]
@@ -64,9 +69,18 @@ def _report(args: argparse.Namespace) -> int:
     finally:
         close()
     seconds = time.perf_counter() - start
-    path = write_report(results, args.out, seconds=seconds, mode=mode)
+    command = "python -m validation " + shlex.join(args.argv)
+    path = write_report(results, args.out, seconds=seconds, mode=mode, command=command)
     print(f"report written to {path} ({seconds:.1f} s)")
     return 0
+
+
+def _clear_published(folder: pathlib.Path) -> None:
+    """Remove a previous published report (its Markdown, figures and tables, nothing else), so
+    that no stale figure survives a model that no longer draws it."""
+    for pattern in ("report.md", "*.png", "*.csv"):
+        for path in folder.glob(pattern):
+            path.unlink()
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -122,6 +136,9 @@ def main(argv: list[str] | None = None) -> int:
     report.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="dask.distributed scheduler address; realizations run on that cluster")
     report.add_argument("--quiet", action="store_true", help="no progress bar")
+    report.add_argument("--publish", nargs="?", const="docs/results", default=None, metavar="DIR",
+                        help="regenerate the published report in DIR (default docs/results): "
+                             "full mode unless --quick, previous report files replaced")
     report.set_defaults(handler=_report)
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
@@ -137,6 +154,7 @@ def main(argv: list[str] | None = None) -> int:
     stress.add_argument("--out", default="stress-out", help="output folder (default: ./stress-out)")
     stress.set_defaults(handler=_stress)
     args = parser.parse_args(argv)
+    args.argv = list(sys.argv[1:] if argv is None else argv)
     try:
         return args.handler(args)
     except SceneError as error:

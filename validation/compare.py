@@ -1,72 +1,72 @@
-"""Errors of a model against the reference at equal load, and the ranges where a model holds.
+"""Errors of a model against the reference at equal load, with verdicts and validity ranges.
 
 Error measures (at equal total load W, realization by realization):
 
 * area and conductance (and stiffness, contacts): relative error ``q_model / q_reference - 1``;
-* separation: ``(d_model - d_reference) / sigma`` with sigma the standard deviation of the
-  summit heights of that realization (the paper's unit of separation).
+* separation (and the mean gap): ``(d_model - d_reference) / sigma`` with sigma the standard
+  deviation of the summit heights of that realization (the paper's unit of separation).
 
-A model *holds* at a load when the magnitude of its mean error over realizations is within the
-tolerance. :func:`validity_range` returns the longest contiguous run of load points where it
-holds, with the load and area-fraction ranges it spans.
+A model may be compared with a different field of the reference than its own quantity's name
+(:data:`REFERENCE_FIELDS`; e.g. a separation compared with the reference's mean gap).
+
+At each load point the errors over realizations give a mean, a 95 % Student-t confidence
+interval and, with the reference's own error band, a verdict (holds / fails / undecided;
+:mod:`validation.verdicts`). The validity range at a tolerance is the longest run of "holds".
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from bem.curve import ContactCurve
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from validation.verdicts import (
+    HOLDS,
+    ErrorInterval,
+    ValidityRange,
+    classify,
+    confidence_interval,
+    reference_band,
+    validity_range,
+    verdict_counts,
+    verdict_range,
+)
 
-__all__ = ["RELATIVE_QUANTITIES", "ABSOLUTE_QUANTITIES", "curve_errors", "converged_points",
-           "validity_range",
-           "ValidityRange", "ErrorSummary", "summarise_errors"]
+__all__ = [
+    "ABSOLUTE_QUANTITIES",
+    "COMPARED_QUANTITIES",
+    "REFERENCE_FIELDS",
+    "RELATIVE_QUANTITIES",
+    "Comparison",
+    "ErrorSummary",
+    "ModelComparison",
+    "ValidityRange",
+    "compare_realizations",
+    "converged_points",
+    "curve_errors",
+    "pairwise_errors",
+    "summarise_errors",
+    "validity_range",
+]
 
 #: Quantities compared by relative error.
 RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
 #: Quantities compared by absolute error in units of sigma.
-ABSOLUTE_QUANTITIES = ("separation",)
+ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
+#: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
+#: among them: the BEM counts connected contact patches, the asperity models asperities.
+COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
+#: Which reference field a model's quantity is compared with, where it is not the quantity of
+#: the same name (model -> {quantity: reference field}). Persson's theory predicts the mean
+#: gap, not the separation of the mean planes.
+REFERENCE_FIELDS: dict[str, dict[str, str]] = {"persson": {"separation": "mean_gap"}}
 
 
-def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
-                 quantities: tuple[str, ...], *, load_rtol: float = 1e-6) -> dict[str, np.ndarray]:
-    """Errors of ``model`` against ``reference`` at the same loads.
-
-    Parameters
-    ----------
-    model, reference : ContactCurve
-        Curves on the same load points (checked to ``load_rtol``).
-    sigma : float
-        Standard deviation of the summit heights [length], the unit of separation errors.
-    quantities : tuple of str
-        Which errors to compute; quantities missing from either curve are skipped.
-
-    Returns
-    -------
-    dict of str to ndarray
-        One error array per quantity (NaN where the reference value is zero or where either
-        curve's solver did not converge).
-    """
-    if model.load.shape != reference.load.shape or not np.allclose(
-            model.load, reference.load, rtol=load_rtol, atol=0.0):
-        raise ValueError("model and reference curves must be evaluated at the same loads")
-    errors: dict[str, np.ndarray] = {}
-    # A point that either solver did not converge at says nothing: its errors are NaN (and so
-    # count as not holding).
-    unconverged = ~(converged_points(model) & converged_points(reference))
-    for name in quantities:
-        if name in ABSOLUTE_QUANTITIES:
-            errors[name] = (model.separation - reference.separation) / sigma
-        elif name in RELATIVE_QUANTITIES:
-            got, want = getattr(model, name), getattr(reference, name)
-            if got is None or want is None:
-                continue
-            with np.errstate(divide="ignore", invalid="ignore"):
-                errors[name] = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
-    for name in errors:
-        errors[name] = np.where(unconverged, np.nan, errors[name])
-    return errors
+def _field(curve: ContactCurve, name: str) -> np.ndarray | None:
+    """A quantity of a curve by name: a curve field, else an extra (``None`` when absent)."""
+    value = getattr(curve, name) if name in CURVE_QUANTITIES else curve.extras.get(name)
+    return None if value is None else np.asarray(value, dtype=float)
 
 
 def converged_points(curve: ContactCurve) -> np.ndarray:
@@ -77,83 +77,58 @@ def converged_points(curve: ContactCurve) -> np.ndarray:
     return np.broadcast_to(np.asarray(flags, dtype=bool), curve.load.shape)
 
 
-@dataclass(frozen=True)
-class ValidityRange:
-    """Where a model holds: the contiguous load points with ``|mean error| <= tolerance``."""
-
-    tolerance: float
-    first: int | None            # index of the first load point of the range (None: nowhere)
-    last: int | None             # index of the last load point of the range
-    load_min: float = float("nan")
-    load_max: float = float("nan")
-    area_fraction_min: float = float("nan")
-    area_fraction_max: float = float("nan")
-    points: int = 0              # load points in the range
-    total: int = 0               # load points compared
-
-    @property
-    def holds_anywhere(self) -> bool:
-        return self.first is not None
-
-    def describe(self, load_format: str = ".2e") -> str:
-        """Human-readable range, e.g. ``Load 1.0e-05 - 3.2e-03 (area 0.02 % - 5.1 %)``."""
-        if not self.holds_anywhere:
-            return "nowhere"
-        if self.first == self.last:
-            text = f"only at {self.load_min:{load_format}}"
-            if np.isfinite(self.area_fraction_min):
-                text += f" (area {100 * self.area_fraction_min:.3g} %)"
-            return text
-        text = f"{self.load_min:{load_format}} – {self.load_max:{load_format}}"
-        if np.isfinite(self.area_fraction_min):
-            text += f" (area {100 * self.area_fraction_min:.3g} % – {100 * self.area_fraction_max:.3g} %)"
-        if self.points == self.total:
-            text += " [whole range]"
-        return text
-
-
-def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
-                   area_fraction: np.ndarray | None = None) -> ValidityRange:
-    """Longest contiguous run of load points where ``|errors| <= tolerance``.
+def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
+                 quantities: tuple[str, ...], *, load_rtol: float = 1e-6,
+                 reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
+    """Errors of ``model`` against ``reference`` at the same loads.
 
     Parameters
     ----------
-    loads : array, shape (k,)
-        Load points, increasing (any unit; the paper's Load = W/(E* L^2) in reports).
-    errors : array, shape (k,)
-        Mean error at each load point (NaN counts as not holding).
-    tolerance : float
-        Error bound (> 0).
-    area_fraction : array, shape (k,), optional
-        Reference area fraction at each load point, to report the area range too.
+    model, reference : ContactCurve
+        Curves on the same load points (checked to ``load_rtol``).
+    sigma : float
+        Standard deviation of the summit heights [length], the unit of separation errors.
+    quantities : tuple of str
+        Which errors to compute; quantities missing from either curve are skipped.
+    reference_fields : dict, optional
+        Reference field per quantity where it differs from the quantity (default identity).
 
-    Ties between runs of equal length go to the run at lower load.
+    Returns
+    -------
+    dict of str to ndarray
+        One error array per quantity (NaN where the reference value is zero for a relative
+        error, or where either curve's solver did not converge).
     """
-    loads = np.asarray(loads, dtype=float)
-    errors = np.asarray(errors, dtype=float)
-    if loads.shape != errors.shape or loads.ndim != 1:
-        raise ValueError("loads and errors must be 1-D arrays of one length")
-    if not tolerance > 0:
-        raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
-    with np.errstate(invalid="ignore"):
-        holds = np.abs(errors) <= tolerance
-    best_first, best_length, start = None, 0, None
-    for index, ok in enumerate(np.append(holds, False)):
-        if ok and start is None:
-            start = index
-        elif not ok and start is not None:
-            if index - start > best_length:
-                best_first, best_length = start, index - start
-            start = None
-    if best_first is None:
-        return ValidityRange(tolerance, None, None, total=loads.size)
-    last = best_first + best_length - 1
-    area_min = area_max = float("nan")
-    if area_fraction is not None:
-        area_fraction = np.asarray(area_fraction, dtype=float)
-        area_min, area_max = float(area_fraction[best_first]), float(area_fraction[last])
-    return ValidityRange(tolerance, best_first, last, float(loads[best_first]), float(loads[last]),
-                         area_min, area_max, best_length, loads.size)
+    if model.load.shape != reference.load.shape or not np.allclose(
+            model.load, reference.load, rtol=load_rtol, atol=0.0):
+        raise ValueError("model and reference curves must be evaluated at the same loads")
+    fields = reference_fields or {}
+    unconverged = ~(converged_points(model) & converged_points(reference))
+    errors: dict[str, np.ndarray] = {}
+    for name in quantities:
+        got, want = _field(model, name), _field(reference, fields.get(name, name))
+        if got is None or want is None:
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if name in ABSOLUTE_QUANTITIES:
+                error = (got - want) / sigma
+            else:
+                error = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
+        # a point that either solver did not converge at says nothing
+        errors[name] = np.where(unconverged, np.nan, error)
+    return errors
+
+
+def pairwise_errors(results, model: str, reference_model: str, quantities: tuple[str, ...],
+                    reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
+    """Errors of one model against another over realizations: quantity -> (realizations, k)."""
+    stacked: dict[str, list[np.ndarray]] = {}
+    for result in results:
+        errors = curve_errors(result.curves[model], result.curves[reference_model], result.sigma,
+                              quantities, reference_fields=reference_fields)
+        for name, values in errors.items():
+            stacked.setdefault(name, []).append(values)
+    return {name: np.vstack(arrays) for name, arrays in stacked.items()}
 
 
 @dataclass(frozen=True)
@@ -168,35 +143,29 @@ class ErrorSummary:
 
 def summarise_errors(quantity: str, per_realization: list[np.ndarray]) -> ErrorSummary:
     """Mean and sample standard deviation over realizations (ignoring NaN entries)."""
-    stack = np.vstack(per_realization)
-    finite = np.isfinite(stack)
-    count = finite.sum(axis=0)
-    filled = np.where(finite, stack, 0.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = np.where(count > 0, filled.sum(axis=0) / np.maximum(count, 1), np.nan)
-        deviation = np.where(finite, stack - mean, 0.0)
-        std = np.where(count > 1, np.sqrt((deviation**2).sum(axis=0) / np.maximum(count - 1, 1)), 0.0)
-    return ErrorSummary(quantity, mean, std, stack.shape[0])
-
-
-# --------------------------------------------------------------------------------------------
-# a whole D value of a scene
-
-#: Quantities that have a validity range (the load path itself is not compared). Contact
-#: counts are not among them: the BEM counts connected contact patches, the asperity models
-#: asperities in contact, which are different things once spots merge.
-COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
+    interval = confidence_interval(np.vstack(per_realization))
+    return ErrorSummary(quantity, interval.mean, np.nan_to_num(interval.std, nan=0.0),
+                        len(per_realization))
 
 
 @dataclass(frozen=True)
 class ModelComparison:
-    """One model, one quantity: error statistics and validity ranges at each tolerance."""
+    """One model, one quantity: errors with their interval, verdicts and ranges per tolerance."""
 
     model: str
     quantity: str
     summary: ErrorSummary
     ranges: tuple[ValidityRange, ...]
     unconverged: int = 0  # (realization, load) points where the model or the BEM did not converge
+    interval: ErrorInterval | None = None
+    band: np.ndarray | None = None                    # reference band per point
+    verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
+    tolerances: tuple[float, ...] = ()
+    reference_field: str = ""                         # the reference field compared with
+
+    def counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
+        return verdict_counts(self.verdicts[index])
 
 
 @dataclass(frozen=True)
@@ -204,9 +173,10 @@ class Comparison:
     """All models against the reference for one surface family (one D) of a scene.
 
     ``load`` is the paper's dimensionless Load = W/(E* L^2) of the path; ``area_fraction`` the
-    reference's mean area fraction at each load; ``reference_error`` the boundary-element
-    reference's own error per quantity and load (grid n against 2n on one realization: relative,
-    or in units of sigma for separation), empty when not estimated.
+    reference's mean area fraction at each load; ``reference_error`` the mesh-study estimate of
+    the reference's own error per field and load (grid n against 2n on one realization:
+    relative, or in units of sigma), empty when not estimated; ``band_source`` says per
+    compared field where the reference band came from.
     """
 
     D: float
@@ -214,6 +184,7 @@ class Comparison:
     area_fraction: np.ndarray
     models: dict[tuple[str, str], ModelComparison]
     reference_error: dict[str, np.ndarray]
+    band_source: dict[str, str] = field(default_factory=dict)
 
     def reference_error_max(self, quantity: str) -> float:
         values = self.reference_error.get(quantity)
@@ -222,8 +193,64 @@ class Comparison:
         return float(np.nanmax(np.abs(values)))
 
 
+def _band(results, field_name: str, reference_model: str,
+          mesh_study: dict[str, np.ndarray]) -> tuple[np.ndarray, str]:
+    """Reference band of one field per point, and where it came from.
+
+    Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
+    over realizations of |error| in the comparison's measure. Otherwise the mesh study (grid n
+    against 2n on one realization). Otherwise zero ("not estimated").
+    """
+    curves = [r.curves[reference_model] for r in results]
+    points = curves[0].load.shape
+    estimates = [c.extras.get(f"{field_name}_error") for c in curves]
+    if all(e is not None for e in estimates):
+        absolute = np.vstack([np.asarray(e, dtype=float) for e in estimates])
+        if field_name in ABSOLUTE_QUANTITIES:
+            scale = np.array([[r.sigma] for r in results])
+        else:
+            scale = np.vstack([_field(c, field_name) for c in curves])
+        return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
+    if field_name in mesh_study:
+        return np.abs(mesh_study[field_name]), "mesh study n vs 2n, one realization"
+    return np.zeros(points), "not estimated"
+
+
+def _mesh_study(results, reference, reference_model: str, fields: tuple[str, ...]):
+    if reference is None:
+        return {}
+    coarse = next((r for r in results if r.task.seed == reference.task.seed), results[0])
+    fine_curve, coarse_curve = reference.curves[reference_model], coarse.curves[reference_model]
+    if not np.allclose(fine_curve.load, coarse_curve.load, rtol=1e-6, atol=0):
+        return {}
+    return curve_errors(coarse_curve, fine_curve, coarse.sigma, fields)
+
+
+def _model_comparison(results, model, quantity, errors, band, reference_model, load,
+                      area_fraction, tolerances, field_name) -> ModelComparison:
+    interval = confidence_interval(errors)
+    complete = np.all(np.vstack([converged_points(r.curves[model])
+                                 & converged_points(r.curves[reference_model])
+                                 for r in results]), axis=0)
+    verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
+                   for v, tol in zip(verdicts, tolerances))
+    summary = ErrorSummary(quantity, interval.mean, np.nan_to_num(interval.std, nan=0.0),
+                           len(results))
+    return ModelComparison(model, quantity, summary, ranges,
+                           _unconverged(results, model, reference_model), interval, band,
+                           verdicts, tuple(tolerances), field_name)
+
+
+def _unconverged(results, model: str, reference_model: str) -> int:
+    return sum(int(np.count_nonzero(~(converged_points(r.curves[model])
+                                      & converged_points(r.curves[reference_model]))))
+               for r in results)
+
+
 def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
-                         reference_model: str = "bem") -> Comparison:
+                         reference_model: str = "bem",
+                         reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
     """Compare every model with the reference over the realizations of one D.
 
     Parameters
@@ -231,50 +258,42 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
     results : list of validation.runner.RealizationResult
         Realizations of one surface family; each holds a curve per model.
     reference : RealizationResult, optional
-        The same family on a grid twice as fine (reference only), for the reference's own error.
+        The same family on a grid twice as fine (reference only): the mesh-study estimate of
+        the reference's own error, used where the curves carry no ``<field>_error`` extras.
     tolerances : tuple of float
-        Error levels for the validity ranges.
+        Error levels for the verdicts and validity ranges.
+    reference_fields : dict, optional
+        model -> {quantity: reference field}; default :data:`REFERENCE_FIELDS`.
 
     Notes
     -----
-    Errors are averaged over realizations point by point. On a load path every realization
-    has the same loads; on a separation path (``loads.quantity = "separation"``) the loads of
-    point k differ between realizations, and ``load`` is that of the first realization: read
-    such a comparison as one per separation point.
+    On a separation path the loads of point k differ between realizations and ``load`` is that
+    of the first realization: read such a comparison as one per separation point.
     """
     if not results:
         raise ValueError("no realizations to compare")
     first = results[0]
     if reference_model not in first.curves:
         raise ValueError(f"the results hold no {reference_model!r} reference curve")
+    mapping = REFERENCE_FIELDS if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
-    length = first.task.surface.L
-    load = ref0.load / (ref0.e_star * length**2)
+    load = ref0.load / (ref0.e_star * first.task.surface.L**2)
     area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
+    fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
+                                 for q in quantities))
+    mesh = _mesh_study(results, reference, reference_model, fields)
+    bands = {name: _band(results, name, reference_model, mesh) for name in fields}
     models: dict[tuple[str, str], ModelComparison] = {}
     for model in first.curves:
         if model == reference_model:
             continue
-        per_quantity: dict[str, list[np.ndarray]] = {}
-        unconverged = sum(int(np.count_nonzero(~(converged_points(r.curves[model])
-                                                  & converged_points(r.curves[reference_model]))))
-                          for r in results)
-        for result in results:
-            errors = curve_errors(result.curves[model], result.curves[reference_model],
-                                  result.sigma, quantities)
-            for name, values in errors.items():
-                per_quantity.setdefault(name, []).append(values)
-        for name, arrays in per_quantity.items():
-            summary = summarise_errors(name, arrays)
-            ranges = tuple(validity_range(load, summary.mean, tol, area_fraction) for tol in tolerances)
-            models[(model, name)] = ModelComparison(model, name, summary, ranges, unconverged)
-    reference_error: dict[str, np.ndarray] = {}
-    if reference is not None:
-        coarse = next((r for r in results if r.task.seed == reference.task.seed), first)
-        fine_curve = reference.curves[reference_model]
-        coarse_curve = coarse.curves[reference_model]
-        if np.allclose(fine_curve.load, coarse_curve.load, rtol=1e-6, atol=0):
-            reference_error = curve_errors(coarse_curve, fine_curve, coarse.sigma, quantities)
+        own = mapping.get(model, {})
+        errors = pairwise_errors(results, model, reference_model, quantities, own)
+        for name, stack in errors.items():
+            field_name = own.get(name, name)
+            models[(model, name)] = _model_comparison(
+                results, model, name, stack, bands[field_name][0], reference_model, load,
+                area_fraction, tolerances, field_name)
     return Comparison(D=first.task.D, load=load, area_fraction=area_fraction, models=models,
-                      reference_error=reference_error)
+                      reference_error=mesh, band_source={k: v[1] for k, v in bands.items()})

@@ -1,0 +1,124 @@
+"""The paper's findings, checked on synthetic results whose verdict is known."""
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from bem.curve import ContactCurve
+from validation.compare import compare_realizations
+from validation.findings import (
+    CONTRADICTED,
+    NEW,
+    REPRODUCED,
+    UNDECIDED,
+    area_load_unchanged,
+    check_findings,
+    closest_models,
+    improved_follows_discrete,
+    interaction_shift,
+    majority,
+    scatter_shrinks,
+)
+
+LOAD = np.logspace(-5, -2, 8)
+BASE = dict(area=0.3 * LOAD, separation=np.linspace(3.0, 0.5, 8), conductance=20 * LOAD ** 0.9)
+REALIZATIONS = 12
+NOISE = np.random.default_rng(0).standard_normal((REALIZATIONS, 8))
+
+
+def curve(area=1.0, separation=0.0, conductance=1.0, index=0, scatter=0.0):
+    """A curve off BASE: area and conductance scaled, separation shifted (in sigma = 1)."""
+    wobble = 1.0 + scatter * NOISE[index]
+    return ContactCurve(separation=BASE["separation"] + separation, load=LOAD,
+                        area=BASE["area"] * area * wobble, mean_pressure=LOAD, nominal_area=1.0,
+                        e_star=1.0, conductance=BASE["conductance"] * conductance * wobble)
+
+
+def results(bem_scatter=0.0, **models):
+    """Realizations with the given model curves: name -> dict(area=, separation=, conductance=)."""
+    out = []
+    for index in range(REALIZATIONS):
+        curves = {"bem": curve(index=index, scatter=bem_scatter)}
+        for name, change in models.items():
+            curves[name] = curve(index=index, **change)
+        task = SimpleNamespace(seed=index, surface=SimpleNamespace(L=1.0), D=2.3,
+                               quantities=("area", "separation", "conductance"))
+        out.append(SimpleNamespace(task=task, curves=curves, sigma=1.0))
+    return out
+
+
+def test_majority_rule():
+    yes, no = np.array([1, 1, 0, 0], bool), np.zeros(4, bool)
+    assert majority(yes, no) == REPRODUCED
+    assert majority(yes, np.array([0, 0, 0, 1], bool)) == UNDECIDED
+    assert majority(no, np.array([1, 1, 0, 0], bool)) == CONTRADICTED
+    assert majority(np.array([1, 0, 0, 0], bool), no) == UNDECIDED
+
+
+def test_area_load_relation_unchanged_or_not():
+    same = results(discrete=dict(area=1.03, scatter=0.01), discrete_no_interaction={})
+    assert area_load_unchanged(same).verdict == REPRODUCED
+    changed = results(discrete=dict(area=1.5, scatter=0.01), discrete_no_interaction={})
+    finding = area_load_unchanged(changed)
+    assert finding.verdict == CONTRADICTED and "outside at 8" in finding.evidence
+    assert area_load_unchanged(results(discrete={})).verdict == UNDECIDED  # pair missing
+
+
+def test_interaction_shift_direction_matters():
+    down = results(discrete=dict(separation=-0.4, conductance=0.7), discrete_no_interaction={})
+    assert interaction_shift(down, 0.05).verdict == REPRODUCED
+    none = results(discrete=dict(separation=-0.001, conductance=0.999), discrete_no_interaction={})
+    assert interaction_shift(none, 0.05).verdict == CONTRADICTED
+    up = results(discrete=dict(separation=0.4, conductance=1.3), discrete_no_interaction={})
+    assert interaction_shift(up, 0.05).verdict == CONTRADICTED
+    half = results(discrete=dict(separation=-0.4, conductance=1.0), discrete_no_interaction={})
+    assert interaction_shift(half, 0.05).verdict == CONTRADICTED  # no conductance shift
+
+
+def test_scatter_shrinking_with_load():
+    from validation import findings
+
+    rng = np.random.default_rng(1)
+    base = results()
+    for shrinking, expected in ((True, REPRODUCED), (False, CONTRADICTED)):
+        spread = np.geomspace(0.5, 0.02, 8) if shrinking else np.geomspace(0.02, 0.5, 8)
+        for r in base:
+            factor = np.exp(spread * rng.standard_normal(8))
+            r.curves["bem"] = ContactCurve(separation=BASE["separation"], load=LOAD,
+                                           area=BASE["area"] * factor, mean_pressure=LOAD,
+                                           nominal_area=1.0, e_star=1.0,
+                                           conductance=BASE["conductance"] * factor)
+        finding = findings.scatter_shrinks(base)
+        assert finding.verdict == expected, finding.evidence
+    # equal scatter at both ends: the F interval of the ratio straddles 1
+    assert scatter_shrinks(results(bem_scatter=0.1)).verdict == UNDECIDED
+    assert scatter_shrinks(results()[:1]).verdict == UNDECIDED
+
+
+def test_improved_gw_follows_the_discrete_model_or_not():
+    close = results(discrete={}, improved_gw=dict(area=1.02, separation=0.01, conductance=0.98),
+                    gw=dict(area=1.02, separation=1.0, conductance=3.0))
+    finding = improved_follows_discrete(close, 0.2)
+    assert finding.verdict == REPRODUCED and "original GW" in finding.evidence
+    far = results(discrete={}, improved_gw=dict(separation=1.0, conductance=3.0))
+    assert improved_follows_discrete(far, 0.2).verdict == CONTRADICTED
+
+
+def test_closest_model_and_where_none_holds():
+    data = results(gw=dict(area=1.5, separation=1.0), discrete=dict(area=1.01, separation=0.01))
+    comparison = compare_realizations(data, tolerances=(0.05, 0.2))
+    finding = closest_models(comparison)
+    assert finding.verdict == NEW
+    assert "area: discrete (interaction) (8 of 8 points hold" in finding.evidence
+    assert "none holds at Load nowhere" in finding.evidence
+    worse = results(gw=dict(area=1.5), discrete=dict(area=1.3))
+    text = closest_models(compare_realizations(worse, tolerances=(0.05, 0.2))).evidence
+    assert f"area: no model holds within 0.2 anywhere; none holds at Load " \
+           f"{LOAD[0]:.2g}–{LOAD[-1]:.2g}" in text
+
+
+def test_all_findings_on_one_family():
+    data = results(gw={}, improved_gw={}, discrete={}, discrete_no_interaction={})
+    out = check_findings(data, compare_realizations(data), (0.05, 0.2))
+    assert [f.key for f in out] == ["a", "b", "c", "d", "e"]
+    assert out[1].verdict == CONTRADICTED  # identical curves: no shift

@@ -1,0 +1,103 @@
+"""The report renders whatever it has: unconverged points, empty ranges, no converged BEM."""
+
+import csv
+
+import pytest
+
+from validation.cli import main
+from validation.report import write_report
+from validation.runner import run_scenes
+from validation.scene import parse_scene
+
+NEVER_CONVERGED = {
+    "name": "never-converged",
+    "title": "A BEM that stops after five iterations",
+    "surface": {"D": 2.4, "rms_slope": 0.1, "n": 32},
+    "realizations": {"count": 3, "seed": 3},
+    "loads": {"min": 1e-4, "max": 1e-2, "count": 4},
+    "bem": {"tol": 1e-10, "max_iter": 5, "reference_error": True},
+}
+
+
+@pytest.fixture(scope="module")
+def unconverged():
+    import warnings
+
+    import bem
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", bem.ConvergenceWarning)
+        return run_scenes([parse_scene(NEVER_CONVERGED, source="test")], progress=False)
+
+
+def rows(path):
+    with open(path, newline="", encoding="utf-8") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_report_with_no_converged_bem_point(unconverged, tmp_path):
+    # Regression: every BEM point unconverged used to stop the report at the first log-scaled
+    # figure ("Data cannot be log-scaled"); now every figure and table is written.
+    (result,) = unconverged
+    assert not any(r.curves["bem"].extras["converged"].any()
+                   for r in result.realizations[2.4])
+    path = write_report(unconverged, tmp_path, seconds=12.0, command="python -m validation x")
+    text = path.read_text(encoding="utf-8")
+    for name in ("fig4-separation", "fig5-load", "errors-D2.4", "verdicts-D2.4"):
+        assert (tmp_path / f"never-converged-{name}.png").stat().st_size > 5_000
+    verdicts = rows(tmp_path / "verdicts.csv")
+    assert verdicts and {v["verdict"] for v in verdicts} == {"undecided"}
+    bem_rows = [r for r in rows(tmp_path / "curves.csv") if r["model"] == "bem"]
+    assert len(bem_rows) == 12 and {r["converged"] for r in bem_rows} == {"False"}
+    assert "`????`" in text and "nowhere" in text and "**0 / 0 /" in text
+    assert "fewer than two converged BEM realizations" in text  # finding (c) says why
+    assert "Command: `python -m validation x`" in text and "run time 0.2 min" in text
+
+
+def test_tables_are_written_before_the_figures(unconverged, tmp_path, monkeypatch):
+    import validation.figures
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("figure failed")
+
+    monkeypatch.setattr(validation.figures, "panels_figure", broken)
+    with pytest.raises(RuntimeError, match="figure failed"):
+        write_report(unconverged, tmp_path)
+    for name in ("curves.csv", "errors.csv", "verdicts.csv", "validity.csv", "findings.csv"):
+        assert rows(tmp_path / name)
+
+
+@pytest.mark.slow
+def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
+    # the theory scene alone: a published report in seconds, header with the exact command
+    folder = tmp_path / "results"
+    folder.mkdir()
+    (folder / "stale-figure.png").write_bytes(b"old")
+    (folder / "notes.txt").write_text("kept")
+    assert main(["report", "paper-theory", "--publish", str(folder), "--no-cache", "--quiet"]) == 0
+    text = (folder / "report.md").read_text(encoding="utf-8")
+    assert not (folder / "stale-figure.png").exists() and (folder / "notes.txt").exists()
+    assert f"Command: `python -m validation report paper-theory --publish {folder} " in text
+    assert "mode: full" in text and "## Findings" in text
+
+
+def test_report_only_modules_do_not_compute_results():
+    # The cache hash leaves out the modules that only read results; none of them may be
+    # imported by a module that computes the cached results.
+    import ast
+    import pathlib
+
+    from validation.runner import REPORT_ONLY_MODULES
+
+    package = pathlib.Path(__file__).resolve().parents[1] / "validation"
+    for path in package.glob("*.py"):
+        if path.name in REPORT_ONLY_MODULES:
+            continue
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        imported = {f"{alias.name.split('.')[-1]}.py" for node in ast.walk(tree)
+                    if isinstance(node, ast.Import) for alias in node.names}
+        imported |= {f"{node.module.split('.')[-1]}.py" for node in ast.walk(tree)
+                     if isinstance(node, ast.ImportFrom) and node.module}
+        allowed = {"bench.py", "stress.py", "__init__.py"}  # entry points, not result makers
+        if path.name not in allowed:
+            assert not imported & REPORT_ONLY_MODULES, (path.name, imported & REPORT_ONLY_MODULES)
