@@ -71,7 +71,8 @@ import scipy.linalg
 import scipy.optimize
 import scipy.sparse.linalg
 
-from bem.curve import ContactCurve
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.model import check_points, check_quantities, empty_curve
 from bem.warnings import ConvergenceWarning
 
 from asperity.interaction import PointForceInteraction
@@ -82,8 +83,7 @@ __all__ = ["DiscreteAsperityModel", "ValidityWarning", "DISCRETE_QUANTITIES"]
 #: Quantities :meth:`DiscreteAsperityModel.at_separation` / ``at_load`` can compute.
 DISCRETE_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
                        "conductance", "holm_greenwood")
-_DEFAULT_QUANTITIES = ("separation", "load", "area", "contacts", "mean_pressure", "stiffness",
-                       "conductance")
+_DEFAULT_QUANTITIES = CURVE_QUANTITIES
 _MAX_SPLIT_DEPTH = 8
 _WORK_PER_POINT = 6         # Newton iterations per requested point, in units of max_iter
 _WORK_RESERVE = 2           # ... plus this much for the cold-start fallbacks
@@ -268,8 +268,11 @@ class DiscreteAsperityModel:
         (typically 5 to 40) plus one per line-search trial; along a path 3 to 6 iterations per
         point. See ``benchmarks/bench_discrete.py`` for measured times.
         """
-        values = self._points("separation", separation)
-        want = self._quantities(quantities)
+        points = check_points("separation", separation)
+        want = check_quantities(quantities, DISCRETE_QUANTITIES)
+        if points.size == 0:
+            return self._empty_curve(want)
+        values = points.ravel()
         order = np.argsort(-values, kind="stable")
         solutions: list[_Solution | None] = [None] * values.size
         state = self._first_contact()
@@ -279,7 +282,7 @@ class DiscreteAsperityModel:
                                                want_tangent="stiffness" in want or
                                                "conductance" in want)
             solutions[index] = state
-        return self._curve(solutions, want)
+        return self._curve(solutions, want).reshaped(points.shape)
 
     def at_load(self, load, *, quantities=_DEFAULT_QUANTITIES) -> ContactCurve:
         """Solve the discrete model at given total loads W [force] (>= 0).
@@ -289,10 +292,11 @@ class DiscreteAsperityModel:
         solved as a warm-started path in increasing order and returned in the caller's order.
         See :meth:`at_separation` for ``quantities`` and the returned fields.
         """
-        values = self._points("load", load)
-        if np.any(values < 0):
-            raise ValueError("load must be >= 0")
-        want = self._quantities(quantities)
+        points = check_points("load", load, non_negative=True)
+        want = check_quantities(quantities, DISCRETE_QUANTITIES)
+        if points.size == 0:
+            return self._empty_curve(want)
+        values = points.ravel()
         order = np.argsort(values, kind="stable")
         solutions: list[_Solution | None] = [None] * values.size
         state = self._first_contact()
@@ -303,34 +307,19 @@ class DiscreteAsperityModel:
             state = self._path_step_load(state, previous_load, target, 0)
             previous_load = target
             solutions[index] = state
-        return self._curve(solutions, want)
+        return self._curve(solutions, want).reshaped(points.shape)
 
-    # ------------------------------------------------------------------ validation helpers
-    @staticmethod
-    def _points(name, value) -> np.ndarray:
-        try:
-            array = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be real numbers") from None
-        if array.ndim > 1:
-            raise ValueError(f"{name} must be a scalar or 1-D array, got shape {array.shape}")
-        array = np.atleast_1d(array)
-        if array.size == 0:
-            raise ValueError(f"{name} must contain at least one value")
-        if not np.all(np.isfinite(array)):
-            raise ValueError(f"{name} must be finite (no NaN or inf)")
-        return array
+    @property
+    def name(self) -> str:
+        """``"discrete"`` (pairwise interaction), ``"discrete_uniform"`` (the mean-field term
+        m) or ``"discrete_no_interaction"``."""
+        if self.interaction:
+            return "discrete"
+        return "discrete_no_interaction" if self.m is None else "discrete_uniform"
 
-    @staticmethod
-    def _quantities(quantities) -> frozenset:
-        if isinstance(quantities, str):
-            quantities = (quantities,)
-        want = frozenset(quantities)
-        unknown = want - set(DISCRETE_QUANTITIES)
-        if unknown:
-            raise ValueError(f"unknown quantities {sorted(unknown)}; allowed: "
-                             f"{DISCRETE_QUANTITIES}")
-        return want
+    def _empty_curve(self, want: frozenset) -> ContactCurve:
+        return empty_curve(self.summits.area, self.e_star, want & set(CURVE_QUANTITIES),
+                           extras=("iterations", "residual", "stable", "overlapping_spots"))
 
     # ------------------------------------------------------------------ mechanics
     def _interaction(self, forces, sources, targets, total) -> np.ndarray:
@@ -723,7 +712,9 @@ class DiscreteAsperityModel:
         return ContactCurve(
             separation=separation, load=load, area=np.pi * np.sum(radius ** 2, axis=1),
             mean_pressure=load / self.summits.area, nominal_area=self.summits.area,
-            e_star=self.e_star, contacts=np.count_nonzero(delta > 0, axis=1).astype(float),
+            e_star=self.e_star,
+            contacts=(np.count_nonzero(delta > 0, axis=1).astype(float) if "contacts" in want
+                      else None),
             stiffness=stiffness, conductance=conductance, extras=extras)
 
     def _neighbours(self, spots: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

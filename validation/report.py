@@ -19,25 +19,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from validation import models as _models
 from validation.compare import Comparison, compare_realizations
 from validation.runner import SceneResult
 
 __all__ = ["write_report", "MODEL_LABELS", "QUANTITY_LABELS"]
 
-MODEL_LABELS = {
-    "gw": "original GW",
-    "improved_gw": "improved GW",
-    "discrete": "discrete (interaction)",
-    "discrete_no_interaction": "discrete (no interaction)",
-    "bem": "BEM (exact)",
-}
-MODEL_STYLES = {
-    "gw": dict(color="tab:blue", linestyle="--"),
-    "improved_gw": dict(color="tab:orange", linestyle="-"),
-    "discrete": dict(color="tab:green", linestyle="-"),
-    "discrete_no_interaction": dict(color="tab:olive", linestyle=":"),
-    "bem": dict(color="black", linestyle="-", linewidth=2.0),
-}
+MODEL_LABELS = _models.labels()
+MODEL_STYLES = _models.styles()
 QUANTITY_LABELS = {
     "area": "Area = A/L²",
     "load": "Load = W/(E* L²)",
@@ -260,8 +249,7 @@ def _surface_section(w: _Writer, result: SceneResult, comparisons: list[Comparis
                    f"BEM {'periodic' if scene.bem.periodic else 'non-periodic'}, tol {scene.bem.tol:g}.\n")
     for comparison in comparisons:
         results = result.realizations[comparison.D]
-        models = [m for m in ("gw", "improved_gw", "discrete_no_interaction", "discrete", "bem")
-                  if m in results[0].curves]
+        models = [m for m in _models.names() if m in results[0].curves]
         summit_counts = [r.summit_count for r in results]
         w.lines.append(f"### D = {comparison.D:g}\n")
         if any(summit_counts):
@@ -402,7 +390,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
             _theory_section(w, result, theory_rows)
             continue
         comparisons = []
-        if "bem" in scene.models:
+        if any(m in scene.models for m in _models.reference_names()):
             for D, realizations in sorted(result.realizations.items()):
                 comparisons.append(compare_realizations(realizations, result.reference_error.get(D),
                                                         tolerances=scene.tolerances))

@@ -31,15 +31,25 @@ from typing import Iterable
 import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from validation import models
 from validation.cache import Cache, cache_key
+from validation.models import ModelInputs
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces import wm_surface
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
-           "run_scenes", "Progress", "ASPERITY_MODELS"]
+           "run_scenes", "Progress"]
 
-#: Models fitted to or built on the summits.
-ASPERITY_MODELS = ("gw", "improved_gw", "discrete", "discrete_no_interaction")
+def __getattr__(name: str):
+    # ASPERITY_MODELS was a fixed list; the registry now says which models need summits.
+    if name == "ASPERITY_MODELS":
+        import warnings
+
+        warnings.warn("validation.runner.ASPERITY_MODELS is deprecated: use "
+                      "validation.models.entry(name).needs_summits", DeprecationWarning,
+                      stacklevel=2)
+        return tuple(n for n in models.names() if models.entry(n).needs_summits)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _SOURCE_VERSION: str | None = None
@@ -131,11 +141,12 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir))
-        if "bem" in scene.models and scene.bem.reference_error:
+        references = [name for name in scene.models if models.entry(name).reference]
+        if references and scene.bem.reference_error:
             # the same continuous surface as realization 0, sampled twice as finely
             fine = replace(surface, n=2 * surface.n)
             tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
-                                         loads=scene.loads, models=("bem",), m=scene.m,
+                                         loads=scene.loads, models=tuple(references), m=scene.m,
                                          quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir, purpose="reference-error",
                                          slope_grid=surface.n))
@@ -177,7 +188,6 @@ def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
 def run_realization(task: RealizationTask) -> RealizationResult:
     """Compute one realization (a top-level function, so process pools can run it)."""
     import asperity
-    import bem
 
     cache = Cache(task.cache_dir)
     version = _version()
@@ -199,7 +209,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     nominal_area = s.L**2
     surface_key = _surface_inputs(task)
 
-    wants_summits = any(m in task.models for m in ASPERITY_MODELS) or task.loads.quantity == "separation"
+    wants_summits = (any(models.entry(name).needs_summits for name in task.models)
+                     or task.loads.quantity == "separation")
     summits, sigma, summit_mean = None, math.nan, math.nan
     if wants_summits:
         key = cache_key("summits", version, surface=surface_key)
@@ -241,42 +252,32 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     loads = None
     if task.loads.quantity == "load":
         loads = values * task.e_star * nominal_area
-    if "bem" in task.models:
+    inputs = ModelInputs(spacing=spacing, nominal_area=nominal_area, heights=heights,
+                         summits=summits, e_star=task.e_star, m=task.m,
+                         bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
+                                          max_iter=task.bem.max_iter))
+    # The reference first: on a separation path the other models follow its loads.
+    for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
+        item = models.entry(name)
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        cached_curve("bem", cache_key("bem", version, surface=surface_key, e_star=task.e_star,
-                                      settings=task.bem, stiffness=stiffness, **path),
-                     lambda: bem.contact_curve(heights(), spacing, e_star=task.e_star,
-                                               periodic=task.bem.periodic, tol=task.bem.tol,
-                                               max_iter=task.bem.max_iter,
-                                               quantities=curve_quantities, **path))
-        if loads is None:  # separation path: the other models follow the reference's loads
-            loads = curves["bem"].load
 
-    for model in ("gw", "improved_gw"):
-        if model in task.models:
+        def solve(item=item, path=path):
+            model = item.factory(inputs)
+            if "loads" in path:
+                return model.at_load(path["loads"], quantities=curve_quantities)
+            return model.at_separation(path["separations"], quantities=curve_quantities)
+
+        if item.cached:
+            cached_curve(name, cache_key(name, version, surface=surface_key, e_star=task.e_star,
+                                         stiffness=stiffness, **item.settings(inputs), **path),
+                         solve)
+        else:
             start = time.perf_counter()
-            theory = (summits.greenwood_williamson(nominal_area, e_star=task.e_star) if model == "gw"
-                      else summits.improved_greenwood_williamson(nominal_area, e_star=task.e_star,
-                                                                 m=task.m))
-            curves[model] = (theory.at_load(loads) if loads is not None
-                             else theory.at_separation(values * sigma))
-            seconds[model] = time.perf_counter() - start
-            computed.append(f"{model} {task.describe()}")
-
-    for model, interaction in (("discrete", True), ("discrete_no_interaction", False)):
-        if model not in task.models:
-            continue
-        path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-
-        def solve(interaction=interaction):
-            discrete = asperity.DiscreteAsperityModel(summits, e_star=task.e_star,
-                                                      interaction=interaction)
-            if loads is not None:
-                return discrete.at_load(loads, quantities=curve_quantities)
-            return discrete.at_separation(values * sigma, quantities=curve_quantities)
-
-        cached_curve(model, cache_key("discrete", version, surface=surface_key, e_star=task.e_star,
-                                      interaction=interaction, stiffness=stiffness, **path), solve)
+            curves[name] = solve()
+            seconds[name] = time.perf_counter() - start
+            computed.append(f"{name} {task.describe()}")
+        if item.reference and loads is None:
+            loads = curves[name].load
 
     return RealizationResult(task=task, curves=curves, sigma=sigma, summit_mean=summit_mean,
                              summit_count=0 if summits is None else int(np.size(summits.height)),

@@ -75,13 +75,16 @@ from dataclasses import dataclass, field, replace
 from importlib import resources
 from typing import Any
 
+from validation import models as _models
+
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "SceneError",
     "MODELS", "QUANTITIES", "load_scene", "builtin_scenes", "parse_scene",
 ]
 
-#: Models a scene may ask for.
-MODELS = ("gw", "improved_gw", "discrete", "discrete_no_interaction", "bem")
+#: Models a scene uses unless it lists its own (any registered name may be listed:
+#: :func:`validation.models.names`).
+MODELS = _models.default_names()
 #: Quantities a scene may ask for.
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
 
@@ -366,7 +369,7 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     lo.finish()
 
     mo = top.sub("models")
-    models = mo.choices("use", MODELS, MODELS)
+    models = mo.choices("use", MODELS, _models.names())
     m = mo.number("m", 1.0, minimum=0.0)
     mo.finish()
 
