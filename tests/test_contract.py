@@ -172,3 +172,23 @@ def test_registry_names_every_model_once_and_rejects_unknown_names():
         models.entry("persson_typo")
     with pytest.raises(ValueError, match="already registered"):
         models.register("gw", lambda inputs: None, label="again")
+
+
+def test_the_shared_path_stepper_visits_light_to_heavy_and_answers_in_order():
+    from bem.continuation import follow_path
+
+    visited = []
+
+    def step(previous, target):
+        visited.append(target)
+        return (previous[0] + 1, target)
+
+    loads = np.array([3.0, 1.0, 2.0])
+    states = follow_path(loads, (0, None), step, control="load")
+    assert visited == [1.0, 2.0, 3.0] and [s[1] for s in states] == [3.0, 1.0, 2.0]
+    assert [s[0] for s in states] == [3, 1, 2]            # each warm-started from the last
+    visited.clear()
+    follow_path(loads, (0, None), step, control="separation")
+    assert visited == [3.0, 2.0, 1.0]
+    with pytest.raises(ValueError, match="control"):
+        follow_path(loads, (0, None), step, control="area")
