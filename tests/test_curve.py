@@ -35,7 +35,7 @@ def test_extras_are_a_mapping_and_survive_pickle():
     np.testing.assert_array_equal(clone.extras["effective_separation"], [2.5, 1.5])
     np.testing.assert_array_equal(clone.load, curve.load)
     with pytest.raises(AttributeError):
-        curve.not_a_field
+        _ = curve.not_a_field
 
 
 def test_quantity_not_computed_is_an_error():
