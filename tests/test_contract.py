@@ -174,6 +174,31 @@ def test_registry_names_every_model_once_and_rejects_unknown_names():
         models.register("gw", lambda inputs: None, label="again")
 
 
+def test_a_registered_model_is_one_call_and_must_satisfy_the_contract(surface):
+    inputs = surface[0]
+    models.register("test_bare_gw", lambda inputs: models.build("gw", inputs),
+                    label="GW (test copy)")
+    models.register("test_not_a_model", lambda inputs: object(), label="broken", default=False)
+    try:
+        assert "test_bare_gw" in models.names() and models.labels()["test_bare_gw"]
+        curve = models.build("test_bare_gw", inputs).at_load(1e-3)
+        assert curve.load.shape == ()
+        with pytest.raises(TypeError, match="ContactModel"):
+            models.build("test_not_a_model", inputs)
+    finally:
+        models.unregister("test_bare_gw")
+        models.unregister("test_not_a_model")
+    assert "test_bare_gw" not in models.names()
+
+
+def test_the_old_fixed_model_list_warns():
+    from validation import runner
+
+    with pytest.warns(DeprecationWarning, match="registry|needs_summits"):
+        names = runner.ASPERITY_MODELS
+    assert "gw" in names and "bem" not in names
+
+
 def test_the_shared_path_stepper_visits_light_to_heavy_and_answers_in_order():
     from bem.continuation import follow_path
 

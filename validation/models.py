@@ -20,7 +20,7 @@ import numpy as np
 
 from bem.model import ContactModel
 
-__all__ = ["ModelInputs", "ModelEntry", "register", "entry", "names", "default_names", "build",
+__all__ = ["ModelInputs", "ModelEntry", "register", "unregister", "entry", "names", "default_names", "build",
            "labels", "styles", "reference_names"]
 
 
@@ -136,6 +136,12 @@ def register(name: str, factory: Callable[[ModelInputs], ContactModel], *, label
     return item
 
 
+def unregister(name: str) -> None:
+    """Remove a registered model (for tests and interactive work)."""
+    entry(name)
+    del _REGISTRY[name]
+
+
 def entry(name: str) -> ModelEntry:
     """The registered model ``name``; ``ValueError`` listing the known names otherwise."""
     try:
@@ -160,8 +166,13 @@ def reference_names() -> tuple[str, ...]:
 
 
 def build(name: str, inputs: ModelInputs) -> ContactModel:
-    """The model ``name`` built from ``inputs``."""
-    return entry(name).factory(inputs)
+    """The model ``name`` built from ``inputs``; ``TypeError`` if the factory's result does
+    not satisfy :class:`bem.ContactModel`."""
+    model = entry(name).factory(inputs)
+    if not isinstance(model, ContactModel):
+        raise TypeError(f"the factory of model {name!r} returned {type(model).__name__}, "
+                        "which lacks name, at_load or at_separation (bem.ContactModel)")
+    return model
 
 
 class _Attribute(Mapping):
