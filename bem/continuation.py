@@ -3,6 +3,10 @@
 One stepper for every model that solves a path of loads or separations: the points are visited
 in the order of increasing load (increasing loads, or decreasing separations), each solved by
 ``step(previous, target)`` from the previous point's answer, and returned in the caller's order.
+
+The discrete asperity model walks its paths with it (:mod:`asperity.discrete_path`);
+:func:`bem.contact_curve` still has its own copy of the same loop (sorted order, warm start
+from the previous pressure) until its rewrite can call :func:`follow_path`.
 """
 
 from __future__ import annotations
