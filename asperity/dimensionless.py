@@ -179,8 +179,8 @@ def interaction_curves(interaction_parameter: float, *, m: float = 1.0,
     plain = model.greenwood_williamson.at_separation(h)
     return InteractionCurves(
         interaction_parameter=c, m=m, separation=_frozen(h),
-        effective_separation=_frozen(improved.effective_separation),
+        effective_separation=_frozen(improved.extras["effective_separation"]),
         gw_pressure=_frozen(plain.load), improved_pressure=_frozen(improved.load),
-        effective_stiffness=_frozen(improved.gw_stiffness),
+        effective_stiffness=_frozen(improved.extras["gw_stiffness"]),
         improved_stiffness=_frozen(improved.stiffness),
         gw_stiffness=_frozen(plain.stiffness))

@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import KW_ONLY, dataclass
+from typing import Iterable
 
 import numpy as np
 
@@ -36,7 +37,8 @@ from bem.checks import positive as _positive_parameter
 from numpy.typing import ArrayLike
 from scipy.special import lambertw
 
-from bem.curve import ContactCurve
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.model import check_points, check_quantities
 from bem.warnings import ConvergenceWarning
 
 from asperity.dimensionless import interaction_parameter as _interaction_parameter
@@ -49,30 +51,27 @@ from asperity.gw_functions import (
 
 __all__ = ["GreenwoodWilliamson", "ImprovedGreenwoodWilliamson"]
 
-_GW_ORDERS_USED = (0.0, 0.5, 1.0, 1.5)
+#: GW function order behind each quantity: contacts F_0, stiffness F_1/2, area F_1, load F_3/2.
+_ORDER = {"contacts": 0.0, "stiffness": 0.5, "area": 1.0, "load": 1.5}
+
+
+def _orders(want: frozenset[str]) -> tuple[float, ...]:
+    """GW function orders needed for the quantities asked for (area and load always)."""
+    needed = {"area", "load"} | (want & {"contacts"})
+    if want & {"stiffness", "conductance"}:
+        needed.add("stiffness")
+    return tuple(sorted(_ORDER[q] for q in needed))
 
 
 
 
 
 def _separations(separation: ArrayLike) -> np.ndarray:
-    try:
-        values = np.asarray(separation, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"separation must be real numbers, got {separation!r}") from None
-    if np.isnan(values).any() or (values == -np.inf).any():
-        raise ValueError("separation must not contain NaN or -inf (+inf means no contact)")
-    return values
+    return check_points("separation", separation, allow_infinity=True)   # +inf: no contact
 
 
 def _loads(load: ArrayLike) -> np.ndarray:
-    try:
-        values = np.asarray(load, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"load must be real numbers, got {load!r}") from None
-    if not np.all(np.isfinite(values)) or (values < 0).any():
-        raise ValueError("load must be finite and >= 0 (0 gives separation +inf)")
-    return values
+    return check_points("load", load, non_negative=True)                # 0: separation +inf
 
 
 def _warn_unconverged(converged: np.ndarray, what: str) -> None:
@@ -128,17 +127,22 @@ class _SummitHeightTheory:
         with np.errstate(over="ignore"):
             return (separation - self.mean) / self.sigma
 
-    def _gw_quantities(self, h: np.ndarray) -> dict[str, np.ndarray]:
-        """Contacts, area, load and stiffness of plain GW theory at reduced separation h."""
-        f0, f_half, f1, f_three_halves = gw_integrals(_GW_ORDERS_USED, h, self.distribution)
+    def _gw_quantities(self, h: np.ndarray, want: frozenset[str] = frozenset(CURVE_QUANTITIES)
+                       ) -> dict[str, np.ndarray]:
+        """Area and load of plain GW theory at reduced separation h, plus contacts and stiffness
+        when asked for (only the GW functions needed are evaluated)."""
+        orders = _orders(want)
+        f = dict(zip(orders, gw_integrals(orders, h, self.distribution)))
         n = self.summit_count
+        out = {}
         with np.errstate(over="ignore"):             # absurdly deep contact: +inf, not NaN
-            return dict(
-                contacts=n * f0,
-                area=math.pi * n * self.radius * self.sigma * f1,
-                load=(4.0 / 3.0) * self.reference_load * f_three_halves,
-                stiffness=2.0 * self.reference_load / self.sigma * f_half,
-            )
+            out["area"] = math.pi * n * self.radius * self.sigma * f[1.0]
+            out["load"] = (4.0 / 3.0) * self.reference_load * f[1.5]
+            if 0.0 in f:
+                out["contacts"] = n * f[0.0]
+            if 0.5 in f:
+                out["stiffness"] = 2.0 * self.reference_load / self.sigma * f[0.5]
+        return out
 
     def _reduced_at_load(self, load: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """h with (4/3) W_ref F_3/2(h) = load (h = +inf at zero load), and convergence flags."""
@@ -147,14 +151,18 @@ class _SummitHeightTheory:
         return inverse_log_gw_integral(1.5, log_target, self.distribution)
 
     def _curve(self, separation: np.ndarray, quantities: dict[str, np.ndarray],
-               load: np.ndarray | None = None, **extras: np.ndarray) -> ContactCurve:
+               want: frozenset[str], load: np.ndarray | None = None,
+               **extras: np.ndarray) -> ContactCurve:
         load = quantities["load"] if load is None else load
-        stiffness = quantities["stiffness"]
+        stiffness = quantities.get("stiffness")
+        extras.setdefault("converged", np.ones(np.shape(load), dtype=bool))
         return ContactCurve(
             separation=separation, load=load, area=quantities["area"],
             mean_pressure=load / self.area, nominal_area=self.area, e_star=self.e_star,
-            contacts=quantities["contacts"], stiffness=stiffness,
-            conductance=2.0 * stiffness / self.e_star, extras=extras)
+            contacts=quantities.get("contacts") if "contacts" in want else None,
+            stiffness=stiffness if "stiffness" in want else None,
+            conductance=2.0 * stiffness / self.e_star if "conductance" in want else None,
+            extras=extras)
 
 
 @dataclass(frozen=True)
@@ -186,16 +194,22 @@ class GreenwoodWilliamson(_SummitHeightTheory):
     >>> curve.load, curve.area, curve.stiffness      # doctest: +SKIP
     """
 
-    def at_separation(self, separation: ArrayLike) -> ContactCurve:
+    name = "gw"
+
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """Contact curve at separations d [length] (any shape; +inf means out of contact).
 
-        Returns a :class:`bem.ContactCurve` with separation, load, area, contacts, stiffness
-        (S = -dW/dd), conductance (2S/E*) and mean_pressure (W/A).
+        Returns a :class:`bem.ContactCurve` (:class:`bem.ContactModel` contract) with
+        separation, load, area and mean_pressure (W/A), and, if in ``quantities``, contacts,
+        stiffness (S = -dW/dd) and conductance (2S/E*). Extras: ``converged`` (all True).
         """
         d = _separations(separation)
-        return self._curve(d, self._gw_quantities(self._reduced(d)))
+        want = check_quantities(quantities)
+        return self._curve(d, self._gw_quantities(self._reduced(d), want), want)
 
-    def at_load(self, load: ArrayLike) -> ContactCurve:
+    def at_load(self, load: ArrayLike, *,
+                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """Contact curve at total loads W [force] (any shape; W = 0 gives separation +inf).
 
         F_3/2 is inverted in logarithmic form, so loads far below the reference
@@ -204,10 +218,11 @@ class GreenwoodWilliamson(_SummitHeightTheory):
         ``converged`` (bool per point).
         """
         w = _loads(load)
+        want = check_quantities(quantities)
         h, converged = self._reduced_at_load(w)
         _warn_unconverged(converged, "GW load inversion")
         d = self.mean + self.sigma * h
-        return self._curve(d, self._gw_quantities(h), load=w, converged=converged)
+        return self._curve(d, self._gw_quantities(h, want), want, load=w, converged=converged)
 
 
 @dataclass(frozen=True)
@@ -238,6 +253,11 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
     m: float = 1.0
     one_iteration: bool = False
 
+    @property
+    def name(self) -> str:
+        """``"improved_gw"``, or ``"improved_gw_one_iteration"`` for the footnote's form."""
+        return "improved_gw_one_iteration" if self.one_iteration else "improved_gw"
+
     def __post_init__(self) -> None:
         super().__post_init__()
         try:
@@ -264,9 +284,13 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         return self.m / (self.e_star * math.sqrt(self.area))
 
     def _improved_curve(self, separation: np.ndarray, h1: np.ndarray, load: np.ndarray | None,
-                        *, one_iteration_h: np.ndarray | None = None,
+                        want: frozenset[str], *, one_iteration_h: np.ndarray | None = None,
                         **extras: np.ndarray) -> ContactCurve:
-        quantities = self._gw_quantities(h1)
+        quantities = self._gw_quantities(h1, want)
+        effective = self.mean + self.sigma * h1
+        if "stiffness" not in quantities:
+            return self._curve(separation, quantities, want, load=load,
+                               effective_separation=effective, **extras)
         gw_stiffness = quantities["stiffness"]
         compliance = self.interaction_compliance
         if one_iteration_h is None:
@@ -275,12 +299,11 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         else:
             # the footnote's approximation W(d) = W_GW(d + c W_GW(d)), c = m/(E* sqrt A), has
             # its own slope: S = S1(d1) (1 - c S_GW(d)), negative where its load decreases
-            at_d = self._gw_quantities(one_iteration_h)["stiffness"]
+            at_d = self._gw_quantities(one_iteration_h, frozenset({"stiffness"}))["stiffness"]
             with np.errstate(invalid="ignore"):
                 quantities["stiffness"] = gw_stiffness * (1.0 - compliance * at_d)
-        effective = self.mean + self.sigma * h1
-        return self._curve(separation, quantities, load=load, effective_separation=effective,
-                           gw_stiffness=gw_stiffness, **extras)
+        return self._curve(separation, quantities, want, load=load,
+                           effective_separation=effective, gw_stiffness=gw_stiffness, **extras)
 
     def effective_reduced_separation(self, h: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Solve ``h = h1 - (4/3) m C F_3/2(h1)`` for h1 (exact eq. 2), elementwise.
@@ -320,36 +343,40 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         converged[finite] = ok
         return h1.reshape(h.shape), converged.reshape(h.shape)
 
-    def at_separation(self, separation: ArrayLike) -> ContactCurve:
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """Contact curve at separations d [length] (eq. 2 solved exactly, or one iteration).
 
-        Extras: ``effective_separation`` d1, ``gw_stiffness`` S1 and, for the exact solve,
-        ``converged``.
+        Fields as :meth:`GreenwoodWilliamson.at_separation`. Extras: ``effective_separation``
+        d1, ``converged`` (all True in one-iteration mode) and, when stiffness or conductance
+        is asked for, ``gw_stiffness`` S1.
         """
         d = _separations(separation)
+        want = check_quantities(quantities)
         h = self._reduced(d)
         if self.one_iteration:
             (f_three_halves,) = gw_integrals((1.5,), h, self.distribution)
             with np.errstate(over="ignore", invalid="ignore"):
                 h1 = h + (4.0 / 3.0) * self.m * self.interaction_parameter * f_three_halves
             h1 = np.where(np.isinf(h), h, h1)
-            return self._improved_curve(d, h1, None, one_iteration_h=h)
+            return self._improved_curve(d, h1, None, want, one_iteration_h=h)
         h1, converged = self.effective_reduced_separation(h)
         _warn_unconverged(converged, "improved GW effective separation")
-        return self._improved_curve(d, h1, None, converged=converged)
+        return self._improved_curve(d, h1, None, want, converged=converged)
 
-    def at_load(self, load: ArrayLike) -> ContactCurve:
+    def at_load(self, load: ArrayLike, *,
+                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """Contact curve at total loads W [force]: d1 from plain GW, then d = d1 - m W/(E* sqrt A).
 
         Exact in both modes (no iteration is involved). W = 0 gives separation +inf.
         Extras: ``effective_separation``, ``gw_stiffness``, ``converged``.
         """
         w = _loads(load)
+        want = check_quantities(quantities)
         h1, converged = self._reduced_at_load(w)
         _warn_unconverged(converged, "GW load inversion")
-        effective = self.mean + self.sigma * h1
-        d = effective - self.interaction_compliance * w
-        return self._improved_curve(d, h1, w, converged=converged)
+        d = self.mean + self.sigma * h1 - self.interaction_compliance * w
+        return self._improved_curve(d, h1, w, want, converged=converged)
 
 
 def _lambert_w_of_exp(log_z: np.ndarray) -> np.ndarray:

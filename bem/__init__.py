@@ -9,9 +9,11 @@ unit of E*.
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.halfspace import HalfSpace
+from bem.model import BoundaryElementModel, ContactModel
 from bem.path import contact_curve, count_contacts
 from bem.solver import ContactSolution, solve_contact
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES", "HalfSpace", "solve_contact", "ContactSolution",
-           "contact_curve", "count_contacts", "ConvergenceWarning"]
+           "contact_curve", "count_contacts", "ConvergenceWarning", "ContactModel",
+           "BoundaryElementModel"]

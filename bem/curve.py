@@ -18,9 +18,28 @@ Units and conventions (docs/theory.md, "Conventions used everywhere")
   (C rho, Barber's analogy).
 * ``mean_pressure`` = W / A_nominal [pressure].
 
-Fields a model did not compute (not asked for) are ``None``. Model-specific arrays (for example
-the effective separation d1 of the improved GW theory, or per-asperity contact radii) live in
-``extras`` and are also readable as attributes (``curve.effective_separation``).
+Fields a model did not compute (not asked for) are ``None``; separation, load, area and
+mean_pressure are always filled. Every field has the shape of the separations or loads asked for
+(numpy's rule: a scalar gives 0-d arrays, an array of shape s gives arrays of shape s).
+
+Extras
+------
+Model-specific results live in the read-only mapping ``extras`` and are read as
+``curve.extras["name"]`` (attribute access, ``curve.effective_separation``, still works but is
+deprecated). Per-point extras have the curve's shape; per-asperity extras (``forces``,
+``contact_radii``) have the curve's shape followed by the number of asperities. Names in use:
+
+* ``converged`` (bool, every model): the point met its model's stopping rule; all True for
+  closed forms (GW theory at a separation).
+* ``residual`` [-]: relative residual of the model's own equations at the returned point, the
+  number compared with the model's ``tol`` (see :mod:`bem.model`, "Residual").
+* ``iterations`` (int): solver iterations spent on the point (all sub-steps included).
+* ``mean_gap`` [length] (BEM): mean gap between the surfaces over the nominal area.
+* ``effective_separation`` d1 [length], ``gw_stiffness`` S1 [force/length] (improved GW).
+* ``forces`` [force], ``contact_radii`` [length], ``stable``, ``overlapping_spots``,
+  ``stiffness_converged``, ``holm_greenwood_conductance`` [length] (discrete model).
+* ``<quantity>_error`` (BEM, when asked for): absolute estimate of the discretisation error of
+  that quantity, same units and shape.
 
 This module lives in ``bem`` because ``bem`` imports nothing else of the project, while both
 ``asperity`` and ``validation`` may import ``bem``.
@@ -28,6 +47,7 @@ This module lives in ``bem`` because ``bem`` imports nothing else of the project
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field, fields
 from types import MappingProxyType
 from typing import Any, Mapping
@@ -58,7 +78,7 @@ class ContactCurve:
     e_star : float
         Composite modulus E* [pressure].
     extras : mapping of str to array_like
-        Model-specific results, readable as attributes.
+        Model-specific results (see the module docstring), read as ``extras["name"]``.
     """
 
     separation: np.ndarray
@@ -107,14 +127,41 @@ class ContactCurve:
         return (_rebuild_curve, (state,))
 
     def __getattr__(self, name: str) -> Any:
-        # Only called when normal lookup fails: expose model-specific extras as attributes.
+        # Only called when normal lookup fails: the deprecated attribute access to extras.
         extras = self.__dict__.get("extras")
         if extras is not None and name in extras:
+            warnings.warn(f"curve.{name} is deprecated: read curve.extras[{name!r}]",
+                          DeprecationWarning, stacklevel=2)
             return extras[name]
         raise AttributeError(f"{type(self).__name__!s} has no field or extra {name!r}")
 
     def __len__(self) -> int:
         return int(np.size(self.load))
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """Shape of the separations or loads the curve was computed at (``()`` for a scalar)."""
+        return self.load.shape
+
+    def reshaped(self, shape: tuple[int, ...]) -> "ContactCurve":
+        """The same curve with every field, and the leading axis of every per-point extra,
+        reshaped to ``shape`` (same number of points)."""
+        count = len(self)
+        shape = tuple(shape)
+        if int(np.prod(shape, dtype=int)) != count:
+            raise ValueError(f"shape {shape} does not hold the curve's {count} points")
+        state = {f.name: getattr(self, f.name) for f in fields(self)}
+        for name in CURVE_QUANTITIES:
+            if state[name] is not None:
+                state[name] = state[name].reshape(shape)
+        extras = {}
+        for key, value in self.extras.items():
+            array = np.asarray(value)
+            if array.ndim >= 1 and array.shape[:self.load.ndim] == self.load.shape:
+                value = array.reshape(shape + array.shape[self.load.ndim:])
+            extras[key] = value
+        state["extras"] = extras
+        return ContactCurve(**state)
 
     @property
     def area_fraction(self) -> np.ndarray:
@@ -123,7 +170,10 @@ class ContactCurve:
 
     def quantity(self, name: str) -> np.ndarray:
         """Return a field or an extra by name; raise ``ValueError`` if it was not computed."""
-        value = getattr(self, name, None)
+        if name in self.extras:
+            return self.extras[name]
+        readable = name in CURVE_QUANTITIES or name == "area_fraction"
+        value = getattr(self, name) if readable else None
         if value is None:
             raise ValueError(f"quantity {name!r} was not computed for this curve")
         return value

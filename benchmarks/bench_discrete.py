@@ -75,9 +75,11 @@ def bench_case(name, summits, loads, repeats):
         path, curve = median_time(lambda: model.at_load(loads), repeats)
     return dict(case=name, summits=summits.count, rejected=summits.rejected, step=step,
                 path=path, contacts=int(curve.contacts[-1]),
-                area=float(curve.area_fraction[-1]), iterations=int(curve.iterations.sum()),
-                converged=bool(curve.converged.all()), stable=int(curve.stable.sum()),
-                overlap=int(curve.overlapping_spots[-1]))
+                area=float(curve.area_fraction[-1]),
+                iterations=int(curve.extras["iterations"].sum()),
+                converged=bool(curve.extras["converged"].all()),
+                stable=int(curve.extras["stable"].sum()),
+                overlap=int(curve.extras["overlapping_spots"][-1]))
 
 
 def main(argv=None):

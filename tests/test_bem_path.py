@@ -32,12 +32,12 @@ def test_load_path_matches_single_solves_in_callers_order(periodic):
         assert curve.separation[index] == pytest.approx(single.separation, rel=1e-7, abs=1e-12)
         assert curve.stiffness[index] == pytest.approx(single.stiffness, rel=1e-7)
         assert curve.contacts[index] == count_contacts(single.contact, periodic=periodic)
-        assert curve.mean_gap[index] == pytest.approx(single.mean_gap, rel=1e-7)
+        assert curve.extras["mean_gap"][index] == pytest.approx(single.mean_gap, rel=1e-7)
     np.testing.assert_allclose(curve.conductance, 2 * curve.stiffness / curve.e_star, rtol=1e-15)
     np.testing.assert_allclose(curve.mean_pressure, curve.load / curve.nominal_area, rtol=1e-15)
     assert curve.nominal_area == pytest.approx(1.0)
-    assert curve.converged.dtype == bool and curve.converged.all()
-    assert np.all(curve.iterations >= 1) and np.all(curve.residual <= 1e-9)
+    assert curve.extras["converged"].dtype == bool and curve.extras["converged"].all()
+    assert np.all(curve.extras["iterations"] >= 1) and np.all(curve.extras["residual"] <= 1e-9)
 
 
 def test_separation_path_and_stiffness_is_the_slope_of_the_load():

@@ -3,6 +3,7 @@
 import csv
 
 import numpy as np
+import pytest
 
 from validation.bench import observed_order, pareto_front
 from validation.cli import main
@@ -16,6 +17,7 @@ def test_pareto_front_and_observed_order():
     assert np.isnan(observed_order([64, 128], [0.0, 0.1])[0])
 
 
+@pytest.mark.slow      # 3-8 s: every method on two surfaces, with the figure
 def test_bench_quick_writes_table_and_figure(tmp_path, capsys):
     assert main(["bench", "--quick", "--out", str(tmp_path)]) == 0
     text = (tmp_path / "bench.md").read_text()

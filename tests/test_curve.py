@@ -26,14 +26,16 @@ def test_fields_are_read_only_copies():
     np.testing.assert_allclose(curve.area_fraction, [0.025, 0.1])
 
 
-def test_extras_are_attributes_and_survive_pickle():
+def test_extras_are_a_mapping_and_survive_pickle():
     curve = make(extras={"effective_separation": np.array([2.5, 1.5])})
-    np.testing.assert_array_equal(curve.effective_separation, [2.5, 1.5])
+    np.testing.assert_array_equal(curve.extras["effective_separation"], [2.5, 1.5])
+    with pytest.warns(DeprecationWarning, match="extras"):
+        np.testing.assert_array_equal(curve.effective_separation, [2.5, 1.5])
     clone = pickle.loads(pickle.dumps(curve))
-    np.testing.assert_array_equal(clone.effective_separation, [2.5, 1.5])
+    np.testing.assert_array_equal(clone.extras["effective_separation"], [2.5, 1.5])
     np.testing.assert_array_equal(clone.load, curve.load)
     with pytest.raises(AttributeError):
-        curve.not_a_field
+        _ = curve.not_a_field
 
 
 def test_quantity_not_computed_is_an_error():
@@ -49,3 +51,12 @@ def test_quantity_not_computed_is_an_error():
 def test_bad_input(kwargs, match):
     with pytest.raises(ValueError, match=match):
         make(**kwargs)
+
+
+def test_reshaped_moves_fields_and_per_point_extras():
+    curve = make(extras={"converged": [True, False], "forces": np.ones((2, 3)), "tol": 1e-3})
+    column = curve.reshaped((2, 1))
+    assert column.load.shape == (2, 1) and column.extras["forces"].shape == (2, 1, 3)
+    assert column.extras["converged"].shape == (2, 1) and column.extras["tol"] == 1e-3
+    with pytest.raises(ValueError, match="shape"):
+        curve.reshaped((3,))

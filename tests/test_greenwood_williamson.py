@@ -98,9 +98,9 @@ def test_improved_solves_equation_2():
     right_side = eta_term * gw_integral(1.5, (d - p["mean"]) / SIGMA + shift / SIGMA)
     np.testing.assert_allclose(curve.mean_pressure, right_side, rtol=1e-12)
     # d1 - d cancels: absolute error a few eps |d1| where the shift is tiny.
-    np.testing.assert_allclose(curve.effective_separation - d, shift, rtol=1e-9,
+    np.testing.assert_allclose(curve.extras["effective_separation"] - d, shift, rtol=1e-9,
                                atol=8 * np.finfo(float).eps * np.abs(d).max())
-    assert np.all(curve.converged)
+    assert np.all(curve.extras["converged"])
 
 
 def test_identical_area_load_and_separation_shift():
@@ -131,10 +131,10 @@ def test_series_compliance_and_effective_stiffness():
     model = improved(m=0.95)
     d = PARAMETERS["mean"] + SIGMA * np.linspace(-4.0, 6.0, 21)
     curve = model.at_separation(d)
-    np.testing.assert_allclose(curve.gw_stiffness,
-                               gw().at_separation(curve.effective_separation).stiffness,
+    np.testing.assert_allclose(curve.extras["gw_stiffness"],
+                               gw().at_separation(curve.extras["effective_separation"]).stiffness,
                                rtol=1e-13)
-    compliance = 1 / curve.gw_stiffness + 0.95 / (PARAMETERS["e_star"] * math.sqrt(1e-4))
+    compliance = 1 / curve.extras["gw_stiffness"] + 0.95 / (PARAMETERS["e_star"] * math.sqrt(1e-4))
     np.testing.assert_allclose(1 / curve.stiffness, compliance, rtol=1e-13)
     np.testing.assert_allclose(curve.conductance, 2 * curve.stiffness / PARAMETERS["e_star"],
                                rtol=1e-15)
@@ -166,8 +166,8 @@ def test_one_iteration_is_the_footnote_approximation():
     expected = gw(area=1e-8).at_separation(d + k * gw_load).load
     curve = approximate.at_separation(d)
     np.testing.assert_allclose(curve.load, expected, rtol=1e-14)
-    np.testing.assert_allclose(curve.effective_separation, d + k * gw_load, rtol=1e-14)
-    assert "converged" not in curve.extras
+    np.testing.assert_allclose(curve.extras["effective_separation"], d + k * gw_load, rtol=1e-14)
+    assert curve.extras["converged"].all()                # a closed form: all converged
     # A good approximation where 2 m C F_1/2 is small (the paper's footnote), within the
     # second-order term of the fixed-point iteration ~ (2 m C F_1/2)^2 relative to the shift.
     relative = np.abs(curve.load / exact.at_separation(d).load - 1)
@@ -223,11 +223,11 @@ def test_round_trip(model):
     back = model.at_load(curve.load)
     # Conditioning: dW/W = -(S sigma/W) dh, with S sigma/W >= ~1/|h| for the loads here, so a
     # 1e-15 relative load error moves d by < 1e-13 sigma (1 + |h| + |h1|); 1e-11 is ample.
-    scale = SIGMA * (1 + np.abs(h) + np.abs((curve.effective_separation - PARAMETERS["mean"])
+    scale = SIGMA * (1 + np.abs(h) + np.abs((curve.extras["effective_separation"] - PARAMETERS["mean"])
                                             / SIGMA if "effective_separation" in curve.extras
                                             else 0))
     assert np.all(np.abs(back.separation - d) <= 1e-11 * scale)
-    assert np.all(back.converged)
+    assert np.all(back.extras["converged"])
     np.testing.assert_array_equal(back.load, curve.load)
 
 
@@ -250,7 +250,7 @@ def test_huge_loads():
     curve = model.at_load(loads)
     assert np.all(np.isfinite(curve.separation)) and np.all(np.diff(curve.separation) < 0)
     np.testing.assert_allclose(model.greenwood_williamson.at_separation(
-        curve.effective_separation).load, loads, rtol=1e-12)
+        curve.extras["effective_separation"]).load, loads, rtol=1e-12)
 
 
 @pytest.mark.parametrize("name", ["density", "radius", "sigma", "e_star", "area"])
@@ -387,7 +387,7 @@ def test_unconverged_solves_warn_and_say_so(monkeypatch):
                         functools.partial(module.monotone_root, max_iterations=1))
     with pytest.warns(ConvergenceWarning, match="did not converge"):
         curve = improved().at_separation(PARAMETERS["mean"] + SIGMA * np.array([-2.0, 0.0]))
-    assert not curve.converged.all()
+    assert not curve.extras["converged"].all()
 
 
 def test_one_iteration_stiffness_is_the_slope_of_its_own_curve():

@@ -91,3 +91,39 @@ def test_invalid_toml_and_missing_file(tmp_path):
 def test_parse_scene_is_a_value_error():
     with pytest.raises(ValueError):
         parse_scene({"surface": {"D": 2.5}}, source="inline")
+
+
+def test_dataclasses_validate_themselves():
+    from dataclasses import replace
+
+    from validation.scene import BemSettings, LoadPath, SurfaceSpec, TheorySpec
+
+    scene = load_scene("paper-wm-d205")
+    for changes, key in ((dict(realizations=-2), "realizations"), (dict(e_star=0.0), "e_star"),
+                         (dict(models=("gw", "magic")), "models"),
+                         (dict(tolerances=()), "tolerances"), (dict(surface=None), "surface")):
+        with pytest.raises(SceneError, match=f"'{key}'"):
+            replace(scene, **changes)
+    with pytest.raises(SceneError, match="'min'"):
+        LoadPath(min=0.0, spacing="log")
+    with pytest.raises(SceneError, match="'max'"):
+        LoadPath(min=1e-2, max=1e-3)
+    with pytest.raises(SceneError, match="'n'"):
+        SurfaceSpec(D=(2.3,), n=8)
+    with pytest.raises(SceneError, match="'tol'"):
+        BemSettings(tol=float("nan"))
+    with pytest.raises(SceneError, match="'separation_max'"):
+        TheorySpec(separation_min=1.0, separation_max=0.0)
+
+
+def test_defaults_are_the_dataclass_defaults(tmp_path):
+    from validation.scene import BemSettings, LoadPath, QuickSettings, Scene, defaults
+
+    scene = load_scene(write(tmp_path, GOOD))
+    assert scene.loads == LoadPath() and scene.bem == BemSettings()
+    assert scene.quick == QuickSettings()
+    base = defaults(Scene)
+    for key in ("realizations", "seed", "e_star", "models", "m", "quantities", "tolerances"):
+        assert getattr(scene, key) == base[key], key
+    separation = LoadPath(quantity="separation")
+    assert (separation.min, separation.max, separation.spacing) == (0.0, 3.0, "linear")

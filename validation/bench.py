@@ -37,9 +37,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from validation import models as _models
+
 __all__ = ["BenchRow", "run_bench", "pareto_front", "observed_order"]
 
-METHODS = ("gw", "improved_gw", "discrete_no_interaction", "discrete", "bem")
+#: The exact reference, swept over grids and tolerances (the registry's reference model).
+REFERENCE = _models.reference_names()[0]
+#: Every method measured: the registry's default models, the reference last.
+METHODS = tuple(m for m in _models.default_names() if m != REFERENCE) + (REFERENCE,)
 QUANTITIES = ("area", "separation", "conductance")
 
 
@@ -153,26 +158,23 @@ def _bench_surface(D: float, config: BenchConfig, log) -> list[BenchRow]:
             curve, seconds, runs = _timed(lambda: bem.contact_curve(
                 h, 1.0 / n, loads=loads, tol=tol, quantities=wanted))
             errors = _errors(curve, reference, sigma)
-            rows.append(BenchRow(D, "bem", f"N={n}, tol={tol:g}", n, tol, seconds, runs,
-                                 converged=bool(np.all(curve.converged)), **errors))
+            rows.append(BenchRow(D, REFERENCE, f"N={n}, tol={tol:g}", n, tol, seconds, runs,
+                                 converged=bool(np.all(curve.extras["converged"])), **errors))
             log(f"  bem N={n} tol={tol:g}: {seconds:.3g} s, {errors}")
     for n in config.asperity_grids:
         h = surface(n)
         for method in METHODS[:-1]:
             def run(method=method):
                 summits = asperity.find_summits(h, 1.0 / n)
-                if method == "gw":
-                    return summits.greenwood_williamson(1.0).at_load(loads)
-                if method == "improved_gw":
-                    return summits.improved_greenwood_williamson(1.0, m=1.0).at_load(loads)
-                model = asperity.DiscreteAsperityModel(summits, interaction=(method == "discrete"))
-                return model.at_load(loads, quantities=wanted)
+                inputs = _models.ModelInputs(spacing=1.0 / n, nominal_area=1.0, heights=h,
+                                             summits=summits, m=1.0)
+                return _models.build(method, inputs).at_load(loads, quantities=wanted)
             import warnings
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # validity warnings are part of what is measured
                 curve, seconds, runs = _timed(run)
             errors = _errors(curve, reference, sigma)
-            converged = bool(np.all(curve.extras.get("converged", True)))
+            converged = bool(np.all(curve.extras["converged"]))
             rows.append(BenchRow(D, method, f"summits of N={n}", n, None, seconds, runs,
                                  converged=converged, **errors))
             log(f"  {method} N={n}: {seconds:.3g} s, {errors}")
@@ -274,7 +276,7 @@ def run_bench(out: str | pathlib.Path, *, quick: bool = False, log=print) -> pat
                          f"{'' if r.converged else ' (not converged)'} |")
         lines.append("")
         tight = min(config.bem_tols)
-        bem_rows = [r for r in subset if r.method == "bem" and r.tol == tight and r.n < config.reference_n]
+        bem_rows = [r for r in subset if r.method == REFERENCE and r.tol == tight and r.n < config.reference_n]
         if len(bem_rows) >= 2:
             grids = [r.n for r in bem_rows]
             lines.append("Mesh convergence of the BEM (tol = {:g}):\n".format(tight))
@@ -302,7 +304,7 @@ def run_bench(out: str | pathlib.Path, *, quick: bool = False, log=print) -> pat
 
 def _tolerance_only(row: BenchRow, config: BenchConfig) -> bool:
     """A BEM row on the reference grid: its error is the tolerance error alone."""
-    return row.method == "bem" and row.n == config.reference_n
+    return row.method == REFERENCE and row.n == config.reference_n
 
 
 def _figure(rows: list[BenchRow], path: pathlib.Path, config: BenchConfig) -> None:

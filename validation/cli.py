@@ -33,7 +33,8 @@ def _executor(args: argparse.Namespace):
         try:
             from dask.distributed import Client
         except ImportError:
-            raise SystemExit("--scheduler needs dask.distributed: pip install 'dask[distributed]'")
+            raise SystemExit(
+                "--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
         client = Client(args.scheduler)
         return client.get_executor(), client.close
     if args.jobs <= 1:

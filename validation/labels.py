@@ -1,7 +1,10 @@
-"""Names and plot styles of the models and quantities in reports: the one table to extend when
-a model is added (a model without an entry is shown under its own name, in a default style)."""
+"""Names and plot styles of the models and quantities in reports. Model labels and styles come
+from the registry (:mod:`validation.models`); a model without an entry is shown under its own
+name, in a default style."""
 
 from __future__ import annotations
+
+from validation import models as _models
 
 __all__ = [
     "ERROR_LABELS",
@@ -12,22 +15,10 @@ __all__ = [
     "model_order",
 ]
 
-MODEL_LABELS = {
-    "gw": "original GW",
-    "improved_gw": "improved GW",
-    "discrete": "discrete (interaction)",
-    "discrete_no_interaction": "discrete (no interaction)",
-    "persson": "Persson",
-    "bem": "BEM (exact)",
-}
-MODEL_STYLES = {
-    "gw": dict(color="tab:blue", linestyle="--"),
-    "improved_gw": dict(color="tab:orange", linestyle="-"),
-    "discrete": dict(color="tab:green", linestyle="-"),
-    "discrete_no_interaction": dict(color="tab:olive", linestyle=":"),
-    "persson": dict(color="tab:purple", linestyle="-."),
-    "bem": dict(color="black", linestyle="-", linewidth=2.0),
-}
+#: Model name -> label and plot style: live views of the registry (:mod:`validation.models`),
+#: so a registered model appears in every table and figure without an edit here.
+MODEL_LABELS = _models.labels()
+MODEL_STYLES = _models.styles()
 QUANTITY_LABELS = {
     "area": "Area = A/L²",
     "load": "Load = W/(E* L²)",

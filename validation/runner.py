@@ -26,20 +26,30 @@ import sys
 import time
 from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field, replace
-from typing import Iterable
+from typing import Callable, Iterable
 
 import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from validation import models
 from validation.cache import Cache, cache_key
+from validation.models import ModelInputs
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces import wm_surface
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
-           "run_scenes", "Progress", "ASPERITY_MODELS"]
+           "run_scenes", "Progress"]
 
-#: Models fitted to or built on the summits.
-ASPERITY_MODELS = ("gw", "improved_gw", "discrete", "discrete_no_interaction")
+def __getattr__(name: str):
+    # ASPERITY_MODELS was a fixed list; the registry now says which models need summits.
+    if name == "ASPERITY_MODELS":
+        import warnings
+
+        warnings.warn("validation.runner.ASPERITY_MODELS is deprecated: use "
+                      "validation.models.entry(name).needs_summits", DeprecationWarning,
+                      stacklevel=2)
+        return tuple(n for n in models.names() if models.entry(n).needs_summits)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 _SOURCE_VERSION: str | None = None
@@ -138,11 +148,12 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir))
-        if "bem" in scene.models and scene.bem.reference_error:
+        references = [name for name in scene.models if models.entry(name).reference]
+        if references and scene.bem.reference_error:
             # the same continuous surface as realization 0, sampled twice as finely
             fine = replace(surface, n=2 * surface.n)
             tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
-                                         loads=scene.loads, models=("bem",), m=scene.m,
+                                         loads=scene.loads, models=tuple(references), m=scene.m,
                                          quantities=scene.quantities, bem=bem_settings,
                                          cache_dir=cache_dir, purpose="reference-error",
                                          slope_grid=surface.n))
@@ -181,114 +192,110 @@ def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
     return "stiffness" in quantities or "conductance" in quantities
 
 
-def run_realization(task: RealizationTask) -> RealizationResult:
-    """Compute one realization (a top-level function, so process pools can run it)."""
-    import asperity
-    import bem
+@dataclass
+class _Log:
+    """What one realization computed (cache hits excluded) and each model's wall time."""
 
-    cache = Cache(task.cache_dir)
-    version = _version()
-    computed: list[str] = []
-    seconds: dict[str, float] = {}
-    s = task.surface
-    sampled: list[np.ndarray] = []
+    task: RealizationTask
+    computed: list[str] = field(default_factory=list)
+    seconds: dict[str, float] = field(default_factory=dict)
+
+    def did(self, what: str) -> None:
+        self.computed.append(f"{what} {self.task.describe()}")
+
+
+def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]:
+    """The heights, made on first call only (when a result that needs them is not cached)."""
+    s, sampled = task.surface, []
 
     def heights() -> np.ndarray:
-        # The surface is made only when a result that needs it is not in the cache.
         if not sampled:
             sampled.append(wm_surface(
                 s.n, D=task.D, G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
                 n_max=s.n_max, seed=task.seed,
                 slope_grid=task.slope_grid if s.rms_slope is not None else None))
-            computed.append(f"surface {task.describe()}")
+            log.did("surface")
         return sampled[0]
-    spacing = s.spacing
-    nominal_area = s.L**2
-    surface_key = _surface_inputs(task)
+    return heights
 
-    wants_summits = any(m in task.models for m in ASPERITY_MODELS) or task.loads.quantity == "separation"
-    summits, sigma, summit_mean = None, math.nan, math.nan
-    if wants_summits:
-        key = cache_key("summits", version, surface=surface_key)
+
+def _summits(task: RealizationTask, cache: Cache, log: _Log, heights):
+    """The summits from the cache, or found, stored and logged; None when nobody needs them."""
+    import asperity
+
+    if not (any(models.entry(name).needs_summits for name in task.models)
+            or task.loads.quantity == "separation"):
+        return None
+    key = cache_key("summits", _version(), surface=_surface_inputs(task))
+    arrays = cache.load(key)
+    if arrays is not None:
+        return asperity.summits_from_arrays(arrays)
+    summits = asperity.find_summits(heights(), task.surface.spacing)
+    cache.store(key, asperity.summits_to_arrays(summits))
+    log.did("summits")
+    return summits
+
+
+def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
+                 quantities: tuple[str, ...], cache: Cache, log: _Log) -> ContactCurve:
+    """One model's curve along the path; expensive models from or into the cache (a cache
+    hit costs 0 s and is not logged)."""
+    key = None
+    stiffness = _needs_stiffness(quantities)
+    if item.cached:
+        key = cache_key(item.name, _version(), surface=_surface_inputs(log.task),
+                        e_star=inputs.e_star, stiffness=stiffness, **item.settings(inputs),
+                        **path)
         arrays = cache.load(key)
-        if arrays is None:
-            summits = asperity.find_summits(heights(), spacing)
-            cache.store(key, asperity.summits_to_arrays(summits))
-            computed.append(f"summits {task.describe()}")
-        else:
-            summits = asperity.summits_from_arrays(arrays)
-        sigma = float(np.std(summits.height))
-        summit_mean = float(np.mean(summits.height))
+        if arrays is not None:
+            log.seconds[item.name] = 0.0
+            return _curve_from_arrays(arrays)
+    start = time.perf_counter()
+    model = item.factory(inputs)
+    if "loads" in path:
+        curve = model.at_load(path["loads"], quantities=quantities)
+    else:
+        curve = model.at_separation(path["separations"], quantities=quantities)
+    log.seconds[item.name] = time.perf_counter() - start
+    log.did(item.name)
+    if key is not None:
+        cache.store(key, _curve_arrays(curve))
+        if stiffness:
+            log.did(f"{item.name}-stiffness")
+    return curve
 
-    stiffness = _needs_stiffness(task.quantities)
+
+def run_realization(task: RealizationTask) -> RealizationResult:
+    """Compute one realization (a top-level function, so process pools can run it)."""
+    cache, log = Cache(task.cache_dir), _Log(task)
+    heights = _surface_maker(task, log)
+    summits = _summits(task, cache, log, heights)
+    sigma = math.nan if summits is None else float(np.std(summits.height))
     # Contact counts are cheap and always computed; stiffness solves only when asked for. The
     # cache keys hold this flag, not the scene's quantity list, so that listing "contacts" or
     # "stiffness" instead of "conductance" reuses the same solves.
-    curve_quantities = ("area", "load", "separation", "contacts") + (
-        ("stiffness", "conductance") if stiffness else ())
+    quantities = ("area", "load", "separation", "contacts") + (
+        ("stiffness", "conductance") if _needs_stiffness(task.quantities) else ())
     values = np.array(task.loads.values())
+    nominal_area = task.surface.L**2
+    loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None
+    inputs = ModelInputs(spacing=task.surface.spacing, nominal_area=nominal_area,
+                         heights=heights, summits=summits, e_star=task.e_star, m=task.m,
+                         bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
+                                          max_iter=task.bem.max_iter))
     curves: dict[str, ContactCurve] = {}
-
-    def cached_curve(model: str, key: str, compute) -> None:
-        # A load path from the cache, or computed, stored and logged (with its stiffness
-        # solves, when asked for); a cache hit costs 0 s.
-        arrays = cache.load(key)
-        if arrays is not None:
-            curves[model], seconds[model] = _curve_from_arrays(arrays), 0.0
-            return
-        start = time.perf_counter()
-        curve = compute()
-        seconds[model] = time.perf_counter() - start
-        cache.store(key, _curve_arrays(curve))
-        computed.append(f"{model} {task.describe()}")
-        if stiffness:
-            computed.append(f"{model}-stiffness {task.describe()}")
-        curves[model] = curve
-
-    loads = None
-    if task.loads.quantity == "load":
-        loads = values * task.e_star * nominal_area
-    if "bem" in task.models:
+    # The reference first: on a separation path the other models follow its loads.
+    for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
+        item = models.entry(name)
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        cached_curve("bem", cache_key("bem", version, surface=surface_key, e_star=task.e_star,
-                                      settings=task.bem, stiffness=stiffness, **path),
-                     lambda: bem.contact_curve(heights(), spacing, e_star=task.e_star,
-                                               periodic=task.bem.periodic, tol=task.bem.tol,
-                                               max_iter=task.bem.max_iter,
-                                               quantities=curve_quantities, **path))
-        if loads is None:  # separation path: the other models follow the reference's loads
-            loads = curves["bem"].load
-
-    for model in ("gw", "improved_gw"):
-        if model in task.models:
-            start = time.perf_counter()
-            theory = (summits.greenwood_williamson(nominal_area, e_star=task.e_star) if model == "gw"
-                      else summits.improved_greenwood_williamson(nominal_area, e_star=task.e_star,
-                                                                 m=task.m))
-            curves[model] = (theory.at_load(loads) if loads is not None
-                             else theory.at_separation(values * sigma))
-            seconds[model] = time.perf_counter() - start
-            computed.append(f"{model} {task.describe()}")
-
-    for model, interaction in (("discrete", True), ("discrete_no_interaction", False)):
-        if model not in task.models:
-            continue
-        path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-
-        def solve(interaction=interaction):
-            discrete = asperity.DiscreteAsperityModel(summits, e_star=task.e_star,
-                                                      interaction=interaction)
-            if loads is not None:
-                return discrete.at_load(loads, quantities=curve_quantities)
-            return discrete.at_separation(values * sigma, quantities=curve_quantities)
-
-        cached_curve(model, cache_key("discrete", version, surface=surface_key, e_star=task.e_star,
-                                      interaction=interaction, stiffness=stiffness, **path), solve)
-
-    return RealizationResult(task=task, curves=curves, sigma=sigma, summit_mean=summit_mean,
-                             summit_count=0 if summits is None else int(np.size(summits.height)),
-                             computed=tuple(computed),
-                             seconds=seconds)
+        curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
+        if item.reference and loads is None:
+            loads = curves[name].load
+    return RealizationResult(
+        task=task, curves=curves, sigma=sigma,
+        summit_mean=math.nan if summits is None else float(np.mean(summits.height)),
+        summit_count=0 if summits is None else int(np.size(summits.height)),
+        computed=tuple(log.computed), seconds=log.seconds)
 
 
 # --------------------------------------------------------------------------------------------

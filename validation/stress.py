@@ -166,8 +166,9 @@ def stress_cases(quick: bool) -> list[tuple[str, str, Callable[[], _Outcome]]]:
             if len(summits) >= 2:
                 curve = summits.greenwood_williamson(1.0).at_load(np.logspace(-8, -2, 5))
                 model = asperity.DiscreteAsperityModel(summits).at_load(np.logspace(-8, -2, 5))
-                return _Outcome(bool(np.all(model.converged)), int(np.sum(model.iterations)),
-                                float(np.max(model.residual)),
+                return _Outcome(bool(np.all(model.extras["converged"])),
+                                int(np.sum(model.extras["iterations"])),
+                                float(np.max(model.extras["residual"])),
                                 _finite(curve.separation, model.separation), note)
             return _Outcome(note=note)
         cases.append(("special surface", f"{kind}: summits, GW, discrete", run_summits))

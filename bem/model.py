@@ -1,0 +1,194 @@
+"""The contact-model contract: one question, one answer, for every model of the project.
+
+Every model -- GW theory, improved GW, the discrete asperity model, the boundary-element
+reference, and any model added later -- satisfies :class:`ContactModel`: it answers "what is the
+contact at these loads, or at these separations?" with a :class:`bem.ContactCurve`.
+
+The contract
+------------
+* ``model.name`` (str): a short identifier of the kind of model.
+* ``model.at_load(load, *, quantities=CURVE_QUANTITIES)`` and
+  ``model.at_separation(separation, *, quantities=CURVE_QUANTITIES)`` return a ContactCurve.
+* Shapes follow numpy: a scalar gives 0-d fields, an array of shape s gives fields of shape s
+  (empty arrays give empty curves). Points may come in any order; results are in the caller's
+  order.
+* ``quantities`` (any of :data:`bem.CURVE_QUANTITIES`): ``contacts``, ``stiffness`` and
+  ``conductance`` are computed only when asked for (otherwise ``None``); separation, load,
+  area and mean pressure are always filled.
+* ``curve.extras["converged"]`` is a bool array of the curve's shape for every model (all True
+  for closed forms). Non-convergence is flagged there and warned
+  (:class:`bem.ConvergenceWarning`), never raised.
+* Bad input -- NaN, a negative load, an unknown quantity -- raises ``ValueError`` naming the
+  parameter (``load``, ``separation``, ``quantities``).
+
+Zero load
+---------
+``at_load(0).separation`` is the separation of first contact, ``inf{d : W(d) = 0}``: the height
+of the highest summit (discrete model) or of the highest surface point (BEM), measured from the
+mean plane of the heights; ``+inf`` for theories whose summit heights are unbounded (GW and
+improved GW with Gaussian or exponential heights), where every finite separation carries a load.
+
+Residual
+--------
+``extras["residual"]``, where a model reports it, is the dimensionless residual of that model's
+own equations at the returned point -- the number its ``tol`` is compared with:
+
+* BEM: the relative complementarity residual of the Polonsky-Keer iteration
+  (:func:`bem.solve_contact`).
+* Discrete model: the largest violation of displacement compatibility over the summits, relative
+  to the largest interference (:mod:`asperity.discrete`), and under load control also
+  ``|sum P - W| / W``.
+* Closed forms (GW, improved GW at a load) have no residual; improved GW at a separation solves
+  one scalar equation per point and reports only ``converged``.
+
+Residuals of different models are not comparable with each other; ``converged`` is.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Iterable, Protocol, runtime_checkable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from bem.checks import positive as _positive
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+
+__all__ = ["ContactModel", "BoundaryElementModel", "check_points", "check_quantities",
+           "empty_curve"]
+
+#: The quantities a model fills whether asked or not.
+ALWAYS_FILLED = ("separation", "load", "area", "mean_pressure")
+
+
+@runtime_checkable
+class ContactModel(Protocol):
+    """What every contact model provides (see the module docstring for the contract)."""
+
+    @property
+    def name(self) -> str:
+        """A short identifier of the kind of model."""
+        ...
+
+    def at_load(self, load: ArrayLike, *,
+                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """The contact at total loads W [force] >= 0 (any shape)."""
+        ...
+
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """The contact at separations d [length] (any shape)."""
+        ...
+
+
+def check_points(name: str, values: ArrayLike, *, non_negative: bool = False,
+                 allow_infinity: bool = False) -> np.ndarray:
+    """Loads or separations as a float array of any shape (0-d for a scalar).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: not real numbers, NaN, infinite (``+inf`` is allowed only with
+        ``allow_infinity``; ``-inf`` never), or negative when ``non_negative``.
+    """
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be real numbers, got {values!r}") from None
+    if np.isnan(array).any():
+        raise ValueError(f"{name} must be finite numbers, not NaN")
+    infinite = np.isinf(array)
+    if infinite.any() and not (allow_infinity and np.all(array[infinite] > 0)):
+        allowed = "finite or +inf" if allow_infinity else "finite"
+        raise ValueError(f"{name} must be {allowed}, got {array[infinite][0]!r}")
+    if non_negative and (array < 0).any():
+        raise ValueError(f"{name} must be >= 0, got minimum {float(array.min())!r}")
+    return array
+
+
+def check_quantities(quantities: Iterable[str] | str,
+                     allowed: tuple[str, ...] = CURVE_QUANTITIES) -> frozenset[str]:
+    """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
+    if isinstance(quantities, str):
+        quantities = (quantities,)
+    try:
+        want = frozenset(quantities)
+    except TypeError:
+        raise ValueError(f"quantities must be strings among {allowed}, got {quantities!r}") \
+            from None
+    unknown = sorted(str(q) for q in want - set(allowed))
+    if unknown:
+        raise ValueError(f"quantities must be among {allowed}, got unknown {unknown}")
+    return want
+
+
+def empty_curve(nominal_area: float, e_star: float, quantities: Iterable[str],
+                extras: Iterable[str] = ()) -> ContactCurve:
+    """A curve with no points (for empty input): asked-for fields are empty arrays, the
+    ``converged`` extra an empty bool array and each name in ``extras`` an empty float array."""
+    want = check_quantities(quantities)
+    empty = np.empty(0)
+    optional = {q: (empty if q in want else None) for q in ("contacts", "stiffness", "conductance")}
+    values = {name: empty for name in extras}
+    values["converged"] = np.empty(0, dtype=bool)
+    return ContactCurve(separation=empty, load=empty, area=empty, mean_pressure=empty,
+                        nominal_area=nominal_area, e_star=e_star, extras=values, **optional)
+
+
+class BoundaryElementModel:
+    """The boundary-element reference as a :class:`ContactModel`: heights, spacing, options.
+
+    Parameters
+    ----------
+    heights : array_like
+        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.contact_curve`).
+    spacing : float
+        Grid step h [length].
+    **options
+        Passed unchanged to :func:`bem.contact_curve` on every call (``e_star``, ``periodic``,
+        ``tol``, ``max_iter``, ...), so new options of the solver need no change here.
+
+    Each call solves its points as one warm-started path (:func:`bem.contact_curve`).
+    Extras: ``converged``, ``iterations``, ``residual``, ``mean_gap`` and whatever else
+    :func:`bem.contact_curve` returns.
+    """
+
+    name = "bem"
+
+    def __init__(self, heights: ArrayLike, spacing: float, **options: Any) -> None:
+        heights = np.array(heights, dtype=float, copy=True)
+        if heights.ndim != 2:
+            raise ValueError(f"heights must be a 2-D array, got {heights.ndim} dimension(s)")
+        heights.setflags(write=False)
+        self.heights = heights
+        self.spacing = _positive("spacing", spacing)
+        self.options = dict(options)
+
+    def __repr__(self) -> str:
+        return (f"{type(self).__name__}(heights of shape {self.heights.shape}, "
+                f"spacing={self.spacing!r}, options={self.options!r})")
+
+    def at_load(self, load: ArrayLike, *,
+                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """Contact at total loads W >= 0 [force], any shape (see :func:`bem.contact_curve`)."""
+        values = check_points("load", load, non_negative=True)
+        return self._solve(values, "loads", quantities)
+
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """Contact at separations d [length], any shape (see :func:`bem.contact_curve`)."""
+        values = check_points("separation", separation)
+        return self._solve(values, "separations", quantities)
+
+    def _solve(self, values: np.ndarray, keyword: str, quantities) -> ContactCurve:
+        from bem.path import contact_curve
+
+        want = check_quantities(quantities)
+        if values.size == 0:
+            return empty_curve(self.heights.size * self.spacing**2,
+                               float(self.options.get("e_star", 1.0)), want,
+                               extras=("iterations", "residual", "mean_gap"))
+        ordered = tuple(q for q in CURVE_QUANTITIES if q in want)
+        curve = contact_curve(self.heights, self.spacing, quantities=ordered,
+                              **{keyword: values.ravel()}, **self.options)
+        return curve.reshaped(values.shape)

@@ -1,0 +1,251 @@
+"""The model registry: the one place that maps a scene's model names to model factories.
+
+Scene parsing (which names are allowed), the runner (what to build and cache), the report
+(labels and plot styles) and the benchmark look models up here and nowhere else. A model is
+added by one module that implements the :class:`bem.ContactModel` contract and one call::
+
+    register("persson", lambda inputs: PerssonModel(inputs.heights(), inputs.spacing),
+             label="Persson", needs_summits=False)
+
+The contract test catalogue (``tests/test_contract.py``) runs over every registered model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from bem.model import ContactModel
+
+__all__ = ["ModelInputs", "ModelEntry", "register", "unregister", "entry", "names", "default_names", "build",
+           "labels", "styles", "reference_names"]
+
+
+class ModelInputs:
+    """What a factory may use to build a model for one surface (realization).
+
+    Parameters
+    ----------
+    spacing : float
+        Grid step of the heights [length].
+    nominal_area : float
+        Nominal contact area L^2 [length^2].
+    heights : array or callable, optional
+        The heights [length], or a function making them on first use (the runner makes a
+        surface only when a result that needs it is not cached).
+    summits : asperity.Summits or callable, optional
+        The summits, or a function finding them; default: found on the heights.
+    e_star : float
+        Composite modulus E* [pressure].
+    m : float
+        Interaction factor of the improved GW theory (eq. 2).
+    bem_options : mapping
+        Options of :func:`bem.contact_curve` (``periodic``, ``tol``, ``max_iter``, ...).
+    """
+
+    def __init__(self, *, spacing: float, nominal_area: float, heights=None, summits=None,
+                 e_star: float = 1.0, m: float = 1.0,
+                 bem_options: Mapping[str, Any] | None = None) -> None:
+        self.spacing, self.nominal_area = float(spacing), float(nominal_area)
+        self.e_star, self.m = float(e_star), float(m)
+        self.bem_options = dict(bem_options or {})
+        self._heights, self._summits = heights, summits
+
+    def heights(self) -> np.ndarray:
+        """The height map [length] (made on first call when given as a function)."""
+        if self._heights is None:
+            raise ValueError("this model needs the heights, and none were given")
+        if callable(self._heights):
+            self._heights = self._heights()
+        return self._heights
+
+    def summits(self):
+        """The summits (found on the heights on first call unless given)."""
+        if self._summits is None:
+            import asperity
+
+            self._summits = asperity.find_summits(self.heights(), self.spacing)
+        elif callable(self._summits):
+            self._summits = self._summits()
+        return self._summits
+
+
+@dataclass(frozen=True)
+class ModelEntry:
+    """A registered model.
+
+    Attributes
+    ----------
+    name : str
+        The name scenes use.
+    factory : callable
+        ``factory(inputs: ModelInputs) -> ContactModel``.
+    label : str
+        Name in tables and legends.
+    style : mapping
+        Matplotlib line style of its curves.
+    needs_summits : bool
+        Built on the summits (the runner finds them, and sigma, only when some model needs
+        them).
+    cached : bool
+        Its load paths are expensive and cached by the runner.
+    reference : bool
+        The exact reference the other models are compared with; with a separation path, the
+        other models follow its loads.
+    inverse_consistent : bool
+        ``at_load`` inverts ``at_separation`` (false for an approximation whose load path is
+        solved exactly, like the one-iteration improved GW).
+    contacts : {"asperities", "patches"}
+        What its ``contacts`` counts: asperities in contact (never fewer as the separation
+        falls), or connected contact patches (which merge, so the count may fall).
+    default : bool
+        Part of a scene that does not list its models.
+    settings : callable
+        ``settings(inputs) -> dict``: inputs beyond the surface, E* and the path that determine
+        its results (part of its cache key).
+    """
+
+    name: str
+    factory: Callable[[ModelInputs], ContactModel]
+    label: str
+    style: Mapping[str, Any] = field(default_factory=dict)
+    needs_summits: bool = True
+    cached: bool = False
+    reference: bool = False
+    inverse_consistent: bool = True
+    contacts: str = "asperities"
+    default: bool = True
+    settings: Callable[[ModelInputs], dict] = field(default=lambda inputs: {})
+
+
+_REGISTRY: dict[str, ModelEntry] = {}
+
+
+def register(name: str, factory: Callable[[ModelInputs], ContactModel], *, label: str,
+             **attributes: Any) -> ModelEntry:
+    """Register a model under ``name`` (see :class:`ModelEntry` for the attributes)."""
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ValueError(f"name must be an identifier-like string, got {name!r}")
+    if name in _REGISTRY:
+        raise ValueError(f"a model named {name!r} is already registered")
+    item = ModelEntry(name, factory, label, **attributes)
+    _REGISTRY[name] = item
+    return item
+
+
+def unregister(name: str) -> None:
+    """Remove a registered model (for tests and interactive work)."""
+    entry(name)
+    del _REGISTRY[name]
+
+
+def entry(name: str) -> ModelEntry:
+    """The registered model ``name``; ``ValueError`` listing the known names otherwise."""
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise ValueError(f"unknown model {name!r}; registered: {', '.join(_REGISTRY)}") from None
+
+
+def names() -> tuple[str, ...]:
+    """Names of all registered models, in registration order."""
+    return tuple(_REGISTRY)
+
+
+def default_names() -> tuple[str, ...]:
+    """Names of the models a scene uses unless it lists its own."""
+    return tuple(name for name, item in _REGISTRY.items() if item.default)
+
+
+def reference_names() -> tuple[str, ...]:
+    """Names of the reference models."""
+    return tuple(name for name, item in _REGISTRY.items() if item.reference)
+
+
+def build(name: str, inputs: ModelInputs) -> ContactModel:
+    """The model ``name`` built from ``inputs``; ``TypeError`` if the factory's result does
+    not satisfy :class:`bem.ContactModel`."""
+    model = entry(name).factory(inputs)
+    if not isinstance(model, ContactModel):
+        raise TypeError(f"the factory of model {name!r} returned {type(model).__name__}, "
+                        "which lacks name, at_load or at_separation (bem.ContactModel)")
+    return model
+
+
+class _Attribute(Mapping):
+    """A live, read-only view name -> one attribute of every registered model."""
+
+    def __init__(self, attribute: str) -> None:
+        self._attribute = attribute
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in _REGISTRY:
+            raise KeyError(name)
+        return getattr(_REGISTRY[name], self._attribute)
+
+    def __iter__(self):
+        return iter(list(_REGISTRY))
+
+    def __len__(self) -> int:
+        return len(_REGISTRY)
+
+
+def labels() -> Mapping[str, str]:
+    """Model name -> label, in registration order (a live view: later registrations show)."""
+    return _Attribute("label")
+
+
+def styles() -> Mapping[str, Mapping[str, Any]]:
+    """Model name -> matplotlib style, in registration order (a live view)."""
+    return _Attribute("style")
+
+
+# --------------------------------------------------------------------------------------------
+# the models of the project
+
+def _gw(inputs: ModelInputs):
+    return inputs.summits().greenwood_williamson(inputs.nominal_area, e_star=inputs.e_star)
+
+
+def _improved_gw(inputs: ModelInputs, one_iteration: bool = False):
+    from asperity import ImprovedGreenwoodWilliamson
+
+    exact = inputs.summits().improved_greenwood_williamson(
+        inputs.nominal_area, e_star=inputs.e_star, m=inputs.m)
+    if not one_iteration:
+        return exact
+    return ImprovedGreenwoodWilliamson(exact.density, exact.radius, exact.sigma, mean=exact.mean,
+                                       e_star=exact.e_star, area=exact.area, m=exact.m,
+                                       one_iteration=True)
+
+
+def _discrete(inputs: ModelInputs, interaction: bool = True):
+    from asperity import DiscreteAsperityModel
+
+    return DiscreteAsperityModel(inputs.summits(), e_star=inputs.e_star, interaction=interaction)
+
+
+def _bem(inputs: ModelInputs):
+    from bem import BoundaryElementModel
+
+    return BoundaryElementModel(inputs.heights(), inputs.spacing, e_star=inputs.e_star,
+                                **inputs.bem_options)
+
+
+register("gw", _gw, label="original GW", style=dict(color="tab:blue", linestyle="--"))
+register("improved_gw", _improved_gw, label="improved GW",
+         style=dict(color="tab:orange", linestyle="-"), settings=lambda inputs: {"m": inputs.m})
+register("improved_gw_one_iteration", lambda inputs: _improved_gw(inputs, one_iteration=True),
+         label="improved GW (one iteration)", style=dict(color="tab:red", linestyle="-."),
+         inverse_consistent=False, default=False, settings=lambda inputs: {"m": inputs.m})
+register("discrete_no_interaction", lambda inputs: _discrete(inputs, interaction=False),
+         label="discrete (no interaction)", style=dict(color="tab:olive", linestyle=":"),
+         cached=True)
+register("discrete", _discrete, label="discrete (interaction)",
+         style=dict(color="tab:green", linestyle="-"), cached=True)
+register("bem", _bem, label="BEM (exact)", style=dict(color="black", linestyle="-", linewidth=2.0),
+         needs_summits=False, cached=True, reference=True, contacts="patches",
+         settings=lambda inputs: {"options": inputs.bem_options})

@@ -1,0 +1,224 @@
+"""Scene files: TOML tables and keys onto the scene dataclasses of :mod:`validation.scene`.
+
+The reader checks only what TOML can get wrong (types, unknown keys, a table where a value
+belongs); the value rules and the defaults are those of the dataclasses, whose errors are
+re-raised here naming the file and the full key (``surface.n``, ``models.use``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import pathlib
+import tomllib
+from importlib import resources
+from typing import Any, Iterator
+
+from validation.scene import (KINDS, BemSettings, LoadPath, QuickSettings, Scene, SceneError,
+                              SurfaceSpec, TheorySpec, defaults)
+
+__all__ = ["parse_scene", "load_scene", "builtin_scenes"]
+
+#: Scene fields read from another table than their name, as "table.key".
+_SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
+               "e_star": "material.e_star", "models": "models.use", "m": "models.m",
+               "quantities": "quantities.use", "tolerances": "tolerances.levels"}
+_SURFACE_TABLES = ("surface", "realizations", "loads", "models", "quantities", "bem", "quick",
+                   "material")
+
+
+class _Reader:
+    """One table of a scene file: typed look-ups, remembering the key path for messages."""
+
+    def __init__(self, table: Any, path: str, source: str) -> None:
+        if not isinstance(table, dict):
+            raise SceneError(f"{source}: [{path}] must be a table", key=path)
+        self.table, self.path, self.source = table, path, source
+        self.used: set[str] = set()
+
+    def key(self, key: str) -> str:
+        return f"{self.path}.{key}" if self.path else key
+
+    def fail(self, key: str, detail: str) -> None:
+        raise SceneError(f"{self.source}: key '{self.key(key)}' {detail}", key=self.key(key),
+                         detail=detail)
+
+    def get(self, key: str, default: Any = None, kind: str = "any") -> Any:
+        """The value of ``key`` (``default`` if absent), checked to be of ``kind``:
+        "number", "integer", "boolean", "string", "numbers" (one or a list) or "strings"."""
+        self.used.add(key)
+        if key not in self.table:
+            return default
+        value = self.table[key]
+        checks = {
+            "number": lambda v: isinstance(v, (int, float)) and not isinstance(v, bool),
+            "integer": lambda v: isinstance(v, int) and not isinstance(v, bool),
+            "boolean": lambda v: isinstance(v, bool),
+            "string": lambda v: isinstance(v, str),
+            "strings": lambda v: isinstance(v, list) and all(isinstance(x, str) for x in v),
+            "numbers": lambda v: isinstance(v, (int, float, list)) and not isinstance(v, bool),
+            "any": lambda v: True,
+        }
+        if not checks[kind](value):
+            article = "an" if kind[0] in "aeiou" else "a"
+            self.fail(key, f"must be {article} {kind.rstrip('s')}"
+                      f"{' or a list of them' if kind.endswith('s') else ''}, got {value!r}")
+        if kind == "number" and not math.isfinite(value):
+            self.fail(key, f"must be a finite number, got {value!r}")
+        return tuple(value) if isinstance(value, list) else value
+
+    def values(self, kinds: dict[str, str], base: dict) -> dict:
+        """Every key of ``kinds`` present in the table, over the defaults ``base``."""
+        out = dict(base)
+        for key, kind in kinds.items():
+            out[key] = self.get(key, base.get(key), kind)
+        return out
+
+    def sub(self, key: str) -> "_Reader":
+        self.used.add(key)
+        return _Reader(self.table.get(key, {}), self.key(key), self.source)
+
+    def finish(self) -> None:
+        unknown = sorted(set(self.table) - self.used)
+        if unknown:
+            where = f"[{self.path}]" if self.path else "the top level"
+            also = f" (also unknown: {', '.join(unknown[1:])})" if len(unknown) > 1 else ""
+            self.fail(unknown[0], f"is not a known key of {where}{also}")
+
+
+@contextlib.contextmanager
+def _keys(source: str, prefix: str = "", mapping: dict[str, str] | None = None) -> Iterator:
+    """Re-raise a dataclass's :class:`SceneError` naming the file and the full key."""
+    try:
+        yield
+    except SceneError as error:
+        if error.detail is None:
+            raise
+        key = (mapping or {}).get(error.key, f"{prefix}{error.key}")
+        raise SceneError(f"{source}: key '{key}' {error.detail}", key=key,
+                         detail=error.detail) from None
+
+
+def _build(kind: type, reader: _Reader, kinds: dict[str, str]):
+    """A dataclass from one table (defaults from the dataclass), the table then closed."""
+    values = reader.values(kinds, defaults(kind))
+    with _keys(reader.source, f"{reader.path}."):
+        built = kind(**values)
+    reader.finish()
+    return built
+
+
+def _surface(top: _Reader) -> SurfaceSpec:
+    reader = top.sub("surface")
+    kinds = dict(family="string", D="numbers", gamma="number", M="integer", n_max="integer",
+                 L="number", n="integer")
+    if "D" not in reader.table:
+        reader.fail("D", "is required")
+    values = reader.values(kinds, defaults(SurfaceSpec))
+    values["rms_slope"] = reader.get("rms_slope", None, "number")
+    values["G"] = reader.get("G", None, "number")
+    with _keys(reader.source, "surface."):
+        surface = SurfaceSpec(**values)
+    reader.finish()
+    return surface
+
+
+def _loads(top: _Reader) -> LoadPath:
+    reader = top.sub("loads")
+    kinds = dict(quantity="string", min="number", max="number", count="integer",
+                 spacing="string")
+    return _build(LoadPath, reader, kinds)
+
+
+def _surface_parts(top: _Reader, base: dict) -> dict:
+    """Scene fields of a surface scene, table by table."""
+    parts = dict(surface=_surface(top), loads=_loads(top))
+    tables = dict(realizations=dict(count="integer", seed="integer"),
+                  material=dict(e_star="number"), models=dict(use="strings", m="number"),
+                  quantities=dict(use="strings"))
+    for table, kinds in tables.items():
+        reader = top.sub(table)
+        for key, kind in kinds.items():
+            field_name = next(f for f, k in _SCENE_KEYS.items() if k == f"{table}.{key}")
+            parts[field_name] = reader.get(key, base[field_name], kind)
+        reader.finish()
+    parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
+        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean"))
+    parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
+        realizations="integer", n="integer", count="integer"))
+    return parts
+
+
+def _theory_parts(top: _Reader, data: dict) -> dict:
+    """Scene fields of a theory scene (GW vs improved GW; no surface)."""
+    for key in _SURFACE_TABLES:
+        if key in data:
+            top.fail(key, "does not belong in a theory scene (it needs no surface)")
+    theory = _build(TheorySpec, top.sub("theory"), dict(
+        C="numbers", m="number", separation_min="number", separation_max="number",
+        count="integer"))
+    return dict(theory=theory, models=("gw", "improved_gw"),
+                quantities=("load", "separation", "stiffness"))
+
+
+def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None) -> Scene:
+    """Validate a scene given as a dictionary (the parsed TOML) and build a :class:`Scene`.
+
+    Raises
+    ------
+    SceneError
+        Naming the key and ``source``.
+    """
+    top = _Reader(data, "", source)
+    base = defaults(Scene)
+    scene_name = top.get("name", name or "scene", "string")
+    kind = top.get("kind", base["kind"], "string")
+    if kind not in KINDS:
+        top.fail("kind", f"must be one of {', '.join(KINDS)}; got {kind!r}")
+    tolerances = top.sub("tolerances")
+    fields = dict(name=scene_name, kind=kind, source=source,
+                  title=top.get("title", scene_name, "string"),
+                  description=top.get("description", base["description"], "string"),
+                  tolerances=tolerances.get("levels", base["tolerances"], "numbers"))
+    tolerances.finish()
+    if kind == "theory":
+        fields.update(_theory_parts(top, data))
+    else:
+        if "theory" in data:
+            top.fail("theory", "belongs only in a scene with kind = \"theory\"")
+        fields.update(_surface_parts(top, base))
+    top.finish()
+    with _keys(source, mapping=_SCENE_KEYS):
+        return Scene(**fields)
+
+
+def load_scene(name_or_path: str | pathlib.Path) -> Scene:
+    """Load a built-in scene by name, or a scene file by path.
+
+    Raises
+    ------
+    SceneError
+        When the file does not exist, is not valid TOML, or holds an invalid scene.
+    """
+    source, builtin = str(name_or_path), builtin_scenes()
+    if isinstance(name_or_path, str) and name_or_path in builtin:
+        resource = resources.files("validation") / "scenes" / f"{name_or_path}.toml"
+        text, source = resource.read_text(encoding="utf-8"), f"built-in scene {name_or_path}"
+        stem = name_or_path
+    else:
+        path = pathlib.Path(name_or_path)
+        if not path.is_file():
+            raise SceneError(f"{source}: no such scene file, and not a built-in scene "
+                             f"(built-in: {', '.join(builtin)})")
+        text, stem = path.read_text(encoding="utf-8"), path.stem
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise SceneError(f"{source}: not valid TOML: {error}") from None
+    return parse_scene(data, source=source, name=stem)
+
+
+def builtin_scenes() -> tuple[str, ...]:
+    """Names of the scenes shipped with the package, sorted."""
+    folder = resources.files("validation") / "scenes"
+    return tuple(sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".toml")))
