@@ -203,3 +203,61 @@ def frozen_array(values: Any, dtype=float) -> np.ndarray | None:
     array = np.array(values, dtype=dtype, copy=True)
     array.setflags(write=False)
     return array
+
+
+#: Magnitudes the boundary-element solver supports for lengths, moduli, loads and heights: any
+#: physical unit system fits (SI: E* ~ 1e11 Pa, spacings ~ 1e-9 m, loads 1e-12..1e6 N), and
+#: products of powers of them (pressures^2 in the CG dot products) stay far from over/underflow.
+SUPPORTED_MAGNITUDE = (1e-30, 1e30)
+
+
+def supported_magnitude(name: str, value: float) -> float:
+    """``value`` if it is 0 or its magnitude lies in :data:`SUPPORTED_MAGNITUDE`."""
+    low, high = SUPPORTED_MAGNITUDE
+    size = abs(value)
+    if size != 0.0 and not low <= size <= high:
+        raise ValueError(f"{name} = {value!r} is outside the supported range: its magnitude "
+                         f"must be 0 or between {low:g} and {high:g} (rescale the units)")
+    return value
+
+
+def contact_number(name: str, value: Any, *, minimum: float | None = None,
+                   exclusive: bool = False) -> float:
+    """A finite real number (bounded below) of a contact problem, in the supported range."""
+    return supported_magnitude(name, real_number(name, value, minimum=minimum,
+                                                 exclusive=exclusive))
+
+
+def contact_heights(name: str, values: Any, *, minimum: int) -> np.ndarray:
+    """A square, finite, real height map of at least ``minimum`` x ``minimum`` points whose
+    largest magnitude lies in the supported range (a fresh float64 copy)."""
+    z = np.array(height_map(name, values, minimum=minimum, square=True), dtype=float, copy=True)
+    supported_magnitude(f"max |{name}|", float(np.max(np.abs(z))))
+    return z
+
+
+def contact_problem(heights: Any, spacing: Any, e_star: Any, tol: Any, max_iter: Any,
+                    periodic: Any, *, minimum_grid: int):
+    """Checked ``(heights, spacing, e_star, tol, max_iter, periodic)`` of a contact problem."""
+    z = contact_heights("heights", heights, minimum=minimum_grid)
+    spacing = contact_number("spacing", spacing, minimum=0.0, exclusive=True)
+    e_star = contact_number("e_star", e_star, minimum=0.0, exclusive=True)
+    tol = contact_number("tol", tol, minimum=0.0, exclusive=True)
+    return z, spacing, e_star, tol, integer("max_iter", max_iter, minimum=1), flag("periodic",
+                                                                                 periodic)
+
+
+def contact_path(name: str, values: Any, *, non_negative: bool) -> np.ndarray:
+    """A non-empty 1-D sequence of loads or separations (a scalar is one point), finite, in the
+    supported range (a fresh float64 copy)."""
+    array = np.array(real_array(name, values, finite=True, minimum=0.0 if non_negative
+                                else None), dtype=float, copy=True)
+    if array.ndim == 0:
+        array = array.reshape(1)
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D sequence, got shape {array.shape}")
+    supported_magnitude(f"max |{name}|", float(np.max(np.abs(array))))
+    nonzero = np.abs(array[array != 0])
+    if nonzero.size:
+        supported_magnitude(f"min nonzero |{name}|", float(nonzero.min()))
+    return array

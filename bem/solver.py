@@ -147,40 +147,15 @@ class ContactSolution:
 # input checks
 
 
-def _check_heights(heights) -> np.ndarray:
-    try:
-        z = np.array(heights, dtype=float, copy=True)
-    except (TypeError, ValueError):
-        raise ValueError("heights must be a 2-D array of real numbers") from None
-    if z.ndim != 2:
-        raise ValueError(f"heights must be a 2-D array, got {z.ndim} dimension(s)")
-    if z.shape[0] != z.shape[1]:
-        raise ValueError(f"heights must be a square grid (n x n), got shape {z.shape}")
-    if z.shape[0] < MINIMUM_GRID:
-        raise ValueError(f"heights must be at least {MINIMUM_GRID} x {MINIMUM_GRID}, "
-                         f"got shape {z.shape}")
-    if not np.all(np.isfinite(z)):
-        raise ValueError("heights must be finite (no NaN or inf)")
-    return z
-
-
 def _check_problem(heights, spacing, e_star, tol, max_iter, periodic):
     """Checked (heights, spacing, e_star, tol, max_iter, periodic) of a contact problem."""
-    z = _check_heights(heights)
-    spacing = _check_real("spacing", spacing, positive=True)
-    e_star = _check_real("e_star", e_star, positive=True)
-    tol = _check_real("tol", tol, positive=True)
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
-    return z, spacing, e_star, tol, int(max_iter), bool(periodic)
+    return checks.contact_problem(heights, spacing, e_star, tol, max_iter, periodic,
+                                  minimum_grid=MINIMUM_GRID)
 
 
 def _check_real(name: str, value, *, positive: bool = False, non_negative: bool = False) -> float:
-    if positive:
-        return checks.positive(name, value)
-    return checks.real_number(name, value, minimum=0.0 if non_negative else None)
+    return checks.contact_number(name, value, minimum=0.0 if positive or non_negative else None,
+                                 exclusive=positive)
 
 
 def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:
