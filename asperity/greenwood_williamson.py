@@ -32,6 +32,7 @@ from dataclasses import KW_ONLY, dataclass
 
 import numpy as np
 
+from bem import checks
 from bem.checks import positive as _positive_parameter
 from numpy.typing import ArrayLike
 from scipy.special import lambertw
@@ -56,23 +57,11 @@ _GW_ORDERS_USED = (0.0, 0.5, 1.0, 1.5)
 
 
 def _separations(separation: ArrayLike) -> np.ndarray:
-    try:
-        values = np.asarray(separation, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"separation must be real numbers, got {separation!r}") from None
-    if np.isnan(values).any() or (values == -np.inf).any():
-        raise ValueError("separation must not contain NaN or -inf (+inf means no contact)")
-    return values
+    return checks.separations("separation", separation)
 
 
 def _loads(load: ArrayLike) -> np.ndarray:
-    try:
-        values = np.asarray(load, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"load must be real numbers, got {load!r}") from None
-    if not np.all(np.isfinite(values)) or (values < 0).any():
-        raise ValueError("load must be finite and >= 0 (0 gives separation +inf)")
-    return values
+    return checks.loads("load", load)
 
 
 def _warn_unconverged(converged: np.ndarray, what: str) -> None:
@@ -98,12 +87,7 @@ class _SummitHeightTheory:
     def __post_init__(self) -> None:
         for name in ("density", "radius", "sigma", "e_star", "area"):
             object.__setattr__(self, name, _positive_parameter(name, getattr(self, name)))
-        try:
-            mean = float(self.mean)
-        except (TypeError, ValueError):
-            raise ValueError(f"mean must be a finite number, got {self.mean!r}") from None
-        if not math.isfinite(mean):
-            raise ValueError(f"mean must be a finite number, got {self.mean!r}")
+        mean = checks.real_number("mean", self.mean)
         object.__setattr__(self, "mean", mean)
         _check_distribution(self.distribution)
 
@@ -193,7 +177,9 @@ class GreenwoodWilliamson(_SummitHeightTheory):
         (S = -dW/dd), conductance (2S/E*) and mean_pressure (W/A).
         """
         d = _separations(separation)
-        return self._curve(d, self._gw_quantities(self._reduced(d)))
+        quantities = self._gw_quantities(self._reduced(d))
+        checks.no_overflow("separation", quantities["load"], "the GW load (far below the summits)")
+        return self._curve(d, quantities)
 
     def at_load(self, load: ArrayLike) -> ContactCurve:
         """Contact curve at total loads W [force] (any shape; W = 0 gives separation +inf).
@@ -240,12 +226,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        try:
-            m = float(self.m)
-        except (TypeError, ValueError):
-            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}") from None
-        if not (math.isfinite(m) and m >= 0):
-            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}")
+        m = checks.non_negative("m", self.m)
         object.__setattr__(self, "m", m)
         if not isinstance(self.one_iteration, (bool, np.bool_)):
             raise ValueError(f"one_iteration must be True or False, got {self.one_iteration!r}")
@@ -290,7 +271,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         monotonically to the root; the bracket is ``[h, h + (4/3) m C F_3/2(h)]``.
         Returns ``(h1, converged)``.
         """
-        h = np.asarray(h, dtype=float)
+        h = checks.separations("h", h)
         k = (4.0 / 3.0) * self.m * self.interaction_parameter
         flat = h.ravel()
         h1 = flat.copy()                                   # +inf stays +inf

@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from bem import checks
 from numpy.typing import ArrayLike
 from scipy.spatial.distance import cdist
 
@@ -31,13 +33,7 @@ _BLOCK = 256                 # 256 x 256 doubles = 0.5 MB: the block stays in L2
 
 
 def _coordinates(name: str, values: ArrayLike) -> np.ndarray:
-    try:
-        array = np.asarray(values, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be real numbers, got {values!r}") from None
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
-    return array
+    return checks.real_array(name, values).ravel()
 
 
 def _pair_sum(points: np.ndarray, radii: np.ndarray) -> float:

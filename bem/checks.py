@@ -155,7 +155,7 @@ def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool 
         ``finite``) or entries below ``minimum``.
     """
     if values is None or isinstance(values, (str, bytes)):
-        raise InputTypeError(f"{name} must be an array of real numbers, got "
+        raise InputTypeError(f"{name} must be real numbers (an array), got "
                         f"{type(values).__name__} {_describe(values)}")
     try:
         raw = np.asarray(values)
@@ -165,7 +165,7 @@ def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool 
     if raw.dtype.kind not in "iuf":
         kind = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes",
                 "O": "objects"}.get(raw.dtype.kind, f"dtype {raw.dtype}")
-        raise InputTypeError(f"{name} must be an array of real numbers, got {kind}")
+        raise InputTypeError(f"{name} must be real numbers (an array), got {kind}")
     array = raw.astype(float, copy=False)
     if ndim is not None and array.ndim != ndim:
         raise ValueError(f"{name} must be a {ndim}-D array, got {array.ndim} dimension(s) "
@@ -180,6 +180,40 @@ def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool 
             raise ValueError(f"{name} must be {'>' if exclusive else '>='} {minimum:g} "
                              f"everywhere, got a minimum of {low!r}")
     return array
+
+
+def integer_array(name: str, values: Any, *, minimum: int | None = None) -> np.ndarray:
+    """``values`` as a 1-D ``intp`` array: integer entries (or floats with no fraction), each
+    >= ``minimum``."""
+    array = real_array(name, values).ravel()
+    if np.asarray(values).dtype.kind == "f" and np.any(array != np.rint(array)):
+        raise ValueError(f"{name} must be integers, got fractional entries")
+    if np.any(np.abs(array) > np.iinfo(np.intp).max // 2):
+        raise ValueError(f"{name} entries are too large for an index")
+    if minimum is not None and array.size and array.min() < minimum:
+        raise ValueError(f"{name} must be integers >= {minimum}, got {array.min():g}")
+    return array.astype(np.intp)
+
+
+def separations(name: str, values: Any) -> np.ndarray:
+    """Separations [length] of a closed-form model: real, no NaN, no -inf (+inf means out of
+    contact)."""
+    array = real_array(name, values, finite=False)
+    if np.isnan(array).any() or (array == -np.inf).any():
+        raise ValueError(f"{name} must not contain NaN or -inf (+inf means no contact)")
+    return array
+
+
+def loads(name: str, values: Any) -> np.ndarray:
+    """Loads [force] of a closed-form model: finite, real, >= 0."""
+    return real_array(name, values, minimum=0.0)
+
+
+def no_overflow(name: str, values: np.ndarray, what: str) -> np.ndarray:
+    """``values`` if none is +-inf; a ValueError naming ``name`` and ``what`` overflowed."""
+    if np.isinf(values).any():
+        raise ValueError(f"{name} is outside the supported range: {what} overflows")
+    return values
 
 
 def height_map(name: str, values: Any, *, minimum: int = 3, square: bool = False) -> np.ndarray:
