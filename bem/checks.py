@@ -216,6 +216,27 @@ def no_overflow(name: str, values: np.ndarray, what: str) -> np.ndarray:
     return values
 
 
+def names(name: str, values: Any, allowed: Iterable[str]) -> tuple[str, ...]:
+    """A tuple of names, each one of ``allowed`` (a lone string is a mistake, not a name
+    list)."""
+    allowed = tuple(allowed)
+    if isinstance(values, str) or not isinstance(values, (tuple, list)):
+        raise InputTypeError(f"{name} must be a tuple of names from {allowed}, got "
+                             f"{type(values).__name__} {_describe(values)}")
+    unknown = [value for value in values if not isinstance(value, str) or value not in allowed]
+    if unknown:
+        raise ValueError(f"{name} must be among {allowed}, got unknown {unknown}")
+    return tuple(values)
+
+
+def curve_error_arguments(sigma: Any, quantities: Any, allowed: Iterable[str]
+                          ) -> tuple[float, tuple[str, ...]]:
+    """Checked ``(sigma, quantities)`` of a comparison of two contact curves: sigma > 0 [length]
+    in the supported range, quantities known by name."""
+    sigma = supported_magnitude("sigma", positive("sigma", sigma))
+    return sigma, names("quantities", quantities, allowed)
+
+
 def height_map(name: str, values: Any, *, minimum: int = 3, square: bool = False) -> np.ndarray:
     """A 2-D, finite, real height map of at least ``minimum`` x ``minimum`` points."""
     array = real_array(name, values, ndim=2, finite=False)

@@ -407,9 +407,10 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
                 operator._apply(p, u)
             return _Outcome(p, True, iteration, residual, "converged")
     operator._apply(p, u)
+    change = (f"relative pressure change {residual:.3g} > tol = {tol:.3g}"
+              if math.isfinite(residual) else "the contact set changed at every iteration")
     return _Outcome(p, False, max_iter, residual,
-                    f"not converged after {max_iter} iterations (relative pressure change "
-                    f"{residual:.3g} > tol = {tol:.3g})")
+                    f"not converged after {max_iter} iterations ({change})")
 
 
 def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,
@@ -439,6 +440,9 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     if n_contact == 0:
         return 0.0, True, 0
     if operator.periodic and n_contact == contact.size:
+        warnings.warn("bem.solve_contact: full contact of a periodic surface: the stiffness is "
+                      "infinite (no load can push the plane further)", ConvergenceWarning,
+                      stacklevel=4)
         return math.inf, True, 0
     weight = np.asarray(contact, dtype=float)
     q = weight / operator.self_influence
