@@ -30,13 +30,17 @@ import numpy as np
 from bem import checks
 from bem.checks import frozen_array as _frozen
 from bem.checks import non_negative as _non_negative
-from bem.checks import positive as _positive
 from numpy.typing import ArrayLike
 
 from bem.curve import ContactCurve
 
 __all__ = ["DimensionlessCurve", "dimensionless", "dimensionless_pressure",
            "interaction_parameter", "InteractionCurves", "interaction_curves"]
+
+
+def _positive(name: str, value) -> float:
+    """A finite real number > 0 in the supported magnitude range (powers of it stay finite)."""
+    return checks.supported_magnitude(name, checks.positive(name, value))
 
 
 

@@ -102,5 +102,8 @@ def holm_greenwood(x: ArrayLike, y: ArrayLike, radii: ArrayLike) -> float:
     a = a[conducting]
     points = np.column_stack([xs[conducting], ys[conducting]])
     total_radius = float(a.sum())
-    interaction = 2.0 * _pair_sum(points, a) if a.size > 1 else 0.0
-    return 1.0 / (2.0 * total_radius) + interaction / (math.pi * total_radius ** 2)
+    # With weights w_i = a_i / sum(a): sum_{i != j} a_i a_j / s_ij / (sum a)^2 = sum w_i w_j / s_ij,
+    # so neither (sum a)^2 nor the products a_i a_j over- or underflow.
+    weights = a / total_radius
+    interaction = 2.0 * _pair_sum(points, weights) if a.size > 1 else 0.0
+    return 1.0 / (2.0 * total_radius) + interaction / math.pi

@@ -81,11 +81,11 @@ def _check_lattice(x, y, spacing, row, column) -> tuple[np.ndarray, np.ndarray]:
     column = checks.integer_array("column", column, minimum=0)
     if row.shape != x.shape or column.shape != x.shape:
         raise ValueError("row and column must have one entry per position")
-    for name, position, index in (("column", x, column), ("row", y, row)):
+    for axis, name, position, index in (("x", "column", x, column), ("y", "row", y, row)):
         tolerance = 1e-9 * max(spacing, float(np.max(np.abs(position), initial=0.0)))
         if np.any(np.abs(position - index * spacing) > tolerance):
-            raise ValueError(f"{name} indices contradict the positions: every position must be "
-                             f"(column * spacing, row * spacing)")
+            raise ValueError(f"positions {axis} contradict the {name} indices: every position "
+                             f"must be (column * spacing, row * spacing)")
     return row, column
 
 

@@ -94,8 +94,8 @@ class Summits:
         n = self.x.size
         for name in ("y", "height", "radius"):
             if getattr(self, name).size != n:
-                raise ValueError(f"Summits {name} must have one entry per summit ({n}), "
-                                 f"got {getattr(self, name).size}")
+                raise ValueError(f"Summits {name} must have one entry per summit (the {n} "
+                                 f"of x), got {getattr(self, name).size}")
         for name in ("x", "y", "height", "radius"):
             if not np.all(np.isfinite(getattr(self, name))):
                 raise ValueError(f"Summits {name} must be finite (no NaN or inf)")

@@ -39,9 +39,11 @@ GOOD = ("clear error", "plausible result")
 class EntryPoint:
     """One public callable and a valid call of it.
 
-    ``call(**arguments())`` must succeed; ``scalars`` maps a parameter to its domain
-    (``"real"``, ``"positive"``, ``"non_negative"``, ``"integer"``), ``arrays`` lists the
-    array parameters (``"square"`` for height maps that must be n x n).
+    ``call(**arguments())`` must succeed. ``scalars`` maps a parameter to its domain:
+    ``"real"``, ``"positive"``, ``"non_negative"`` or ``"integer"``, plus the word
+    ``"optional"`` when ``None`` is a valid value. ``arrays`` maps an array parameter to ``""``
+    or to words among ``"optional"`` (None is valid) and ``"inf"`` (+inf entries are valid,
+    e.g. a separation out of contact).
     """
 
     name: str
@@ -63,13 +65,15 @@ BAD_SCALARS: tuple[tuple[Any, str, bool], ...] = (
 
 
 def _invalid_in_domain(value: Any, domain: str) -> bool:
+    if value is None and "optional" in domain:
+        return False
     if not isinstance(value, float):
         return False
-    if domain == "positive":
+    if domain.startswith("positive"):
         return value <= 0
-    if domain == "non_negative":
+    if domain.startswith("non_negative"):
         return value < 0
-    if domain == "integer":
+    if domain.startswith("integer"):
         return True          # a float where an integer is needed
     return False
 
@@ -172,14 +176,19 @@ def cases(entry: EntryPoint):
     valid = entry.arguments()
     for parameter, domain in entry.scalars.items():
         for value, label, never_valid in BAD_SCALARS:
-            if label == "0.5 for an integer" and domain != "integer":
+            if label == "0.5 for an integer" and not domain.startswith("integer"):
                 continue
-            invalid = never_valid or _invalid_in_domain(value, domain)
+            invalid = _invalid_in_domain(value, domain) if value is None else (
+                never_valid or _invalid_in_domain(value, domain))
             yield parameter, value, label, invalid
-        if domain != "integer" and parameter in valid:   # a numpy scalar of the valid value must be accepted
+        if not domain.startswith("integer") and parameter in valid:   # a numpy scalar of the valid value must be accepted
             yield parameter, np.float64(valid[parameter]), "numpy float", None
-    for parameter in entry.arrays:
+    for parameter, domain in entry.arrays.items():
         for value, label, invalid in bad_arrays(valid[parameter]):
+            if value is None and "optional" in domain:
+                invalid = None
+            elif label == "inf entry" and "inf" in domain:
+                invalid = None
             yield parameter, value, label, invalid
 
 
