@@ -40,7 +40,6 @@ import os
 import numpy as np
 
 from bem import checks
-from bem.checks import positive as _check_positive
 
 from bem.fft import PaddedRealFFT2, RealFFT2, default_threads
 from bem.reference import love_pixel_displacement
@@ -120,8 +119,8 @@ class HalfSpace:
             raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
         shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
         self.shape: tuple[int, int] = shape
-        self.spacing = _check_positive("spacing", spacing)
-        self.e_star = _check_positive("e_star", e_star)
+        self.spacing = checks.contact_number("spacing", spacing, minimum=0.0, exclusive=True)
+        self.e_star = checks.contact_number("e_star", e_star, minimum=0.0, exclusive=True)
         if not isinstance(periodic, (bool, np.bool_)):
             raise ValueError(f"periodic must be True or False, got {periodic!r}")
         self.periodic = bool(periodic)
