@@ -203,13 +203,11 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     summits, sigma, summit_mean = None, math.nan, math.nan
     if wants_summits:
         key = cache_key("summits", version, surface=surface_key)
-        arrays = cache.load(key)
-        if arrays is None:
+        summits = cache.load(key, decode=asperity.summits_from_arrays)
+        if summits is None:
             summits = asperity.find_summits(heights(), spacing)
             cache.store(key, asperity.summits_to_arrays(summits))
             computed.append(f"summits {task.describe()}")
-        else:
-            summits = asperity.summits_from_arrays(arrays)
         sigma = float(np.std(summits.height))
         summit_mean = float(np.mean(summits.height))
 
@@ -225,9 +223,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     def cached_curve(model: str, key: str, compute) -> None:
         # A load path from the cache, or computed, stored and logged (with its stiffness
         # solves, when asked for); a cache hit costs 0 s.
-        arrays = cache.load(key)
-        if arrays is not None:
-            curves[model], seconds[model] = _curve_from_arrays(arrays), 0.0
+        cached = cache.load(key, decode=_curve_from_arrays)
+        if cached is not None:
+            curves[model], seconds[model] = cached, 0.0
             return
         start = time.perf_counter()
         curve = compute()
