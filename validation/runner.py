@@ -22,7 +22,6 @@ different scenes run once.
 from __future__ import annotations
 
 import math
-import sys
 import time
 from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field, replace
@@ -32,6 +31,7 @@ import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.cache import Cache, cache_key
+from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces import wm_surface
 
@@ -284,34 +284,6 @@ def run_realization(task: RealizationTask) -> RealizationResult:
 
 # --------------------------------------------------------------------------------------------
 # many scenes
-
-class Progress:
-    """A text progress bar on a stream: work done and left, elapsed time."""
-
-    def __init__(self, total: int, *, stream=None, label: str = "realizations", width: int = 30):
-        self.total, self.done, self.label, self.width = total, 0, label, width
-        self.stream = sys.stderr if stream is None else stream
-        self.start = time.perf_counter()
-        self.interactive = hasattr(self.stream, "isatty") and self.stream.isatty()
-        if total:
-            self._draw()
-
-    def advance(self, what: str = "") -> None:
-        self.done += 1
-        self._draw(what)
-
-    def _draw(self, what: str = "") -> None:
-        filled = int(self.width * self.done / max(self.total, 1))
-        bar = "#" * filled + "-" * (self.width - filled)
-        elapsed = time.perf_counter() - self.start
-        line = (f"[{bar}] {self.done}/{self.total} {self.label}, {self.total - self.done} left, "
-                f"{elapsed:.0f} s" + (f"  ({what})" if what else ""))
-        if self.interactive:
-            self.stream.write("\r" + line + ("\n" if self.done == self.total else ""))
-        else:
-            self.stream.write(line + "\n")
-        self.stream.flush()
-
 
 def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                cache_dir: str | None = None, progress: bool = True, stream=None
