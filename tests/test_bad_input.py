@@ -183,3 +183,148 @@ def test_supported_magnitude_states_the_range():
     assert checks.supported_magnitude("load", 0.0) == 0.0
     with pytest.raises(ValueError, match=r"load = 1e\+200 is outside the supported range.*1e\+30"):
         checks.supported_magnitude("load", 1e200)
+
+
+# ---------------------------------------------------------------------------------------------
+# the audited cases, one regression test each (Z16 = wm_surface(16, D=2.3, rms_slope=0.1, seed=1))
+
+def _z16():
+    from validation import wm_surface
+
+    return wm_surface(16, D=2.3, rms_slope=0.1, seed=1)
+
+
+@pytest.mark.parametrize("arguments, match", [
+    (dict(G=-1.0, D=2.3), "G must be a finite real number > 0"),
+    (dict(G=1e-3, D=2.3, M=0), "M must be an integer >= 1"),
+    (dict(G=math.nan, D=2.3), "G must be a finite real number"),
+    (dict(G=1e-3, D=math.nan), "D must be a finite real number > 2 and < 3"),
+    (dict(G=1e-3, D=2.3, gamma=1.0), "gamma must be a finite real number > 1"),
+    (dict(G=1e-3, D=2.3, L="1"), "L must be a finite real number > 0")])
+def test_wm_amplitude_checks_its_parameters(arguments, match):
+    from validation import wm_amplitude
+
+    with pytest.raises(ValueError, match=match):
+        wm_amplitude(**arguments)
+
+
+@pytest.mark.parametrize("arguments, match", [
+    (dict(load=1e200), "load = 1e\\+200 is outside the supported range"),
+    (dict(load=1e-3, spacing=1e160), "spacing = 1e\\+160 is outside the supported range"),
+    (dict(load=1e-3, spacing=1e-300), "spacing = 1e-300 is outside the supported range"),
+    (dict(load=1e-3, e_star=1e-300), "e_star = 1e-300 is outside the supported range")])
+def test_solve_contact_states_the_supported_range(arguments, match):
+    import bem
+
+    arguments = {"spacing": 1 / 16, **arguments}
+    with pytest.raises(ValueError, match=match):
+        bem.solve_contact(_z16(), **arguments)
+
+
+def test_complex_heights_are_rejected_not_truncated():
+    import asperity
+    import bem
+    from validation import surface_statistics
+
+    z = _z16() + 1e-3j
+    for call in (lambda: bem.solve_contact(z, 1 / 16, load=1e-3),
+                 lambda: bem.contact_curve(z, 1 / 16, loads=[1e-3]),
+                 lambda: asperity.find_summits(z, 1 / 16),
+                 lambda: surface_statistics(z, 1 / 16)):
+        with pytest.raises(TypeError, match="heights must be real numbers.*complex"):
+            call()
+    with pytest.raises(TypeError, match="pressure must be real numbers.*complex"):
+        bem.HalfSpace((16, 16), 1 / 16).displacement(z)
+
+
+def test_curve_errors_rejects_what_used_to_give_silent_nans():
+    from asperity import GreenwoodWilliamson
+    from validation import curve_errors
+
+    curve = GreenwoodWilliamson(50.0, 0.05, 0.01).at_load([1e-4, 1e-3])
+    with pytest.raises(ValueError, match="sigma must be a finite real number > 0, got 0.0"):
+        curve_errors(curve, curve, 0.0, ("separation",))
+    with pytest.raises(ValueError, match="sigma must be a finite real number > 0, got -1"):
+        curve_errors(curve, curve, -1, ("separation",))
+    with pytest.raises(ValueError, match=r"quantities must be among .* unknown \['bogus'\]"):
+        curve_errors(curve, curve, 0.01, ("bogus",))
+    with pytest.raises(TypeError, match="quantities must be a tuple of names"):
+        curve_errors(curve, curve, 0.01, "separation")
+    errors = curve_errors(curve, curve, 0.01, ("separation", "area"))
+    assert set(errors) == {"separation", "area"} and all(np.all(e == 0) for e in errors.values())
+
+
+def test_nan_inputs_of_closed_form_models_are_errors():
+    from asperity import ImprovedGreenwoodWilliamson, dimensionless_pressure
+
+    with pytest.raises(ValueError, match="mean_pressure must be finite"):
+        dimensionless_pressure([math.nan], 50.0, 0.05, 0.01, 1.0)
+    with pytest.raises(ValueError, match="h must not contain NaN"):
+        ImprovedGreenwoodWilliamson(50.0, 0.05, 0.01).effective_reduced_separation([math.nan])
+
+
+def test_gw_raises_where_its_load_overflows_like_improved_gw():
+    from asperity import GreenwoodWilliamson, ImprovedGreenwoodWilliamson
+
+    for model in (GreenwoodWilliamson(50.0, 0.05, 0.01), ImprovedGreenwoodWilliamson(50.0, 0.05,
+                                                                                     0.01)):
+        with pytest.raises(ValueError, match="separation"):
+            model.at_separation([-1e300])
+    assert np.isfinite(GreenwoodWilliamson(50.0, 0.05, 0.01).at_separation([-1e10]).load).all()
+
+
+def test_periodic_full_contact_warns_of_infinite_stiffness():
+    import bem
+
+    z = _z16()
+    with pytest.warns(bem.ConvergenceWarning, match="full contact of a periodic surface"):
+        solution = bem.solve_contact(z, 1 / 16, load=1e3, periodic=True, stiffness=True)
+    assert solution.stiffness == math.inf and solution.area_fraction == 1.0
+
+
+def test_non_convergence_message_never_reports_an_infinite_pressure_change():
+    import bem
+
+    with pytest.warns(bem.ConvergenceWarning) as caught:
+        solution = bem.solve_contact(_z16(), 1 / 16, load=1e-3, max_iter=1)
+    assert not solution.converged
+    assert "inf" not in solution.message and "inf" not in str(caught[0].message)
+
+
+@pytest.mark.parametrize("lattice, match", [
+    (dict(row=[0, 0], column=[0, 0]), "positions x contradict the column indices"),
+    (dict(row=[0, 0], column=[0, 0.5]), "column must be integers"),
+    (dict(row=[0, -1], column=[0, 1]), "row must be integers >= 0"),
+    (dict(row=[0, 0], column=[0, 1], threads=0), "threads must be an integer >= 1"),
+    (dict(row=[0, 0], column=[0, 1], threads=1.0), "threads must be an integer")])
+def test_point_force_interaction_rejects_inconsistent_lattices(lattice, match):
+    from asperity import PointForceInteraction
+
+    with pytest.raises(ValueError, match=match):
+        PointForceInteraction([0.0, 1.0], [0.0, 0.0], spacing=1.0, **lattice)
+
+
+def test_extreme_scales_give_right_results_or_clear_errors():
+    from asperity import find_summits
+    from validation import wm_surface
+
+    z = _z16()
+    plain = find_summits(z, 1 / 16)
+    for scale in (1e300, 1e-300):
+        scaled = find_summits(z * scale, 1 / 16)
+        assert scaled.count == plain.count > 0
+        np.testing.assert_allclose(scaled.radius, plain.radius / scale, rtol=1e-12)
+    with pytest.raises(ValueError, match="L = 1e-300 is outside the supported range"):
+        wm_surface(16, D=2.3, rms_slope=0.1, seed=1, L=1e-300)
+
+
+def test_numeric_strings_bools_and_fractional_shapes_are_type_errors():
+    import bem
+    from asperity import GreenwoodWilliamson
+
+    with pytest.raises(TypeError, match="shape must be an integer"):
+        bem.HalfSpace((16.5, 16), 0.1)
+    with pytest.raises(TypeError, match="spacing must be a finite real number"):
+        bem.solve_contact(_z16(), "0.0625", load=1e-3)
+    with pytest.raises(TypeError, match="mean must be a finite real number"):
+        GreenwoodWilliamson(50.0, 0.05, 0.01, mean=True)
