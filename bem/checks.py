@@ -130,7 +130,7 @@ def choice(name: str, value: Any, allowed: Iterable[Any]) -> Any:
     allowed = tuple(allowed)
     if isinstance(value, (bool, np.bool_)) or not _hashable(value) or value not in allowed:
         raise ValueError(f"{name} must be one of {allowed}, got {_describe(value)}")
-    return value
+    return allowed[allowed.index(value)]
 
 
 def _hashable(value: Any) -> bool:

@@ -181,7 +181,8 @@ def cases(entry: EntryPoint):
             invalid = _invalid_in_domain(value, domain) if value is None else (
                 never_valid or _invalid_in_domain(value, domain))
             yield parameter, value, label, invalid
-        if not domain.startswith("integer") and parameter in valid:   # a numpy scalar of the valid value must be accepted
+        # a numpy scalar of the valid value must be accepted
+        if not domain.startswith("integer") and parameter in valid:
             yield parameter, np.float64(valid[parameter]), "numpy float", None
     for parameter, domain in entry.arrays.items():
         for value, label, invalid in bad_arrays(valid[parameter]):
