@@ -224,7 +224,8 @@ class Summits:
         return self.count / self.area
 
     def _fit(self, area):
-        area = self.area if area is None else _finite_positive("area", area)
+        area = (self.area if area is None
+                else checks.supported_magnitude("area", _finite_positive("area", area)))
         if self.count < 2:
             raise ValueError(f"a GW fit needs at least 2 summits, got {self.count}")
         sigma = float(np.std(self.height))
