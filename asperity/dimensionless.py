@@ -27,15 +27,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem import checks
 from bem.checks import frozen_array as _frozen
 from bem.checks import non_negative as _non_negative
-from bem.checks import positive as _positive
 from numpy.typing import ArrayLike
 
 from bem.curve import ContactCurve
 
 __all__ = ["DimensionlessCurve", "dimensionless", "dimensionless_pressure",
            "interaction_parameter", "InteractionCurves", "interaction_curves"]
+
+
+def _positive(name: str, value) -> float:
+    """A finite real number > 0 in the supported magnitude range (powers of it stay finite)."""
+    return checks.supported_magnitude(name, checks.positive(name, value))
 
 
 
@@ -102,7 +107,7 @@ def dimensionless_pressure(mean_pressure: ArrayLike, density: float, radius: flo
     """
     reference = (_positive("density", density) * _positive("e_star", e_star)
                  * math.sqrt(_positive("radius", radius)) * _positive("sigma", sigma) ** 1.5)
-    return np.asarray(mean_pressure, dtype=float) / reference
+    return checks.real_array("mean_pressure", mean_pressure) / reference
 
 
 def interaction_parameter(density: float, radius: float, sigma: float, area: float) -> float:
@@ -173,7 +178,8 @@ def interaction_curves(interaction_parameter: float, *, m: float = 1.0,
 
     c = _non_negative("interaction_parameter", interaction_parameter)
     m = _non_negative("m", m)
-    h = np.linspace(-1.0, 4.0, 201) if separation is None else np.asarray(separation, float)
+    h = (np.linspace(-1.0, 4.0, 201) if separation is None
+         else checks.separations("separation", separation))
     model = ImprovedGreenwoodWilliamson(1.0, 1.0, 1.0, m=m * c)
     improved = model.at_separation(h)
     plain = model.greenwood_williamson.at_separation(h)

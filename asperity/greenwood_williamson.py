@@ -33,6 +33,7 @@ from typing import Iterable
 
 import numpy as np
 
+from bem import checks
 from bem.checks import positive as _positive_parameter
 from numpy.typing import ArrayLike
 from scipy.special import lambertw
@@ -97,12 +98,7 @@ class _SummitHeightTheory:
     def __post_init__(self) -> None:
         for name in ("density", "radius", "sigma", "e_star", "area"):
             object.__setattr__(self, name, _positive_parameter(name, getattr(self, name)))
-        try:
-            mean = float(self.mean)
-        except (TypeError, ValueError):
-            raise ValueError(f"mean must be a finite number, got {self.mean!r}") from None
-        if not math.isfinite(mean):
-            raise ValueError(f"mean must be a finite number, got {self.mean!r}")
+        mean = checks.real_number("mean", self.mean)
         object.__setattr__(self, "mean", mean)
         _check_distribution(self.distribution)
 
@@ -206,7 +202,9 @@ class GreenwoodWilliamson(_SummitHeightTheory):
         """
         d = _separations(separation)
         want = check_quantities(quantities)
-        return self._curve(d, self._gw_quantities(self._reduced(d), want), want)
+        values = self._gw_quantities(self._reduced(d), want)
+        checks.no_overflow("separation", values["load"], "the GW load (far below the summits)")
+        return self._curve(d, values, want)
 
     def at_load(self, load: ArrayLike, *,
                 quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
@@ -260,12 +258,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        try:
-            m = float(self.m)
-        except (TypeError, ValueError):
-            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}") from None
-        if not (math.isfinite(m) and m >= 0):
-            raise ValueError(f"m must be a finite number >= 0, got {self.m!r}")
+        m = checks.non_negative("m", self.m)
         object.__setattr__(self, "m", m)
         if not isinstance(self.one_iteration, (bool, np.bool_)):
             raise ValueError(f"one_iteration must be True or False, got {self.one_iteration!r}")
@@ -313,7 +306,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         monotonically to the root; the bracket is ``[h, h + (4/3) m C F_3/2(h)]``.
         Returns ``(h1, converged)``.
         """
-        h = np.asarray(h, dtype=float)
+        h = checks.separations("h", h)
         k = (4.0 / 3.0) * self.m * self.interaction_parameter
         flat = h.ravel()
         h1 = flat.copy()                                   # +inf stays +inf

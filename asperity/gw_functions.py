@@ -44,6 +44,8 @@ import math
 from typing import Sequence
 
 import numpy as np
+
+from bem import checks
 from numpy.typing import ArrayLike
 from scipy import special
 
@@ -104,10 +106,7 @@ def _check_distribution(distribution: str) -> str:
 
 
 def _check_order(n: float, distribution: str) -> float:
-    try:
-        order = float(n)
-    except (TypeError, ValueError):
-        raise ValueError(f"n must be a real number, got {n!r}") from None
+    order = checks.real_number("n", n)
     if distribution == "exponential":
         if not (np.isfinite(order) and order > -1.0):
             raise ValueError(f"n must be finite and > -1 for exponential heights, got {n!r}")
@@ -118,10 +117,7 @@ def _check_order(n: float, distribution: str) -> float:
 
 
 def _check_reduced_separation(h: ArrayLike, name: str = "h") -> np.ndarray:
-    try:
-        values = np.asarray(h, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be real numbers, got {h!r}") from None
+    values = checks.real_array(name, h, finite=False)
     if np.isnan(values).any():
         raise ValueError(f"{name} must not contain NaN")
     return values

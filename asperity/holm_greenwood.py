@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
+
+from bem import checks
 from numpy.typing import ArrayLike
 from scipy.spatial.distance import cdist
 
@@ -31,13 +33,7 @@ _BLOCK = 256                 # 256 x 256 doubles = 0.5 MB: the block stays in L2
 
 
 def _coordinates(name: str, values: ArrayLike) -> np.ndarray:
-    try:
-        array = np.asarray(values, dtype=float).ravel()
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be real numbers, got {values!r}") from None
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
-    return array
+    return checks.real_array(name, values).ravel()
 
 
 def _pair_sum(points: np.ndarray, radii: np.ndarray) -> float:
@@ -106,5 +102,8 @@ def holm_greenwood(x: ArrayLike, y: ArrayLike, radii: ArrayLike) -> float:
     a = a[conducting]
     points = np.column_stack([xs[conducting], ys[conducting]])
     total_radius = float(a.sum())
-    interaction = 2.0 * _pair_sum(points, a) if a.size > 1 else 0.0
-    return 1.0 / (2.0 * total_radius) + interaction / (math.pi * total_radius ** 2)
+    # With weights w_i = a_i / sum(a): sum_{i != j} a_i a_j / s_ij / (sum a)^2 = sum w_i w_j / s_ij,
+    # so neither (sum a)^2 nor the products a_i a_j over- or underflow.
+    weights = a / total_radius
+    interaction = 2.0 * _pair_sum(points, weights) if a.size > 1 else 0.0
+    return 1.0 / (2.0 * total_radius) + interaction / math.pi

@@ -45,6 +45,8 @@ from typing import Callable
 
 import numpy as np
 
+from bem import checks
+
 __all__ = ["PointForceInteraction"]
 
 #: Entries of one block of a direct sum (8 MB of float64 per temporary).
@@ -70,6 +72,21 @@ def _as_index(name: str, value, n: int) -> np.ndarray:
         raise ValueError(f"{name} must lie in [0, {n}), got values in "
                          f"[{index.min()}, {index.max()}]")
     return index
+
+
+def _check_lattice(x, y, spacing, row, column) -> tuple[np.ndarray, np.ndarray]:
+    """Lattice indices (>= 0, integer) that agree with the positions: ``x = column * spacing``
+    and ``y = row * spacing`` to 1e-9 relative."""
+    row = checks.integer_array("row", row, minimum=0)
+    column = checks.integer_array("column", column, minimum=0)
+    if row.shape != x.shape or column.shape != x.shape:
+        raise ValueError("row and column must have one entry per position")
+    for axis, name, position, index in (("x", "column", x, column), ("y", "row", y, row)):
+        tolerance = 1e-9 * max(spacing, float(np.max(np.abs(position), initial=0.0)))
+        if np.any(np.abs(position - index * spacing) > tolerance):
+            raise ValueError(f"positions {axis} contradict the {name} indices: every position "
+                             f"must be (column * spacing, row * spacing)")
+    return row, column
 
 
 class PointForceInteraction:
@@ -107,17 +124,14 @@ class PointForceInteraction:
     def __init__(self, x, y, *, e_star: float = 1.0, spacing: float | None = None, row=None,
                  column=None, shape: tuple[int, int] | None = None, periodic: bool = False,
                  method: str = "auto", fft_backend: str = "auto", threads: int = 1) -> None:
-        x = np.array(x, dtype=float).ravel()
-        y = np.array(y, dtype=float).ravel()
+        x = np.array(checks.real_array("x", x), dtype=float).ravel()
+        y = np.array(checks.real_array("y", y), dtype=float).ravel()
         if x.shape != y.shape:
             raise ValueError(f"x and y must have the same length, got {x.size} and {y.size}")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-            raise ValueError("positions x, y must be finite")
-        e_star = float(e_star)
-        if not (math.isfinite(e_star) and e_star > 0):
-            raise ValueError(f"e_star must be finite and > 0, got {e_star!r}")
-        if method not in _METHODS:
-            raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
+        e_star = checks.positive("e_star", e_star)
+        method = checks.choice("method", method, _METHODS)
+        threads = checks.integer("threads", threads, minimum=1)
+        periodic = checks.flag("periodic", periodic)
         if x.size > 1 and np.unique(np.stack((x, y), axis=1), axis=0).shape[0] != x.size:
             # a point force at zero distance is undefined, and the lattice FFT would keep only
             # one of two coincident forces: the methods would disagree
@@ -135,15 +149,10 @@ class PointForceInteraction:
         self._fft = None
         self.lattice = spacing is not None
         if self.lattice:
-            spacing = float(spacing)
-            if not (math.isfinite(spacing) and spacing > 0):
-                raise ValueError(f"spacing must be finite and > 0, got {spacing!r}")
+            spacing = checks.positive("spacing", spacing)
             if row is None or column is None:
                 raise ValueError("row and column lattice indices are required with spacing")
-            row = np.asarray(row).astype(np.intp).ravel()
-            column = np.asarray(column).astype(np.intp).ravel()
-            if row.shape != x.shape or column.shape != x.shape:
-                raise ValueError("row and column must have one entry per position")
+            row, column = _check_lattice(x, y, spacing, row, column)
             self.spacing = spacing
             self.row, self.column = row, column
         elif method == "fft":
@@ -152,7 +161,9 @@ class PointForceInteraction:
             if shape is None or not self.lattice:
                 raise ValueError("periodic interaction needs a lattice (spacing, row, column) "
                                  "and its shape")
-            shape = (int(shape[0]), int(shape[1]))
+            if not isinstance(shape, (tuple, list)) or len(shape) != 2:
+                raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
+            shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
             if (self.row.size and (self.row.min() < 0 or self.row.max() >= shape[0]
                                    or self.column.min() < 0 or self.column.max() >= shape[1])):
                 raise ValueError("lattice indices must lie inside the periodic shape")
@@ -285,7 +296,7 @@ class PointForceInteraction:
                                                                           self.size)
         targets = np.arange(self.size) if targets is None else _as_index("targets", targets,
                                                                           self.size)
-        forces = np.asarray(forces, dtype=float).ravel()
+        forces = checks.real_array("forces", forces).ravel()
         if forces.shape != sources.shape:
             raise ValueError(f"forces must have one entry per source ({sources.size}), "
                              f"got {forces.size}")

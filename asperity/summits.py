@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bem import checks
 from bem.checks import frozen_array
 from bem.checks import positive as _finite_positive
 
@@ -88,12 +89,13 @@ class Summits:
     def __post_init__(self) -> None:
         set_ = lambda name, value: object.__setattr__(self, name, value)  # noqa: E731
         for name in ("x", "y", "height", "radius"):
-            set_(name, _frozen(getattr(self, name), float))
+            set_(name, _frozen(checks.real_array(name, getattr(self, name), finite=False),
+                               float))
         n = self.x.size
         for name in ("y", "height", "radius"):
             if getattr(self, name).size != n:
-                raise ValueError(f"Summits {name} must have one entry per summit ({n}), "
-                                 f"got {getattr(self, name).size}")
+                raise ValueError(f"Summits {name} must have one entry per summit (the {n} "
+                                 f"of x), got {getattr(self, name).size}")
         for name in ("x", "y", "height", "radius"):
             if not np.all(np.isfinite(getattr(self, name))):
                 raise ValueError(f"Summits {name} must be finite (no NaN or inf)")
@@ -147,8 +149,8 @@ class Summits:
         if spacing is None:
             return cls(x, y, height, radius, area=area)
         spacing = _finite_positive("spacing", spacing)
-        x = np.asarray(x, dtype=float).ravel()
-        y = np.asarray(y, dtype=float).ravel()
+        x = checks.real_array("x", x).ravel()
+        y = checks.real_array("y", y).ravel()
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
             raise ValueError("Summits x and y must be finite (no NaN or inf)")
         column = np.rint(x / spacing)
@@ -222,7 +224,8 @@ class Summits:
         return self.count / self.area
 
     def _fit(self, area):
-        area = self.area if area is None else _finite_positive("area", area)
+        area = (self.area if area is None
+                else checks.supported_magnitude("area", _finite_positive("area", area)))
         if self.count < 2:
             raise ValueError(f"a GW fit needs at least 2 summits, got {self.count}")
         sigma = float(np.std(self.height))
@@ -315,24 +318,11 @@ def find_summits(heights, spacing: float, *, neighbours: int = 8, periodic: bool
         Non-2-D or smaller than 3 x 3 heights, non-finite heights, spacing not finite and > 0,
         ``neighbours`` not 4 or 8, unknown ``curvature``.
     """
-    z = np.asarray(heights)
-    if z.ndim != 2:
-        raise ValueError(f"heights must be a 2-D array, got {z.ndim} dimension(s)")
-    if min(z.shape) < 3:
-        raise ValueError(f"heights must be at least 3 x 3, got shape {z.shape}")
-    try:
-        z = z.astype(float, copy=False)
-    except (TypeError, ValueError):
-        raise ValueError("heights must be real numbers") from None
-    if not np.all(np.isfinite(z)):
-        raise ValueError("heights must be finite (no NaN or inf)")
-    spacing = _finite_positive("spacing", spacing)
-    if isinstance(neighbours, bool) or neighbours not in (4, 8):
-        raise ValueError(f"neighbours must be 4 or 8, got {neighbours!r}")
-    if curvature not in _CURVATURES:
-        raise ValueError(f"curvature must be one of {_CURVATURES}, got {curvature!r}")
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
+    z = checks.height_map("heights", heights)
+    spacing = checks.supported_magnitude("spacing", _finite_positive("spacing", spacing))
+    neighbours = checks.choice("neighbours", neighbours, (4, 8))
+    curvature = checks.choice("curvature", curvature, _CURVATURES)
+    periodic = checks.flag("periodic", periodic)
     rows, columns = z.shape
 
     # Candidate points and their flat indices.
@@ -357,21 +347,26 @@ def find_summits(heights, spacing: float, *, neighbours: int = 8, periodic: bool
     jj = jj + j0
     ii = ii + i0
 
+    # Differences of heights divided by their largest magnitude: curvatures in units of
+    # scale / h^2, so that neither squaring them nor dividing by h^2 over- or underflows.
+    scale = float(np.max(np.abs(z))) or 1.0
+
     def at(dj, di):
-        return z[(jj + dj) % rows, (ii + di) % columns]
+        return z[(jj + dj) % rows, (ii + di) % columns] / scale
 
     h2 = spacing * spacing
     centre_values = z[jj, ii]
-    z_xx = (at(0, 1) - 2.0 * centre_values + at(0, -1)) / h2
-    z_yy = (at(1, 0) - 2.0 * centre_values + at(-1, 0)) / h2
-    z_xy = (at(1, 1) - at(1, -1) - at(-1, 1) + at(-1, -1)) / (4.0 * h2)
-    gaussian = z_xx * z_yy - z_xy * z_xy          # k1 k2
-    curvature_sum = -(z_xx + z_yy)                # k1 + k2
+    centre_scaled = centre_values / scale
+    z_xx = at(0, 1) - 2.0 * centre_scaled + at(0, -1)
+    z_yy = at(1, 0) - 2.0 * centre_scaled + at(-1, 0)
+    z_xy = (at(1, 1) - at(1, -1) - at(-1, 1) + at(-1, -1)) / 4.0
+    gaussian = z_xx * z_yy - z_xy * z_xy          # k1 k2 (h^2 / scale)^2
+    curvature_sum = -(z_xx + z_yy)                # (k1 + k2) h^2 / scale
     convex = (gaussian > 0) & (curvature_sum > 0)
     if curvature == "geometric":
-        radius = 1.0 / np.sqrt(gaussian[convex])
+        radius = (h2 / scale) / np.sqrt(gaussian[convex])
     else:
-        radius = 2.0 / curvature_sum[convex]
+        radius = 2.0 * (h2 / scale) / curvature_sum[convex]
     keep_j, keep_i = jj[convex], ii[convex]
     return Summits(
         x=keep_i * spacing, y=keep_j * spacing, height=centre_values[convex], radius=radius,

@@ -1,36 +1,93 @@
-"""Input checks shared by every module of the project: one wording for one kind of mistake."""
+"""Input checks shared by every module of the project: one wording for one kind of mistake.
+
+The rules, written once:
+
+* a *number* is a finite real scalar: a Python ``int``/``float``, a numpy integer or floating
+  scalar, or a 0-d real array. Strings (even ``'0.5'``), bytes, ``None``, booleans and complex
+  numbers are a :class:`TypeError`; NaN, +-inf and values outside the allowed range are a
+  :class:`ValueError`.
+* an *integer* is an ``int`` or numpy integer (not a bool, not a float with no fraction).
+* an *array* is anything numpy turns into a real numeric array (lists, tuples, read-only arrays,
+  memory maps); strings, objects, booleans and complex values are a :class:`TypeError`, NaN/inf
+  and wrong shapes a :class:`ValueError`.
+
+Every message names the parameter, what was given and what is allowed; no check lets an
+exception from inside numpy or the standard library escape.
+"""
 
 from __future__ import annotations
 
 import math
+import numbers
+from collections.abc import Iterable
 from typing import Any
 
 import numpy as np
 
-__all__ = ["real_number", "positive", "non_negative", "frozen_array"]
+__all__ = [
+    "InputTypeError",
+    "choice",
+    "flag",
+    "frozen_array",
+    "height_map",
+    "integer",
+    "non_negative",
+    "positive",
+    "real_array",
+    "real_number",
+]
+
+
+class InputTypeError(TypeError, ValueError):
+    """A parameter of the wrong type (a string, ``None``, a bool or a complex number where a real
+    number is needed). A :class:`TypeError`; also a :class:`ValueError`, so that code written
+    when these were reported as ``ValueError`` keeps catching them."""
+
+
+def _describe(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _bounds(minimum, maximum, exclusive, exclusive_maximum) -> str:
+    parts = []
+    if minimum is not None:
+        parts.append(f"{'>' if exclusive else '>='} {minimum:g}")
+    if maximum is not None:
+        parts.append(f"{'<' if exclusive_maximum else '<='} {maximum:g}")
+    return (" " + " and ".join(parts)) if parts else ""
 
 
 def real_number(name: str, value: Any, *, minimum: float | None = None,
-                exclusive: bool = False) -> float:
-    """``float(value)`` if it is a finite real number (not a bool) within the bound.
+                exclusive: bool = False, maximum: float | None = None,
+                exclusive_maximum: bool = False) -> float:
+    """``float(value)`` if it is a finite real number within the bounds.
 
     Raises
     ------
+    InputTypeError
+        A :class:`TypeError`: ``value`` is not a real number (a string, ``None``, a bool,
+        a complex number, ...).
     ValueError
-        Naming ``name``, what was given and what is allowed.
+        NaN, +-inf or outside ``[minimum, maximum]`` (open ends with ``exclusive`` /
+        ``exclusive_maximum``); the message names ``name``, the value and the allowed range.
     """
-    bound = "" if minimum is None else f" {'>' if exclusive else '>='} {minimum:g}"
-    message = f"{name} must be a finite real number{bound}, got {value!r}"
-    if isinstance(value, (bool, np.bool_)):
-        raise ValueError(message)
+    allowed = f"a finite real number{_bounds(minimum, maximum, exclusive, exclusive_maximum)}"
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if (isinstance(value, (bool, np.bool_))
+            or not isinstance(value, (numbers.Real, np.integer, np.floating))):
+        raise InputTypeError(f"{name} must be {allowed}, got {type(value).__name__} "
+                        f"{_describe(value)}")
     try:
         number = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(message) from None
-    if not math.isfinite(number):
-        raise ValueError(message)
-    if minimum is not None and (number <= minimum if exclusive else number < minimum):
-        raise ValueError(message)
+    except (OverflowError, ValueError):   # an int too large for a double
+        raise ValueError(f"{name} must be {allowed}, got {_describe(value)}") from None
+    if (not math.isfinite(number)
+            or (minimum is not None and (number <= minimum if exclusive else number < minimum))
+            or (maximum is not None
+                and (number >= maximum if exclusive_maximum else number > maximum))):
+        raise ValueError(f"{name} must be {allowed}, got {_describe(value)}")
     return number
 
 
@@ -44,6 +101,155 @@ def non_negative(name: str, value: Any) -> float:
     return real_number(name, value, minimum=0.0)
 
 
+def integer(name: str, value: Any, *, minimum: int | None = None,
+            maximum: int | None = None) -> int:
+    """``int(value)`` if it is an integer (not a bool) within the bounds."""
+    allowed = "an integer" + _bounds(minimum, maximum, False, False)
+    if isinstance(value, np.ndarray) and value.ndim == 0:
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral,
+                                                                    np.integer)):
+        raise InputTypeError(f"{name} must be {allowed}, got {type(value).__name__} "
+                        f"{_describe(value)}")
+    number = int(value)
+    if (minimum is not None and number < minimum) or (maximum is not None and number > maximum):
+        raise ValueError(f"{name} must be {allowed}, got {number!r}")
+    return number
+
+
+def flag(name: str, value: Any) -> bool:
+    """A bool (Python or numpy)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputTypeError(f"{name} must be True or False, got {type(value).__name__} "
+                        f"{_describe(value)}")
+    return bool(value)
+
+
+def choice(name: str, value: Any, allowed: Iterable[Any]) -> Any:
+    """``value`` if it is one of ``allowed`` (compared by equality, bools never match ints)."""
+    allowed = tuple(allowed)
+    if isinstance(value, (bool, np.bool_)) or not _hashable(value) or value not in allowed:
+        raise ValueError(f"{name} must be one of {allowed}, got {_describe(value)}")
+    return allowed[allowed.index(value)]
+
+
+def _hashable(value: Any) -> bool:
+    try:
+        hash(value)
+    except TypeError:
+        return False
+    return True
+
+
+def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool = True,
+               min_size: int = 0, minimum: float | None = None,
+               exclusive: bool = False) -> np.ndarray:
+    """``values`` as a float64 array (a view when it already is one; read-only input is fine).
+
+    Raises
+    ------
+    TypeError
+        ``None``, strings, booleans, complex or object values.
+    ValueError
+        Ragged input, wrong number of dimensions, fewer than ``min_size`` entries, NaN/inf (when
+        ``finite``) or entries below ``minimum``.
+    """
+    if values is None or isinstance(values, (str, bytes)):
+        raise InputTypeError(f"{name} must be real numbers (an array), got "
+                        f"{type(values).__name__} {_describe(values)}")
+    try:
+        raw = np.asarray(values)
+    except (ValueError, TypeError):
+        raise ValueError(f"{name} must be a rectangular array of real numbers "
+                         "(got a ragged sequence)") from None
+    if raw.dtype.kind not in "iuf":
+        kind = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes",
+                "O": "objects"}.get(raw.dtype.kind, f"dtype {raw.dtype}")
+        raise InputTypeError(f"{name} must be real numbers (an array), got {kind}")
+    array = raw.astype(float, copy=False)
+    if ndim is not None and array.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array, got {array.ndim} dimension(s) "
+                         f"(shape {array.shape})")
+    if array.size < min_size:
+        raise ValueError(f"{name} must have at least {min_size} entries, got {array.size}")
+    if finite and not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    if minimum is not None and array.size:
+        low = np.nanmin(array)
+        if low <= minimum if exclusive else low < minimum:
+            raise ValueError(f"{name} must be {'>' if exclusive else '>='} {minimum:g} "
+                             f"everywhere, got a minimum of {low!r}")
+    return array
+
+
+def integer_array(name: str, values: Any, *, minimum: int | None = None) -> np.ndarray:
+    """``values`` as a 1-D ``intp`` array: integer entries (or floats with no fraction), each
+    >= ``minimum``."""
+    array = real_array(name, values).ravel()
+    if np.asarray(values).dtype.kind == "f" and np.any(array != np.rint(array)):
+        raise ValueError(f"{name} must be integers, got fractional entries")
+    if np.any(np.abs(array) > np.iinfo(np.intp).max // 2):
+        raise ValueError(f"{name} entries are too large for an index")
+    if minimum is not None and array.size and array.min() < minimum:
+        raise ValueError(f"{name} must be integers >= {minimum}, got {array.min():g}")
+    return array.astype(np.intp)
+
+
+def separations(name: str, values: Any) -> np.ndarray:
+    """Separations [length] of a closed-form model: real, no NaN, no -inf (+inf means out of
+    contact)."""
+    array = real_array(name, values, finite=False)
+    if np.isnan(array).any() or (array == -np.inf).any():
+        raise ValueError(f"{name} must not contain NaN or -inf (+inf means no contact)")
+    return array
+
+
+def loads(name: str, values: Any) -> np.ndarray:
+    """Loads [force] of a closed-form model: finite, real, >= 0."""
+    return real_array(name, values, minimum=0.0)
+
+
+def no_overflow(name: str, values: np.ndarray, what: str) -> np.ndarray:
+    """``values`` if none is +-inf; a ValueError naming ``name`` and ``what`` overflowed."""
+    if np.isinf(values).any():
+        raise ValueError(f"{name} is outside the supported range: {what} overflows")
+    return values
+
+
+def names(name: str, values: Any, allowed: Iterable[str]) -> tuple[str, ...]:
+    """A tuple of names, each one of ``allowed`` (a lone string is a mistake, not a name
+    list)."""
+    allowed = tuple(allowed)
+    if isinstance(values, str) or not isinstance(values, (tuple, list)):
+        raise InputTypeError(f"{name} must be a tuple of names from {allowed}, got "
+                             f"{type(values).__name__} {_describe(values)}")
+    unknown = [value for value in values if not isinstance(value, str) or value not in allowed]
+    if unknown:
+        raise ValueError(f"{name} must be among {allowed}, got unknown {unknown}")
+    return tuple(values)
+
+
+def curve_error_arguments(sigma: Any, quantities: Any, allowed: Iterable[str]
+                          ) -> tuple[float, tuple[str, ...]]:
+    """Checked ``(sigma, quantities)`` of a comparison of two contact curves: sigma > 0 [length]
+    in the supported range, quantities known by name."""
+    sigma = supported_magnitude("sigma", positive("sigma", sigma))
+    return sigma, names("quantities", quantities, allowed)
+
+
+def height_map(name: str, values: Any, *, minimum: int = 3, square: bool = False) -> np.ndarray:
+    """A 2-D, finite, real height map of at least ``minimum`` x ``minimum`` points."""
+    array = real_array(name, values, ndim=2, finite=False)
+    if min(array.shape) < minimum:
+        raise ValueError(f"{name} must be at least {minimum} x {minimum}, got shape "
+                         f"{array.shape}")
+    if square and array.shape[0] != array.shape[1]:
+        raise ValueError(f"{name} must be a square grid (n x n), got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    return array
+
+
 def frozen_array(values: Any, dtype=float) -> np.ndarray | None:
     """A read-only copy of ``values`` as an array (``None`` stays ``None``); ``dtype=None``
     keeps the input's type."""
@@ -51,4 +257,62 @@ def frozen_array(values: Any, dtype=float) -> np.ndarray | None:
         return None
     array = np.array(values, dtype=dtype, copy=True)
     array.setflags(write=False)
+    return array
+
+
+#: Magnitudes the boundary-element solver supports for lengths, moduli, loads and heights: any
+#: physical unit system fits (SI: E* ~ 1e11 Pa, spacings ~ 1e-9 m, loads 1e-12..1e6 N), and
+#: products of powers of them (pressures^2 in the CG dot products) stay far from over/underflow.
+SUPPORTED_MAGNITUDE = (1e-30, 1e30)
+
+
+def supported_magnitude(name: str, value: float) -> float:
+    """``value`` if it is 0 or its magnitude lies in :data:`SUPPORTED_MAGNITUDE`."""
+    low, high = SUPPORTED_MAGNITUDE
+    size = abs(value)
+    if size != 0.0 and not low <= size <= high:
+        raise ValueError(f"{name} = {value!r} is outside the supported range: its magnitude "
+                         f"must be 0 or between {low:g} and {high:g} (rescale the units)")
+    return value
+
+
+def contact_number(name: str, value: Any, *, minimum: float | None = None,
+                   exclusive: bool = False) -> float:
+    """A finite real number (bounded below) of a contact problem, in the supported range."""
+    return supported_magnitude(name, real_number(name, value, minimum=minimum,
+                                                 exclusive=exclusive))
+
+
+def contact_heights(name: str, values: Any, *, minimum: int) -> np.ndarray:
+    """A square, finite, real height map of at least ``minimum`` x ``minimum`` points whose
+    largest magnitude lies in the supported range (a fresh float64 copy)."""
+    z = np.array(height_map(name, values, minimum=minimum, square=True), dtype=float, copy=True)
+    supported_magnitude(f"max |{name}|", float(np.max(np.abs(z))))
+    return z
+
+
+def contact_problem(heights: Any, spacing: Any, e_star: Any, tol: Any, max_iter: Any,
+                    periodic: Any, *, minimum_grid: int):
+    """Checked ``(heights, spacing, e_star, tol, max_iter, periodic)`` of a contact problem."""
+    z = contact_heights("heights", heights, minimum=minimum_grid)
+    spacing = contact_number("spacing", spacing, minimum=0.0, exclusive=True)
+    e_star = contact_number("e_star", e_star, minimum=0.0, exclusive=True)
+    tol = contact_number("tol", tol, minimum=0.0, exclusive=True)
+    return z, spacing, e_star, tol, integer("max_iter", max_iter, minimum=1), flag("periodic",
+                                                                                 periodic)
+
+
+def contact_path(name: str, values: Any, *, non_negative: bool) -> np.ndarray:
+    """A non-empty 1-D sequence of loads or separations (a scalar is one point), finite, in the
+    supported range (a fresh float64 copy)."""
+    array = np.array(real_array(name, values, finite=True, minimum=0.0 if non_negative
+                                else None), dtype=float, copy=True)
+    if array.ndim == 0:
+        array = array.reshape(1)
+    if array.ndim != 1 or array.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D sequence, got shape {array.shape}")
+    supported_magnitude(f"max |{name}|", float(np.max(np.abs(array))))
+    nonzero = np.abs(array[array != 0])
+    if nonzero.size:
+        supported_magnitude(f"min nonzero |{name}|", float(nonzero.min()))
     return array

@@ -55,6 +55,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from bem.checks import frozen_array as _frozen_array
+from bem.checks import positive as _positive
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES"]
 
@@ -107,10 +108,7 @@ class ContactCurve:
                     )
             object.__setattr__(self, f.name, array)
         for name in ("nominal_area", "e_star"):
-            value = float(getattr(self, name))
-            if not np.isfinite(value) or value <= 0:
-                raise ValueError(f"ContactCurve {name} must be finite and > 0, got {value!r}")
-            object.__setattr__(self, name, value)
+            object.__setattr__(self, name, _positive(name, getattr(self, name)))
         extras = {}
         for key, value in dict(self.extras).items():
             if isinstance(value, np.ndarray):

@@ -39,7 +39,7 @@ import os
 
 import numpy as np
 
-from bem.checks import positive as _check_positive
+from bem import checks
 
 from bem.fft import PaddedRealFFT2, RealFFT2, default_threads
 from bem.reference import love_pixel_displacement
@@ -115,15 +115,12 @@ class HalfSpace:
     def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
                  periodic: bool = False, backend: str = "auto", threads: int | None = None,
                  planner_effort: str | None = None) -> None:
-        try:
-            shape = tuple(int(s) for s in shape)
-        except TypeError:
-            raise ValueError(f"shape must be a pair of positive integers, got {shape!r}") from None
-        if len(shape) != 2 or min(shape) < 1:
+        if not isinstance(shape, (tuple, list)) or len(shape) != 2:
             raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
+        shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
         self.shape: tuple[int, int] = shape
-        self.spacing = _check_positive("spacing", spacing)
-        self.e_star = _check_positive("e_star", e_star)
+        self.spacing = checks.contact_number("spacing", spacing, minimum=0.0, exclusive=True)
+        self.e_star = checks.contact_number("e_star", e_star, minimum=0.0, exclusive=True)
         if not isinstance(periodic, (bool, np.bool_)):
             raise ValueError(f"periodic must be True or False, got {periodic!r}")
         self.periodic = bool(periodic)
@@ -194,7 +191,7 @@ class HalfSpace:
         numpy.ndarray
             A fresh float64 array of ``shape``, positive into the body under compression.
         """
-        pressure = np.asarray(pressure, dtype=float)
+        pressure = checks.real_array("pressure", pressure, finite=False)
         if pressure.shape != self.shape:
             raise ValueError(f"pressure must have shape {self.shape}, got {pressure.shape}")
         if not np.all(np.isfinite(pressure)):

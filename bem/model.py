@@ -51,6 +51,7 @@ from typing import Any, Iterable, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from bem import checks
 from bem.checks import positive as _positive
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 
@@ -91,10 +92,7 @@ def check_points(name: str, values: ArrayLike, *, non_negative: bool = False,
         Naming ``name``: not real numbers, NaN, infinite (``+inf`` is allowed only with
         ``allow_infinity``; ``-inf`` never), or negative when ``non_negative``.
     """
-    try:
-        array = np.asarray(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be real numbers, got {values!r}") from None
+    array = checks.real_array(name, values, finite=False)
     if np.isnan(array).any():
         raise ValueError(f"{name} must be finite numbers, not NaN")
     infinite = np.isinf(array)

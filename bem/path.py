@@ -11,6 +11,7 @@ import scipy.sparse.csgraph
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.halfspace import HalfSpace
+from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _solve, _Workspace)
 
@@ -45,19 +46,7 @@ def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
 
 
 def _check_path(name: str, values, *, non_negative: bool) -> np.ndarray:
-    try:
-        array = np.array(values, dtype=float, copy=True)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a 1-D sequence of real numbers") from None
-    if array.ndim == 0:
-        array = array.reshape(1)
-    if array.ndim != 1 or array.size == 0:
-        raise ValueError(f"{name} must be a non-empty 1-D sequence, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise ValueError(f"{name} must be finite (no NaN or inf)")
-    if non_negative and np.any(array < 0.0):
-        raise ValueError(f"{name} must be >= 0, got minimum {float(array.min())!r}")
-    return array
+    return checks.contact_path(name, values, non_negative=non_negative)
 
 
 def contact_curve(

@@ -147,40 +147,15 @@ class ContactSolution:
 # input checks
 
 
-def _check_heights(heights) -> np.ndarray:
-    try:
-        z = np.array(heights, dtype=float, copy=True)
-    except (TypeError, ValueError):
-        raise ValueError("heights must be a 2-D array of real numbers") from None
-    if z.ndim != 2:
-        raise ValueError(f"heights must be a 2-D array, got {z.ndim} dimension(s)")
-    if z.shape[0] != z.shape[1]:
-        raise ValueError(f"heights must be a square grid (n x n), got shape {z.shape}")
-    if z.shape[0] < MINIMUM_GRID:
-        raise ValueError(f"heights must be at least {MINIMUM_GRID} x {MINIMUM_GRID}, "
-                         f"got shape {z.shape}")
-    if not np.all(np.isfinite(z)):
-        raise ValueError("heights must be finite (no NaN or inf)")
-    return z
-
-
 def _check_problem(heights, spacing, e_star, tol, max_iter, periodic):
     """Checked (heights, spacing, e_star, tol, max_iter, periodic) of a contact problem."""
-    z = _check_heights(heights)
-    spacing = _check_real("spacing", spacing, positive=True)
-    e_star = _check_real("e_star", e_star, positive=True)
-    tol = _check_real("tol", tol, positive=True)
-    if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
-        raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if not isinstance(periodic, (bool, np.bool_)):
-        raise ValueError(f"periodic must be True or False, got {periodic!r}")
-    return z, spacing, e_star, tol, int(max_iter), bool(periodic)
+    return checks.contact_problem(heights, spacing, e_star, tol, max_iter, periodic,
+                                  minimum_grid=MINIMUM_GRID)
 
 
 def _check_real(name: str, value, *, positive: bool = False, non_negative: bool = False) -> float:
-    if positive:
-        return checks.positive(name, value)
-    return checks.real_number(name, value, minimum=0.0 if non_negative else None)
+    return checks.contact_number(name, value, minimum=0.0 if positive or non_negative else None,
+                                 exclusive=positive)
 
 
 def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:
@@ -432,9 +407,10 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
                 operator._apply(p, u)
             return _Outcome(p, True, iteration, residual, "converged")
     operator._apply(p, u)
+    change = (f"relative pressure change {residual:.3g} > tol = {tol:.3g}"
+              if math.isfinite(residual) else "the contact set changed at every iteration")
     return _Outcome(p, False, max_iter, residual,
-                    f"not converged after {max_iter} iterations (relative pressure change "
-                    f"{residual:.3g} > tol = {tol:.3g})")
+                    f"not converged after {max_iter} iterations ({change})")
 
 
 def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,
@@ -464,6 +440,9 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     if n_contact == 0:
         return 0.0, True, 0
     if operator.periodic and n_contact == contact.size:
+        warnings.warn("bem.solve_contact: full contact of a periodic surface: the stiffness is "
+                      "infinite (no load can push the plane further)", ConvergenceWarning,
+                      stacklevel=4)
         return math.inf, True, 0
     weight = np.asarray(contact, dtype=float)
     q = weight / operator.self_influence

@@ -45,3 +45,74 @@ def test_truncated_or_tampered_entry_is_dropped(tmp_path):
     arrays["__checksum__"] = np.array("0" * 64)
     np.savez(path, **arrays)
     assert cache.load(key) is None
+
+
+def _decode_load(arrays):
+    return arrays["load"]
+
+
+def test_entry_copied_under_another_name_is_not_used(tmp_path):
+    cache = Cache(tmp_path)
+    first, second = cache_key("x", "1", a=1), cache_key("x", "1", a=2)
+    cache.store(first, {"load": np.arange(3.0)})
+    cache.path(second).write_bytes(cache.path(first).read_bytes())
+    assert cache.load(second) is None and not cache.path(second).exists()
+    np.testing.assert_array_equal(cache.load(first)["load"], np.arange(3.0))
+
+
+def test_entry_missing_an_array_is_removed_and_recomputed(tmp_path):
+    cache = Cache(tmp_path)
+    key = cache_key("x", "1", a=3)
+    cache.store(key, {"area": np.ones(2)})       # valid checksum, but no "load"
+    assert cache.load(key, decode=_decode_load) is None
+    assert not cache.path(key).exists()
+    cache.store(key, {"load": np.ones(2)})
+    np.testing.assert_array_equal(cache.load(key, decode=_decode_load), np.ones(2))
+
+
+def test_directory_at_an_entry_path_is_replaced(tmp_path):
+    cache = Cache(tmp_path)
+    key = cache_key("x", "1", a=4)
+    (cache.path(key) / "inner").mkdir(parents=True)
+    assert cache.load(key) is None
+    cache.store(key, {"load": np.ones(1)})
+    assert cache.path(key).is_file() and cache.load(key)["load"][0] == 1.0
+
+
+def test_stale_temporary_files_are_cleaned_and_fresh_ones_kept(tmp_path):
+    import os
+    import time
+
+    stale, fresh = tmp_path / ".x-1.abc.tmp", tmp_path / ".x-2.def.tmp"
+    stale.write_bytes(b"half")
+    fresh.write_bytes(b"half")
+    old = time.time() - 2 * 3600
+    os.utime(stale, (old, old))
+    Cache(tmp_path)
+    assert not stale.exists() and fresh.exists()
+
+
+def test_unwritable_cache_warns_and_does_not_stop_the_computation(tmp_path):
+    import pytest
+
+    from validation.cache import CacheWarning
+
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    cache = Cache(blocker)
+    with pytest.warns(CacheWarning, match="not written"):
+        cache.store(cache_key("x", "1", a=5), {"load": np.ones(1)})
+
+
+def test_check_directory_names_what_is_wrong(tmp_path):
+    import pytest
+
+    from validation.cache import check_directory
+
+    assert check_directory(tmp_path / "new" / "folder", "--out").is_dir()
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    with pytest.raises(ValueError, match="--cache .* is not a writable directory"):
+        check_directory(blocker, "--cache")
+    with pytest.raises(ValueError, match="--out '/proc/nope' is not a writable directory"):
+        check_directory("/proc/nope", "--out")

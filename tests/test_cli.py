@@ -103,3 +103,28 @@ def test_scheduler_without_dask_says_what_to_install(tmp_path, monkeypatch):
     with pytest.raises(SystemExit, match="dask"):
         main(["report", "paper-theory", "--out", str(tmp_path), "--no-cache", "--scheduler",
               "tcp://127.0.0.1:1"])
+
+
+def _run(*arguments):
+    return subprocess.run([sys.executable, "-m", "validation", "report", *map(str, arguments)],
+                          capture_output=True, text=True, timeout=120)
+
+
+def test_unwritable_out_or_cache_fails_before_computing(tmp_path):
+    # paper-wm-d205 takes minutes: a prompt exit 2 shows nothing was computed first.
+    process = _run("paper-wm-d205", "--out", "/proc/nope", "--no-cache", "--jobs", "1")
+    assert process.returncode == 2 and "Traceback" not in process.stderr
+    assert "--out '/proc/nope' is not a writable directory" in process.stderr
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    process = _run("paper-wm-d205", "--out", tmp_path / "o", "--cache", blocker, "--jobs", "1")
+    assert process.returncode == 2 and "Traceback" not in process.stderr
+    assert "--cache" in process.stderr and "not a writable directory" in process.stderr
+
+
+def test_binary_scene_file_is_a_clean_error(tmp_path):
+    binary = tmp_path / "scene.toml"
+    binary.write_bytes(bytes(range(256)) * 4)
+    process = _run(binary, "--out", tmp_path / "o", "--no-cache")
+    assert process.returncode == 2 and "Traceback" not in process.stderr
+    assert "scene.toml" in process.stderr and "not a text scene file" in process.stderr

@@ -121,12 +121,35 @@ def test_reference_error_task_uses_twice_the_grid():
     assert len(fine) == 1 and fine[0].surface.n == 64 and fine[0].models == ("bem",)
 
 
-def test_progress_bar_reports_work_done_and_left(capsys):
+def test_progress_bar_reports_work_done_on_a_terminal_only():
     import io
 
-    stream = io.StringIO()
-    run_scenes([tiny(**{"models.use": ["gw", "bem"], "quantities.use": ["area", "load"]})],
-               progress=True, stream=stream)
-    lines = stream.getvalue().splitlines()
-    assert lines[0].startswith("[") and "0/2 realizations, 2 left" in lines[0]
-    assert "2/2 realizations, 0 left" in lines[-1]
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    scene = tiny(**{"models.use": ["gw", "bem"], "quantities.use": ["area", "load"]})
+    terminal, log = Terminal(), io.StringIO()
+    run_scenes([scene], progress=True, stream=terminal)
+    run_scenes([scene], progress=True, stream=log)
+    assert "0/2" in terminal.getvalue() and "2/2" in terminal.getvalue()
+    assert "realizations" in terminal.getvalue()
+    assert log.getvalue() == ""
+
+
+def test_progress_is_quiet_off_a_terminal_and_counts_on_request():
+    import io
+
+    from validation.progress import Progress
+
+    quiet = io.StringIO()
+    bar = Progress(3, stream=quiet)
+    for step in range(3):
+        bar.advance(f"step {step}")
+    assert quiet.getvalue() == ""
+    shown = io.StringIO()
+    bar = Progress(2, stream=shown, always=True)
+    bar.advance("first")
+    bar.advance("second")
+    text = shown.getvalue()
+    assert "2/2" in text and "realizations" in text and "second" in text

@@ -4,8 +4,12 @@ An entry is a ``.npz`` file of named arrays under a key that hashes exactly the 
 determine it, plus the package version (a new version never reads an old result). Entries are
 written to a temporary file in the same folder and renamed into place (``os.replace`` is
 atomic), so a crash or a concurrent writer never leaves a half-written entry under a valid
-name. An entry that cannot be read back (truncated, corrupt, or missing its checksum) is
-treated as absent, deleted, and recomputed.
+name. Every entry records its own key and a checksum of its arrays; an entry that cannot be
+read back (truncated, corrupt, missing its checksum, stored under another entry's name, or
+rejected by the caller's decoder because an array is missing) is treated as absent, deleted,
+and recomputed. Temporary files left by a killed writer are removed once they are an hour old
+(a younger one may belong to a writer still at work). Failing to *write* an entry warns
+(:class:`CacheWarning`) and never stops a computation: the cache only saves time.
 """
 
 from __future__ import annotations
@@ -15,16 +19,51 @@ import json
 import math
 import os
 import pathlib
+import shutil
 import tempfile
+import time
+import warnings
 import zipfile
 from dataclasses import asdict, is_dataclass
-from typing import Any
+from typing import Any, Callable, TypeVar
 
 import numpy as np
 
-__all__ = ["Cache", "cache_key", "default_cache_dir"]
+__all__ = ["Cache", "CacheWarning", "cache_key", "check_directory", "default_cache_dir"]
 
 _CHECKSUM = "__checksum__"
+_KEY = "__key__"
+#: Age [s] after which a temporary file is taken to be left by a killed writer.
+STALE_SECONDS = 3600.0
+#: What a broken entry or a decoder of one may raise: all mean "recompute".
+_UNREADABLE = (OSError, ValueError, KeyError, IndexError, TypeError, EOFError,
+               zipfile.BadZipFile)
+
+T = TypeVar("T")
+
+
+class CacheWarning(UserWarning):
+    """A cache entry could not be written (the result is still returned)."""
+
+
+def check_directory(path: str | os.PathLike, what: str) -> pathlib.Path:
+    """Create ``path`` if needed and check that files can be written in it.
+
+    Raises
+    ------
+    ValueError
+        Naming ``what`` and the reason (a file in the way, no permission, a read-only or
+        virtual file system), so that a command fails before any computing starts.
+    """
+    path = pathlib.Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=path, prefix=".write-check-"):
+            pass
+    except (OSError, ValueError) as error:
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error)
+        raise ValueError(f"{what} {str(path)!r} is not a writable directory: {reason}") from None
+    return path
 
 
 def default_cache_dir() -> pathlib.Path:
@@ -83,6 +122,8 @@ class Cache:
 
     def __init__(self, directory: str | os.PathLike | None) -> None:
         self.directory = None if directory is None else pathlib.Path(directory)
+        if self.directory is not None:
+            self.clean()
 
     @property
     def enabled(self) -> bool:
@@ -91,12 +132,43 @@ class Cache:
     def path(self, key: str) -> pathlib.Path:
         return self.directory / f"{key}.npz"
 
-    def load(self, key: str) -> dict[str, np.ndarray] | None:
-        """The arrays stored under ``key``, or ``None`` when absent or unreadable."""
+    def clean(self, max_age: float = STALE_SECONDS) -> int:
+        """Remove temporary files older than ``max_age`` seconds; returns how many."""
+        if self.directory is None or not self.directory.is_dir():
+            return 0
+        removed = 0
+        now = time.time()
+        for temporary in self.directory.glob(".*.tmp"):
+            try:
+                if now - temporary.stat().st_mtime > max_age:
+                    temporary.unlink()
+                    removed += 1
+            except OSError:
+                continue          # taken by another cleaner, or not ours to remove
+        return removed
+
+    def _discard(self, path: pathlib.Path) -> None:
+        try:
+            if path.is_dir() and not path.is_symlink():
+                shutil.rmtree(path)
+            else:
+                path.unlink(missing_ok=True)
+        except OSError:
+            pass                  # the next store() reports what is in the way
+
+    def load(self, key: str, decode: Callable[[dict[str, np.ndarray]], T] | None = None
+             ) -> dict[str, np.ndarray] | T | None:
+        """The arrays stored under ``key`` (passed through ``decode`` when given), or ``None``
+        when absent or unreadable.
+
+        An entry is unreadable when it is not a valid ``.npz`` file, its checksum does not
+        match, it records another key, or ``decode`` raises (an array it needs is missing or
+        malformed); such an entry is deleted so that the caller recomputes and replaces it.
+        """
         if self.directory is None:
             return None
         path = self.path(key)
-        if not path.is_file():
+        if not path.exists():
             return None
         try:
             with np.load(path, allow_pickle=False) as data:
@@ -104,24 +176,37 @@ class Cache:
             stored = str(arrays.pop(_CHECKSUM))
             if stored != _checksum(arrays):
                 raise ValueError("checksum mismatch")
-        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):
-            path.unlink(missing_ok=True)  # corrupt: drop it, the caller recomputes
+            if str(arrays.pop(_KEY)) != key:
+                raise ValueError("entry stored under another key")
+            return arrays if decode is None else decode(arrays)
+        except _UNREADABLE:
+            self._discard(path)  # corrupt or foreign: drop it, the caller recomputes
             return None
-        return arrays
 
     def store(self, key: str, arrays: dict[str, np.ndarray]) -> None:
-        """Write ``arrays`` under ``key`` atomically."""
+        """Write ``arrays`` under ``key`` atomically (a :class:`CacheWarning` if impossible)."""
         if self.directory is None:
             return
-        self.directory.mkdir(parents=True, exist_ok=True)
         arrays = {name: np.asarray(value) for name, value in arrays.items()}
         payload = dict(arrays)
-        payload[_CHECKSUM] = np.array(_checksum(arrays))
-        handle, temporary = tempfile.mkstemp(dir=self.directory, prefix=f".{key}.", suffix=".tmp")
+        payload[_KEY] = np.array(key)
+        payload[_CHECKSUM] = np.array(_checksum(payload))
+        temporary = None
         try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            if self.path(key).is_dir():
+                self._discard(self.path(key))
+            handle, temporary = tempfile.mkstemp(dir=self.directory, prefix=f".{key}.",
+                                                 suffix=".tmp")
             with os.fdopen(handle, "wb") as stream:
                 np.savez(stream, **payload)
             os.replace(temporary, self.path(key))
+        except OSError as error:
+            if temporary is not None:
+                pathlib.Path(temporary).unlink(missing_ok=True)
+            warnings.warn(f"cache entry {key} not written to {self.directory}: {error}",
+                          CacheWarning, stacklevel=2)
         except BaseException:
-            pathlib.Path(temporary).unlink(missing_ok=True)
+            if temporary is not None:
+                pathlib.Path(temporary).unlink(missing_ok=True)
             raise

@@ -15,7 +15,7 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from validation.cache import default_cache_dir
+from validation.cache import check_directory, default_cache_dir
 from validation.scene import SceneError, builtin_scenes, load_scene
 
 #: Scenes of the default report, in report order.
@@ -45,12 +45,23 @@ def _executor(args: argparse.Namespace):
     return pool, pool.shutdown
 
 
+def _load_scene(name: str):
+    """:func:`load_scene` with unreadable files (binary, not UTF-8, no permission) reported as
+    a :class:`SceneError`."""
+    try:
+        return load_scene(name)
+    except UnicodeDecodeError:
+        raise SceneError(f"{name}: not a text scene file (it is not UTF-8 encoded)") from None
+    except (IsADirectoryError, PermissionError) as error:
+        raise SceneError(f"{name}: cannot read the scene file: {error.strerror}") from None
+
+
 def _report(args: argparse.Namespace) -> int:
     from validation.report import write_report
     from validation.runner import run_scenes
 
     names = args.scenes or list(DEFAULT_SCENES)
-    scenes = [load_scene(name) for name in names]
+    scenes = [_load_scene(name) for name in names]
     repeated = sorted({s.name for s in scenes if [t.name for t in scenes].count(s.name) > 1})
     if repeated:
         raise SceneError(f"scene names must be unique in one report (they name its files); "
@@ -63,6 +74,16 @@ def _report(args: argparse.Namespace) -> int:
         scenes = [scene.quick_version() for scene in scenes]
     mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
+    # Fail before any computing: an unwritable report or cache folder is found now, not after.
+    try:
+        check_directory(args.out, "--out")
+        if cache_dir is not None:
+            check_directory(cache_dir, "--cache")
+        if args.jobs < 1:
+            raise ValueError(f"--jobs must be >= 1, got {args.jobs}")
+    except ValueError as error:
+        print(f"error: {error}", file=sys.stderr)
+        return 2
     executor, close = _executor(args)
     start = time.perf_counter()
     try:
@@ -98,7 +119,7 @@ def _show(args: argparse.Namespace) -> int:
 
     if args.scene in builtin_scenes():
         print((resources.files("validation") / "scenes" / f"{args.scene}.toml").read_text(encoding="utf-8"))
-    scene = load_scene(args.scene)
+    scene = _load_scene(args.scene)
     print(f"# parsed: {scene}")
     return 0
 

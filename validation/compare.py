@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.verdicts import (
     HOLDS,
@@ -99,6 +100,8 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
         One error array per quantity (NaN where the reference value is zero for a relative
         error, or where either curve's solver did not converge).
     """
+    sigma, quantities = checks.curve_error_arguments(
+        sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES)
     if model.load.shape != reference.load.shape or not np.allclose(
             model.load, reference.load, rtol=load_rtol, atol=0.0):
         raise ValueError("model and reference curves must be evaluated at the same loads")

@@ -22,7 +22,6 @@ different scenes run once.
 from __future__ import annotations
 
 import math
-import sys
 import time
 from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field, replace
@@ -34,6 +33,7 @@ from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation import models
 from validation.cache import Cache, cache_key
 from validation.models import ModelInputs
+from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces import wm_surface
 
@@ -227,9 +227,9 @@ def _summits(task: RealizationTask, cache: Cache, log: _Log, heights):
             or task.loads.quantity == "separation"):
         return None
     key = cache_key("summits", _version(), surface=_surface_inputs(task))
-    arrays = cache.load(key)
-    if arrays is not None:
-        return asperity.summits_from_arrays(arrays)
+    summits = cache.load(key, decode=asperity.summits_from_arrays)
+    if summits is not None:
+        return summits
     summits = asperity.find_summits(heights(), task.surface.spacing)
     cache.store(key, asperity.summits_to_arrays(summits))
     log.did("summits")
@@ -246,10 +246,10 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
         key = cache_key(item.name, _version(), surface=_surface_inputs(log.task),
                         e_star=inputs.e_star, stiffness=stiffness, **item.settings(inputs),
                         **path)
-        arrays = cache.load(key)
-        if arrays is not None:
+        cached = cache.load(key, decode=_curve_from_arrays)
+        if cached is not None:
             log.seconds[item.name] = 0.0
-            return _curve_from_arrays(arrays)
+            return cached
     start = time.perf_counter()
     model = item.factory(inputs)
     if "loads" in path:
@@ -300,34 +300,6 @@ def run_realization(task: RealizationTask) -> RealizationResult:
 
 # --------------------------------------------------------------------------------------------
 # many scenes
-
-class Progress:
-    """A text progress bar on a stream: work done and left, elapsed time."""
-
-    def __init__(self, total: int, *, stream=None, label: str = "realizations", width: int = 30):
-        self.total, self.done, self.label, self.width = total, 0, label, width
-        self.stream = sys.stderr if stream is None else stream
-        self.start = time.perf_counter()
-        self.interactive = hasattr(self.stream, "isatty") and self.stream.isatty()
-        if total:
-            self._draw()
-
-    def advance(self, what: str = "") -> None:
-        self.done += 1
-        self._draw(what)
-
-    def _draw(self, what: str = "") -> None:
-        filled = int(self.width * self.done / max(self.total, 1))
-        bar = "#" * filled + "-" * (self.width - filled)
-        elapsed = time.perf_counter() - self.start
-        line = (f"[{bar}] {self.done}/{self.total} {self.label}, {self.total - self.done} left, "
-                f"{elapsed:.0f} s" + (f"  ({what})" if what else ""))
-        if self.interactive:
-            self.stream.write("\r" + line + ("\n" if self.done == self.total else ""))
-        else:
-            self.stream.write(line + "\n")
-        self.stream.flush()
-
 
 def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                cache_dir: str | None = None, progress: bool = True, stream=None

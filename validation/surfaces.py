@@ -23,21 +23,45 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem.checks import real_number as _check_finite
+from bem import checks
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics"]
 
 
 def _check_integer(name: str, value: int, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
+    return checks.integer(name, value, minimum=minimum)
+
+
+def _check_length(name: str, value: float) -> float:
+    return checks.supported_magnitude(name, checks.positive(name, value))
+
+
+def _check_wm_parameters(D: float, L: float, gamma: float, M: int, n_max: int = 0):
+    """Checked (D, L, gamma, M) of eqs. (11)-(12); gamma**n_max must stay representable."""
+    M = _check_integer("M", M, 1)
+    D = checks.real_number("D", D, minimum=2.0, exclusive=True, maximum=3.0,
+                           exclusive_maximum=True)
+    gamma = checks.real_number("gamma", gamma, minimum=1.0, exclusive=True)
+    L = _check_length("L", L)
+    if n_max * math.log10(gamma) > 30.0:
+        raise ValueError(f"gamma**n_max must be <= 1e30 (the frequency range of the surface), "
+                         f"got gamma = {gamma!r}, n_max = {n_max}")
+    return D, L, gamma, M
 
 
 def wm_amplitude(G: float, *, D: float, L: float = 1.0, gamma: float = 1.5, M: int = 10) -> float:
-    """Amplitude prefactor B of eq. (12): ``B = L (G/L)^(D-2) (ln gamma / M)^(1/2)`` [length]."""
+    """Amplitude prefactor B of eq. (12): ``B = L (G/L)^(D-2) (ln gamma / M)^(1/2)`` [length].
+
+    Parameters are those of :func:`wm_surface`: G > 0 and L > 0 [length], 2 < D < 3,
+    gamma > 1, M >= 1 an integer.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a parameter outside those ranges (naming it).
+    """
+    D, L, gamma, M = _check_wm_parameters(D, L, gamma, M)
+    G = _check_length("G", G)
     return L * (G / L) ** (D - 2.0) * math.sqrt(math.log(gamma) / M)
 
 
@@ -124,33 +148,21 @@ def wm_surface(
     """
     n = _check_integer("n", n, 2)
     slope_grid = n if slope_grid is None else _check_integer("slope_grid", slope_grid, 3)
-    M = _check_integer("M", M, 1)
     n_max = _check_integer("n_max", n_max, 0)
-    D = _check_finite("D", D)
-    if not 2.0 < D < 3.0:
-        raise ValueError(f"D must lie in the open interval (2, 3), got {D!r}")
-    gamma = _check_finite("gamma", gamma)
-    if gamma <= 1.0:
-        raise ValueError(f"gamma must be > 1, got {gamma!r}")
-    L = _check_finite("L", L)
-    if L <= 0.0:
-        raise ValueError(f"L must be > 0, got {L!r}")
+    D, L, gamma, M = _check_wm_parameters(D, L, gamma, M, n_max)
     if (G is None) == (rms_slope is None):
         raise ValueError("give exactly one of G (amplitude scale) and rms_slope (rms gradient)")
     if G is not None:
-        G = _check_finite("G", G)
-        if G <= 0.0:
-            raise ValueError(f"G must be > 0, got {G!r}")
+        G = _check_length("G", G)
     else:
-        rms_slope = _check_finite("rms_slope", rms_slope)
-        if rms_slope <= 0.0:
-            raise ValueError(f"rms_slope must be > 0, got {rms_slope!r}")
+        rms_slope = checks.supported_magnitude("rms_slope", checks.positive("rms_slope",
+                                                                            rms_slope))
 
     if phases is None:
         rng = np.random.default_rng(seed)
         phases = rng.uniform(0.0, 2.0 * np.pi, size=(M, n_max + 1))
     else:
-        phases = np.asarray(phases, dtype=float)
+        phases = checks.real_array("phases", phases)
         if phases.shape != (M, n_max + 1):
             raise ValueError(
                 f"phases must have shape (M, n_max + 1) = {(M, n_max + 1)}, got {phases.shape}"
@@ -202,14 +214,10 @@ def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = 
           ``m0 = <z^2>``, ``m2 = (<z_x^2> + <z_y^2>)/2``, ``m4 = (<z_xx^2> + <z_yy^2>)/2``;
         * ``nayak`` = m0 m4 / m2^2 (bandwidth parameter alpha).
     """
-    heights = np.asarray(heights, dtype=float)
-    if heights.ndim != 2 or min(heights.shape) < 3:
-        raise ValueError(f"heights must be a 2-D array of at least 3 x 3, got shape {heights.shape}")
-    if not np.all(np.isfinite(heights)):
-        raise ValueError("heights must be finite (no NaN or inf)")
-    spacing = _check_finite("spacing", spacing)
-    if spacing <= 0.0:
-        raise ValueError(f"spacing must be > 0, got {spacing!r}")
+    heights = checks.height_map("heights", heights)
+    checks.supported_magnitude("max |heights|", float(np.max(np.abs(heights))))
+    spacing = checks.supported_magnitude("spacing", checks.positive("spacing", spacing))
+    periodic = checks.flag("periodic", periodic)
 
     z = heights - heights.mean()
     if periodic:
