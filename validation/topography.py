@@ -78,7 +78,12 @@ def _length(name: str, value: float | str) -> tuple[float, str | None]:
             raise ValueError(f"{name} must be a number or 'number unit' like '10 um', got {value!r}")
         unit = match.group(2)
         _unit_factor(f"the unit of {name}", unit)
-        return positive(name, match.group(1)), unit
+        try:
+            number = float(match.group(1))
+        except ValueError:
+            raise ValueError(f"{name} must be a number or 'number unit' like '10 um', "
+                             f"got {value!r}") from None
+        return positive(name, number), unit
     return positive(name, value), None
 
 
