@@ -41,22 +41,21 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable, Iterable
 from dataclasses import KW_ONLY, dataclass
-from typing import Callable, Iterable
 
 import numpy as np
 from numpy.polynomial import chebyshev, laguerre, legendre
 from numpy.typing import ArrayLike
 from scipy import special
 
+from asperity.gw_functions import monotone_root
+from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
 from bem.checks import positive, real_number
 from bem.curve import ContactCurve
 from bem.warnings import ConvergenceWarning
 
-from asperity.gw_functions import monotone_root
-from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
-
-__all__ = ["Persson", "PERSSON_QUANTITIES", "separation_kernel", "YANG_PERSSON_GAMMA"]
+__all__ = ["PERSSON_QUANTITIES", "YANG_PERSSON_GAMMA", "Persson", "separation_kernel"]
 
 #: Quantities :class:`Persson` can compute (``contacts`` is not predicted by the theory).
 PERSSON_QUANTITIES = ("separation", "load", "area", "stiffness", "conductance",
@@ -169,7 +168,7 @@ class Persson:
 
     def __post_init__(self) -> None:
         if not isinstance(self.spectrum, IsotropicSpectrum):
-            raise ValueError(f"spectrum must be an IsotropicSpectrum, got {self.spectrum!r}")
+            raise TypeError(f"spectrum must be an IsotropicSpectrum, got {self.spectrum!r}")
         object.__setattr__(self, "nominal_area", positive("nominal_area", self.nominal_area))
         object.__setattr__(self, "e_star", positive("e_star", self.e_star))
         gamma = real_number("gamma", self.gamma, minimum=0.0, exclusive=True)
@@ -181,7 +180,7 @@ class Persson:
     @classmethod
     def from_spectrum(cls, wavevector: ArrayLike, psd: ArrayLike | Callable, nominal_area: float,
                       *, e_star: float = 1.0, gamma: float = YANG_PERSSON_GAMMA,
-                      samples: int = 257) -> "Persson":
+                      samples: int = 257) -> Persson:
         """From samples of C(q) (piecewise power law through them), or a callable C(q).
 
         For a callable, ``wavevector`` is ``(q_L, q_1)`` and C is sampled at ``samples``
@@ -201,7 +200,7 @@ class Persson:
 
     @classmethod
     def from_heights(cls, heights: ArrayLike, spacing: float, *, e_star: float = 1.0,
-                     gamma: float = YANG_PERSSON_GAMMA, window: str = "hann") -> "Persson":
+                     gamma: float = YANG_PERSSON_GAMMA, window: str = "hann") -> Persson:
         """From a height map: radially averaged 2-D PSD (``asperity.spectrum``, eq. P1).
 
         The nominal area is the map's area, ``N_x N_y spacing^2``.

@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike
 
 from bem.checks import frozen_array, positive
 
-__all__ = ["IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum", "WINDOWS"]
+__all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
 #: Windows understood by :func:`radial_power_spectrum`.
 WINDOWS = ("hann", "none")
@@ -194,7 +194,7 @@ def radial_power_spectrum(heights: ArrayLike, spacing: float, *, window: str = "
     length = max(spectrum.shape) * spacing
     step = 2.0 * math.pi / length
     ring = np.rint(modulus / step).astype(int)
-    rings = int(math.floor(math.pi / spacing / step))
+    rings = math.floor(math.pi / spacing / step)
     keep = (ring >= 1) & (ring <= rings)
     count = np.bincount(ring[keep], minlength=rings + 1)[1:]
     total = np.bincount(ring[keep], weights=spectrum.ravel()[keep], minlength=rings + 1)[1:]
