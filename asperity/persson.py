@@ -68,7 +68,7 @@ YANG_PERSSON_GAMMA = 0.42
 _SWITCH = 4.0                     # J: Chebyshev interpolant below, E1 minus a tail above
 _DECAY = 50.0                     # integrate while the kernel exceeds exp(-50) of its peak
 _FULL_CONTACT = 25.0              # x_T = p/(sqrt(pi) E* T) beyond which u and 1/S underflow
-_FLOOR = 1e-250                   # smallest pressure (in units of E* h'_rms) integrated
+_FLOOR = 1e-250                   # smallest pressure integrated, in units of sqrt(pi) E* T
 _GRID_PANELS = 48                 # uniform panels in ln tau, besides the spectrum's pieces
 _NODES, _WEIGHTS = legendre.leggauss(12)
 _LAGUERRE_NODES, _LAGUERRE_WEIGHTS = laguerre.laggauss(24)
@@ -154,7 +154,9 @@ class Persson:
         Composite modulus E* [pressure].
     gamma : float, keyword-only
         Correction factor of Yang & Persson (2008) in the mean-gap relation (P5), in (0, 1];
-        default 0.42 as in that paper; 1 gives Persson (2007). The area (P3) does not use it.
+        default 0.42 (the value used with this correction in later comparisons, e.g. Almqvist
+        et al. 2011; see docs/theory_persson.md); 1 gives Persson (2007). The area (P3) does
+        not use it.
 
     Examples
     --------
@@ -257,7 +259,7 @@ class Persson:
 
     def mean_gap(self, pressure: ArrayLike) -> np.ndarray:
         """u(p0) [length], eq. (P5); +inf at p0 = 0, 0 at p0 = +inf."""
-        p = _pressures(pressure, "pressure")
+        p = _non_negative(pressure, "pressure", "0 gives mean gap +inf")
         out = np.where(p == 0, np.inf, 0.0)
         inside = (p > 0) & (p < self._pressure_range[1])
         out[inside] = self._integrals(p[inside], gap=True, slope=False)[0]
@@ -271,8 +273,14 @@ class Persson:
         ``separation`` is the mean gap u-bar (P5); area (P3); stiffness S = -dW/du-bar (P8);
         conductance 2 S / E* (P9); mean_pressure W/A. ``contacts`` is None (not predicted).
         Extras: ``mean_gap`` (= separation), ``converged`` (all True).
+
+        ``quantities`` (names from :data:`PERSSON_QUANTITIES`; "contacts" is accepted and left
+        None): separation, load, area and mean_pressure are always returned, as by every model
+        of the project; stiffness and conductance (one more integral) only when asked for.
+        Loads above ``17.7 E* h'_rms A`` (x_T > 25) give mean gap 0 and infinite stiffness: the
+        gap underflows in double precision.
         """
-        w = _pressures(load, "load")
+        w = _non_negative(load, "load", "0 gives mean gap +inf")
         return self._curve(w / self.nominal_area, w, None, _quantity_names(quantities))
 
     def at_separation(self, separation: ArrayLike, *,
@@ -282,12 +290,14 @@ class Persson:
         Inverts the decreasing u(p) (P5) by Newton's method on ln u against ln p inside a
         bracket; ``extras["converged"]`` says where it met the tolerance.
         """
-        u = _separations(separation)
+        u = _non_negative(separation, "separation",
+                          "the mean gap; 0 is full contact at infinite load, +inf no load")
         pressure, converged = self._invert(u.ravel())
         pressure = pressure.reshape(u.shape)
         if not np.all(converged):
-            warnings.warn(f"Persson mean-gap inversion: {np.size(converged) - np.count_nonzero(converged)}"
-                          f" of {np.size(converged)} points did not converge",
+            failed = np.size(converged) - np.count_nonzero(converged)
+            warnings.warn(f"Persson mean-gap inversion: {failed} of {np.size(converged)} points "
+                          "did not converge (mean gap below the full-contact underflow)",
                           ConvergenceWarning, stacklevel=2)
         return self._curve(pressure, pressure * self.nominal_area, u,
                            _quantity_names(quantities), converged.reshape(u.shape))
@@ -375,22 +385,12 @@ class Persson:
             extras={"mean_gap": gap, "converged": converged})
 
 
-def _pressures(values: ArrayLike, name: str) -> np.ndarray:
+def _non_negative(values: ArrayLike, name: str, limits: str) -> np.ndarray:
+    """``values`` as a float array, each >= 0 (+inf allowed); ValueError naming ``name``."""
     try:
         array = np.array(values, dtype=float)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be real numbers, got {values!r}") from None
     if np.isnan(array).any() or (array < 0).any():
-        raise ValueError(f"{name} must be >= 0 and not NaN (0 gives mean gap +inf)")
-    return array
-
-
-def _separations(values: ArrayLike) -> np.ndarray:
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"separation must be real numbers, got {values!r}") from None
-    if np.isnan(array).any() or (array < 0).any():
-        raise ValueError("separation (the mean gap) must be >= 0 and not NaN "
-                         "(0 is full contact at infinite load, +inf no load)")
+        raise ValueError(f"{name} must be >= 0 and not NaN ({limits})")
     return array

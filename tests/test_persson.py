@@ -13,7 +13,7 @@ from scipy import integrate
 
 from asperity import IsotropicSpectrum, Persson, separation_kernel
 from asperity.spectrum import power_spectrum_2d, radial_power_spectrum
-from bem import ContactCurve
+from bem import ContactCurve, ConvergenceWarning
 
 Q_L, Q_1, C_L, HURST = 2.0 * math.pi, 2000.0 * math.pi, 1e-6, 0.8
 EXPONENT = -2.0 * (1.0 + HURST)
@@ -195,6 +195,13 @@ def test_limits_zero_and_infinite_load():
     np.testing.assert_array_equal(curve.stiffness, [0.0, np.inf, np.inf])
     back = model.at_separation([np.inf, 0.0, 1e300])
     np.testing.assert_array_equal(back.load, [0.0, np.inf, 0.0])
+
+
+def test_gap_below_full_contact_underflow_is_flagged():
+    with pytest.warns(ConvergenceWarning, match="1 of 3"):
+        curve = SHARED_MODEL.at_separation([1e-300, 1e-3, 1e300])
+    np.testing.assert_array_equal(curve.extras["converged"], [False, True, True])
+    assert curve.load[1] > 0 and curve.load[2] == 0.0 and np.isfinite(curve.load[0])
 
 
 @given(st.floats(-14.0, 1.0), st.floats(0.5, 15.0))
