@@ -19,8 +19,9 @@ unwindowed non-periodic map leaks power ~ q^-4 that dominates the slopes) normal
 ``mean(window^2) = 1``, take the 2-D periodogram
 ``C(q) = spacing^2 |DFT(h w)|^2 / ((2 pi)^2 N_x N_y)`` and average it over rings of width
 ``2 pi / L`` centred on multiples of ``2 pi / L`` up to the Nyquist wavevector ``pi/spacing``.
-With ``window="none"`` (periodic maps) the 2-D periodogram obeys Parseval exactly:
-``sum C dq_x dq_y = mean(h^2)``.
+``window="mirror"`` instead takes the periodogram of the map's even extension (2N x 2N: no
+jump, only slope kinks at the mirror lines). With ``window="none"`` (periodic maps) or
+``"mirror"`` the 2-D periodogram obeys Parseval exactly: ``sum C dq_x dq_y = mean(h^2)``.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from bem.checks import frozen_array, positive
 __all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
 #: Windows understood by :func:`radial_power_spectrum`.
-WINDOWS = ("hann", "none")
+WINDOWS = ("hann", "mirror", "none")
 
 
 def _expm1_over(z: np.ndarray) -> np.ndarray:
@@ -161,15 +162,20 @@ def power_spectrum_2d(heights: ArrayLike, spacing: float, *, window: str = "hann
 
     Returns ``(q_x, q_y, psd)``: wavevector components [1/length] broadcastable against the
     ``psd`` array [length^4] (numpy FFT order). The mean height is removed first; the window
-    is normalised to ``mean(window^2) = 1``. With ``window="none"``,
-    ``psd.sum() * dq_x * dq_y == mean((h - mean h)^2)`` exactly (Parseval).
+    is normalised to ``mean(window^2) = 1``. ``window="mirror"`` takes the periodogram of the
+    2N_y x 2N_x even extension of the map (no edge jump; wavevectors of the doubled map). With
+    ``"none"`` or ``"mirror"``, ``psd.sum() * dq_x * dq_y == mean((h - mean h)^2)`` exactly
+    (Parseval).
     """
     h, spacing = _check_heights(heights, spacing)
     if window not in WINDOWS:
         raise ValueError(f"window must be one of {WINDOWS}, got {window!r}")
     ny, nx = h.shape
     z = h - h.mean()
-    if window == "hann":
+    if window == "mirror":
+        z = np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
+        ny, nx = z.shape
+    elif window == "hann":
         wy, wx = np.hanning(ny + 2)[1:-1], np.hanning(nx + 2)[1:-1]   # no zero end points
         w = np.outer(wy, wx)
         z = z * w / math.sqrt(float(np.mean(w * w)))

@@ -275,6 +275,18 @@ def test_hann_window_gives_slopes_of_a_non_periodic_wm_surface():
     assert unwindowed.rms_gradient > 1.3 * statistics.rms_gradient   # edge leakage
 
 
+def test_mirror_window_keeps_the_height_variance_of_a_wm_surface():
+    from validation import surface_statistics, wm_surface
+    heights = wm_surface(128, D=2.05, rms_slope=0.1, seed=1)
+    _, _, psd = power_spectrum_2d(heights, 1.0 / 128, window="mirror")
+    cell = (2 * np.pi / 2.0) ** 2                       # the mirrored map is 2 x 2
+    assert psd.sum() * cell == pytest.approx(np.var(heights), rel=1e-12)
+    spectrum = radial_power_spectrum(heights, 1.0 / 128, window="mirror")
+    statistics = surface_statistics(heights, 1.0 / 128)
+    assert spectrum.rms_height == pytest.approx(statistics.rms_height, rel=0.07)
+    assert spectrum.rms_gradient == pytest.approx(statistics.rms_gradient, rel=0.1)
+
+
 def test_callable_power_law_is_exact():
     sampled = power_law_model()
     from_callable = Persson.from_spectrum(
