@@ -30,8 +30,8 @@ The substitution ``m = tau^2`` turns ``q^2 C w dq`` into ``2 dtau / (sqrt(pi) q(
 removes the square-root singularity of w at q_L (P7): ``u = 2 integral_0^T I(c/tau) dtau /
 q(tau)`` with ``c = p/(sqrt(pi) E*)`` and ``T = sqrt(m(q_1))``. ``q(tau)`` is a closed form on
 each piece of the piecewise power-law spectrum. The tau integral is Gauss-Legendre in ln tau on
-panels bounded by the pieces' ends and a uniform grid of ln tau between ``tau_lo = c/sqrt(x_T^2
-+ 50)`` (the integrand is below exp(-50) of its peak under it) and T; relative accuracy 1e-10
+panels bounded by the pieces' ends and a grid of ln tau between ``tau_lo = c/sqrt(x_T^2 + 50)``
+(the integrand is below exp(-50) of its peak under it) and T, uniform over the top 46 e-folds; relative accuracy 1e-10
 is checked against independent quadrature in tests/test_persson.py. The kernel I is
 ``(gamma/2) E1(x^2) + 3 (1 - gamma) J(x)``; ``J(x) = integral_x^inf erf^2 exp(-t^2) dt/t`` is a
 Chebyshev interpolant of its logarithm on [0, 4] and ``E1(x^2)/2 - R(x)`` above, R by Gauss-Laguerre.
@@ -70,6 +70,7 @@ _DECAY = 50.0                     # integrate while the kernel exceeds exp(-50) 
 _FULL_CONTACT = 25.0              # x_T = p/(sqrt(pi) E* T) beyond which u and 1/S underflow
 _FLOOR = 1e-250                   # smallest pressure integrated, in units of sqrt(pi) E* T
 _GRID_PANELS = 48                 # uniform panels in ln tau, besides the spectrum's pieces
+_FINE_RANGE = 46.0                # ... over at most this many e-folds below T
 _NODES, _WEIGHTS = legendre.leggauss(12)
 _LAGUERRE_NODES, _LAGUERRE_WEIGHTS = laguerre.laggauss(24)
 
@@ -226,7 +227,13 @@ class Persson:
         x_top = c / top
         log_low = np.log(c) - 0.5 * np.log(x_top**2 + _DECAY)
         log_top = math.log(top)
-        grid = log_low[:, None] + (log_top - log_low)[:, None] * np.linspace(0, 1, _GRID_PANELS + 1)
+        # 48 panels over the top 46 e-folds of tau (all of [tau_lo, T] unless the load is
+        # below ~1e-20 E* h'_rms), 8 below them, where tau (the weight in ln tau) is e^-46
+        # times smaller than at T
+        split = np.maximum(log_low, log_top - _FINE_RANGE)
+        fine = split[:, None] + (log_top - split)[:, None] * np.linspace(0, 1, _GRID_PANELS + 1)
+        coarse = log_low[:, None] + (split - log_low)[:, None] * np.linspace(0, 1, 9)[:-1]
+        grid = np.concatenate((coarse, fine), axis=1)
         pieces = 0.5 * np.log(self.spectrum.cumulative_fourth_moment()[1:-1])
         pieces = np.clip(pieces[None, :], log_low[:, None], log_top)
         edges = np.sort(np.concatenate((grid, pieces), axis=1), axis=1)
