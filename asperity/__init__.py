@@ -32,3 +32,10 @@ from asperity.interaction import PointForceInteraction  # noqa: E402
 __all__ += ["Summits", "find_summits", "summits_to_arrays", "summits_from_arrays",
             "DiscreteAsperityModel", "ValidityWarning", "DISCRETE_QUANTITIES",
             "PointForceInteraction"]
+
+# Persson's theory from the power spectral density of the surface.
+from asperity.persson import PERSSON_QUANTITIES, Persson, separation_kernel  # noqa: E402
+from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum  # noqa: E402
+
+__all__ += ["Persson", "PERSSON_QUANTITIES", "separation_kernel", "IsotropicSpectrum",
+            "radial_power_spectrum"]
