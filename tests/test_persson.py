@@ -81,8 +81,11 @@ def test_kernel_matches_mpmath():
     def reference(x):                      # t^2 = x^2 + s: a smooth integrand on [0, inf)
         with mpmath.workdps(30):
             x = mpmath.mpf(x)
-            f = lambda s: ((gamma + 3 * (1 - gamma) * mpmath.erf(mpmath.sqrt(x * x + s)) ** 2)
-                           * mpmath.exp(-s) / (x * x + s))
+
+            def f(s):
+                return ((gamma + 3 * (1 - gamma) * mpmath.erf(mpmath.sqrt(x * x + s)) ** 2)
+                        * mpmath.exp(-s) / (x * x + s))
+
             return mpmath.exp(-x * x) / 2 * mpmath.quad(f, [0, 1, 5, 20, mpmath.inf])
 
     for x in [1e-9, 1e-3, 0.3, 1.0, 2.5, 3.99, 4.5, 7.0, 15.0]:
