@@ -48,6 +48,7 @@ import numpy as np
 from bem import checks
 
 from bem.halfspace import HalfSpace
+from bem.preconditioner import InverseKernel
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ContactSolution", "solve_contact", "DEFAULT_TOLERANCE", "DEFAULT_MAX_ITERATIONS",
@@ -61,6 +62,12 @@ DEFAULT_MAX_ITERATIONS = 5000
 MINIMUM_GRID = 4
 #: Exact recomputation of u = K p every this many iterations (bounds rounding drift).
 _REFRESH_INTERVAL = 50
+#: Nested iteration: coarse solves down to grids of this side (:func:`_coarse_start`).
+_COARSEST_GRID = 64
+#: Stopping tolerance of the coarse solves of the nested iteration (starts only).
+#: (the fine iteration counts were the same with 1e-4, 1e-6 and 1e-9 on WM surfaces).
+_COARSE_TOLERANCE = 1e-6
+
 #: Relative residual of the conjugate-gradient stiffness solve.
 _STIFFNESS_TOLERANCE = 1e-11
 
@@ -231,6 +238,15 @@ class _Workspace:
         self.contact_weight = np.empty(shape)
         self.contact = np.empty(shape, dtype=bool)
         self.flag = np.empty(shape, dtype=bool)
+        self._inverse_kernel: InverseKernel | None = None
+        self.preconditioned = True  # whether the last solve used the preconditioner
+
+    def inverse_kernel(self, operator: HalfSpace) -> InverseKernel:
+        """The preconditioner of ``operator``'s grid, built on first use."""
+        if self._inverse_kernel is None:
+            self._inverse_kernel = InverseKernel(operator.shape, operator.spacing,
+                                                 e_star=operator.e_star, threads=operator.threads)
+        return self._inverse_kernel
 
 
 @dataclass
@@ -254,7 +270,7 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
 
 def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total: float | None,
                     separation: float | None, tol: float, max_iter: int,
-                    ws: _Workspace) -> _Outcome:
+                    ws: _Workspace, preconditioner=None) -> _Outcome:
     """Polonsky-Keer iteration from the start ``p >= 0`` (modified in place).
 
     ``total`` is the target ``sum p`` (load control; p must already sum to it), or
@@ -270,6 +286,9 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     """
     load_control = total is not None
     u, g, gc, saved_t, work = ws.u, ws.g, ws.g_contact, ws.t, ws.work
+    if preconditioner is not None:
+        gc = preconditioner.input_block
+        s_pre = preconditioner.output_block
     weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
     t, r = operator._direction_buffers()
     flat_p, flat_g = p.reshape(-1), g.reshape(-1)
@@ -302,32 +321,51 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         else:
             g += separation
         np.multiply(g, weight, out=gc)
-        g_norm = _dot(gc, gc)
+        if preconditioner is None:
+            g_norm = _dot(gc, gc)
+            descent = gc
+        else:
+            g_square = _dot(gc, gc)
+            preconditioner.execute()
+            descent = s_pre
+            descent *= weight
+            if load_control:
+                np.multiply(weight, float(descent.sum()) / n_contact, out=work)
+                descent -= work
+            g_norm = _dot(gc, descent)
         # conjugate search direction on the contact set
         # t_sum = sum of t (zero outside the contact set); gc sums to zero in load control
         if reset or g_norm_old == 0.0:
-            np.copyto(t, gc)
+            np.copyto(t, descent)
             t_sum = 0.0
         else:
             beta = g_norm / g_norm_old
             if shrunk:
                 np.multiply(t, weight, out=t)
             t *= beta
-            t += gc
+            t += descent
             if load_control:
                 t_sum = float(t.sum()) if shrunk else beta * t_sum
         g_norm_old = g_norm
+        slope = _dot(gc, t)
+        if slope < 0.0:  # not a descent direction (a kept direction after entering pixels)
+            np.copyto(t, descent)
+            t_sum = 0.0
+            slope = g_norm
         operator._transform_direction()  # r = K t
         rt = _dot(r, t)
         if t_sum != 0.0:
             rt -= _dot(r, weight) / n_contact * t_sum
         if rt > 0.0 and math.isfinite(rt):
-            tau = _dot(gc, t) / rt
-            tau_fallback = tau
+            tau = slope / rt
+            # pressure per unit overlap for entering pixels: tau itself without preconditioner
+            tau_fallback = (tau if preconditioner is None or g_square == 0.0
+                            else tau * g_norm / g_square)
+            tau_enter = tau_fallback
         else:  # t = 0: the contact set is solved exactly; only new contacts may remain
             if tau_fallback is None:
                 tau_fallback = 1.0 / operator.self_influence
-            tau = tau_fallback
+            tau = tau_enter = tau_fallback
         step = gc  # the contact gap is not needed any more: reuse its buffer for tau t
         np.multiply(t, tau, out=step)
         p -= step
@@ -359,7 +397,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         entered = int(np.count_nonzero(flag))
         if entered:
             entering = np.flatnonzero(flag)
-            values = -tau * flat_g[entering]
+            values = -tau_enter * flat_g[entering]
             flat_p[entering] = values
             flat_contact[entering] = True
             flat_weight[entering] = 1.0
@@ -393,7 +431,11 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             operator._apply(p, u)
             reset = shrunk = stale = True
             continue
-        reset, shrunk = entered > 0, clipped > 0
+        # Polonsky-Keer restart from steepest descent when pixels enter; the preconditioned
+        # iteration keeps its direction (t is zero on the entering pixels): restarting made it
+        # fix the boundary of the contact set one oscillating pixel per iteration, in a number of
+        # iterations growing with n (measured; a non-descent direction still restarts, above)
+        reset, shrunk = entered > 0 and preconditioner is None, clipped > 0
         # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
         # made by the projection and the entering points: by direct sums when they are few,
         # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
@@ -455,10 +497,15 @@ def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,
 
 
 def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter: int,
-               ws: _Workspace) -> tuple[float, bool, int]:
-    """Solve ``K_CC q = 1`` on the contact set C by conjugate gradients; ``S = h^2 sum q``.
+               ws: _Workspace, preconditioner: InverseKernel | None = None
+               ) -> tuple[float, bool, int]:
+    """Solve ``K_CC q = 1`` on the contact set C by (preconditioned) conjugate gradients;
+    ``S = h^2 sum q``.
 
-    Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns (S, converged, iterations).
+    With ``preconditioner`` M, the residual is preconditioned by ``P_C M P_C`` (symmetric
+    positive definite on C; :mod:`bem.preconditioner`), which keeps the iteration count nearly
+    independent of the grid. Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
+    (S, converged, iterations).
     """
     n_contact = int(np.count_nonzero(contact))
     if n_contact == 0:
@@ -470,25 +517,36 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     product, work = ws.r, ws.work
     operator._apply(q, product)
     residual = weight - product * weight
-    direction = residual.copy()
-    rr = _dot(residual, residual)
     target = (tol**2) * n_contact
+
+    def precondition(source: np.ndarray) -> np.ndarray:
+        if preconditioner is None:
+            return source.copy()
+        preconditioner.input_block[...] = source
+        preconditioner.execute()
+        return preconditioner.output_block * weight
+
+    direction = precondition(residual)
+    rz = _dot(residual, direction)
     iterations = 0
-    converged = rr <= target
+    converged = _dot(residual, residual) <= target
     while not converged and iterations < max_iter:
         iterations += 1
         operator._apply(direction, product)
         np.multiply(product, weight, out=product)
-        step = rr / _dot(direction, product)
+        step = rz / _dot(direction, product)
         np.multiply(direction, step, out=work)
         q += work
         np.multiply(product, step, out=work)
         residual -= work
-        rr_new = _dot(residual, residual)
-        converged = rr_new <= target
-        direction *= rr_new / rr
-        direction += residual
-        rr = rr_new
+        converged = _dot(residual, residual) <= target
+        if converged:
+            break
+        preconditioned = precondition(residual)
+        rz_new = _dot(residual, preconditioned)
+        direction *= rz_new / rz
+        direction += preconditioned
+        rz = rz_new
     return float(q.sum()) * operator.spacing**2, converged, iterations
 
 
@@ -509,6 +567,7 @@ def solve_contact(
     initial=None,
     operator: HalfSpace | None = None,
     stiffness: bool = False,
+    preconditioned: bool = True,
 ) -> ContactSolution:
     """Contact of a rough elastic surface with a rigid plane, at given load or separation.
 
@@ -585,13 +644,19 @@ def solve_contact(
     initial = _check_initial(initial, z.shape)
     operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
     return _solve(operator, z, load=load, separation=separation, tol=tol, max_iter=int(max_iter),
-                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape))
+                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape),
+                  preconditioned=preconditioned)
 
 
 def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation: float | None,
            tol: float, max_iter: int, initial: np.ndarray | None, stiffness: bool,
-           ws: _Workspace) -> ContactSolution:
+           ws: _Workspace, preconditioned: bool = True) -> ContactSolution:
     """The solve after validation (shared with the load path)."""
+    preconditioner = ws.inverse_kernel(operator) if preconditioned else None
+    ws.preconditioned = preconditioned
+    if initial is None and preconditioned:
+        initial = _coarse_start(operator, z, load=load, separation=separation, tol=tol,
+                                max_iter=max_iter)
     pixel_area = operator.spacing**2
     nominal_area = z.size * pixel_area
     highest = float(z.max())
@@ -609,14 +674,16 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
         else:
             p = np.full(z.shape, total / z.size)
         outcome = _constrained_cg(operator, z, p, total=total, separation=None, tol=tol,
-                                  max_iter=max_iter, ws=ws)
+                                  max_iter=max_iter, ws=ws,
+                                  preconditioner=preconditioner)
     else:
         if initial is not None and initial.any():
             p = initial
         else:
             p = _separation_start(operator, z, separation, ws)
         outcome = _constrained_cg(operator, z, p, total=None, separation=separation, tol=tol,
-                                  max_iter=max_iter, ws=ws)
+                                  max_iter=max_iter, ws=ws,
+                                  preconditioner=preconditioner)
     u = ws.u.copy()
     p = outcome.pressure
     contact = p > 0.0
@@ -625,6 +692,28 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     else:
         d = separation
     return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area)
+
+
+def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
+                  separation: float | None, tol: float, max_iter: int) -> np.ndarray | None:
+    """Nested iteration: the pressure of the same problem on every other grid point (the same
+    continuous surface sampled at spacing 2h, solved recursively the same way), repeated on 2 x 2
+    pixels; None when the grid is odd or its half is below ``_COARSEST_GRID``."""
+    rows, columns = z.shape
+    if rows % 2 or columns % 2 or min(rows, columns) // 2 < _COARSEST_GRID:
+        return None
+    coarse = HalfSpace((rows // 2, columns // 2), 2.0 * operator.spacing, e_star=operator.e_star,
+                       periodic=operator.periodic, threads=operator.threads)
+    heights = np.ascontiguousarray(z[::2, ::2])
+    with warnings.catch_warnings():  # an unconverged start is still a start
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        solution = _solve(coarse, heights, load=load, separation=separation,
+                          tol=max(tol, _COARSE_TOLERANCE), max_iter=max_iter, initial=None,
+                          stiffness=False, ws=_Workspace(coarse.shape))
+    pressure = np.asarray(solution.pressure)
+    if not pressure.any():
+        return None
+    return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1)
 
 
 def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d: float,
@@ -641,7 +730,7 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
     if stiffness:
         stiffness_value, stiffness_converged, stiffness_iterations = _stiffness(
             operator, contact, tol=_STIFFNESS_TOLERANCE, max_iter=max(1000, 10 * z.shape[0]),
-            ws=ws)
+            ws=ws, preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None)
         if not stiffness_converged:
             converged = False
             message += f"; stiffness solve not converged after {stiffness_iterations} iterations"
