@@ -702,8 +702,7 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     rows, columns = z.shape
     if rows % 2 or columns % 2 or min(rows, columns) // 2 < _COARSEST_GRID:
         return None
-    coarse = HalfSpace((rows // 2, columns // 2), 2.0 * operator.spacing, e_star=operator.e_star,
-                       periodic=operator.periodic, threads=operator.threads)
+    coarse = operator.coarse()
     heights = np.ascontiguousarray(z[::2, ::2])
     with warnings.catch_warnings():  # an unconverged start is still a start
         warnings.simplefilter("ignore", ConvergenceWarning)
