@@ -73,7 +73,9 @@ _STIFFNESS_TOLERANCE = 1e-11
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
-    return checks.frozen_array(array, dtype=None)
+    """``array`` made read-only in place: the solver hands out arrays it made and owns."""
+    array.setflags(write=False)
+    return array
 
 
 @dataclass(frozen=True, eq=False)
@@ -229,17 +231,45 @@ class _Workspace:
     """Preallocated arrays of one grid, reused by every iteration (and along a load path)."""
 
     def __init__(self, shape: tuple[int, int]) -> None:
-        self.u = np.empty(shape)
+        self.shape = shape
+        self._u: np.ndarray | None = None
         self.g = np.empty(shape)
-        self.g_contact = np.empty(shape)
-        self.t = np.zeros(shape)
-        self.r = np.empty(shape)
+        self._g_contact: np.ndarray | None = None  # plain iteration only
+        self._t: np.ndarray | None = None  # plain iteration only
         self.work = np.empty(shape)
         self.contact_weight = np.empty(shape)
         self.contact = np.empty(shape, dtype=bool)
         self.flag = np.empty(shape, dtype=bool)
         self._inverse_kernel: InverseKernel | None = None
         self.preconditioned = True  # whether the last solve used the preconditioner
+
+    @property
+    def u(self) -> np.ndarray:
+        """The displacement of the iterate (allocated when the last one was handed out)."""
+        if self._u is None:
+            self._u = np.empty(self.shape)
+        return self._u
+
+    def take_displacement(self) -> np.ndarray:
+        """The displacement array, now the caller's: the next solve allocates a new one."""
+        u, self._u = self.u, None
+        return u
+
+    @property
+    def g_contact(self) -> np.ndarray:
+        """The gap on the contact set (the preconditioned iteration keeps it in the
+        preconditioner's input instead)."""
+        if self._g_contact is None:
+            self._g_contact = np.empty(self.shape)
+        return self._g_contact
+
+    @property
+    def t(self) -> np.ndarray:
+        """The search direction saved around a full product (the preconditioned iteration
+        saves it in the preconditioner's output instead)."""
+        if self._t is None:
+            self._t = np.empty(self.shape)
+        return self._t
 
     def inverse_kernel(self, operator: HalfSpace) -> InverseKernel:
         """The preconditioner of ``operator``'s grid, built on first use."""
@@ -285,16 +315,18 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     when they are known.
     """
     load_control = total is not None
-    u, g, gc, saved_t, work = ws.u, ws.g, ws.g_contact, ws.t, ws.work
-    if preconditioner is not None:
-        gc = preconditioner.input_block
-        s_pre = preconditioner.output_block
+    u, g, work = ws.u, ws.g, ws.work
+    if preconditioner is None:
+        gc, saved_t = ws.g_contact, ws.t
+    else:  # the preconditioner's output is free once the direction is made
+        gc, s_pre = preconditioner.input_block, preconditioner.output_block
+        saved_t = s_pre
     weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
     t, r = operator._direction_buffers()
     flat_p, flat_g = p.reshape(-1), g.reshape(-1)
     direct_limit = operator.direct_source_limit
     if direct_limit:
-        operator.centred_kernel  # noqa: B018 - build the influence coefficients once, up front
+        operator.influence  # noqa: B018 - build the influence coefficients once, up front
     operator._apply(p, u)
     reset = True        # next direction is the steepest descent one (beta = 0)
     shrunk = True       # the last step removed pixels from the contact set
@@ -512,39 +544,45 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
         return 0.0, True, 0
     if operator.periodic and n_contact == contact.size:
         return math.inf, True, 0
-    weight = np.asarray(contact, dtype=float)
-    q = weight / operator.self_influence
-    product, work = ws.r, ws.work
-    operator._apply(q, product)
-    residual = weight - product * weight
+    # the workspace of the contact solve, free once it has ended, and the operator's FFT
+    # buffers (direction in, product out) hold every array
+    weight, q, residual = ws.contact_weight, ws.g, ws.work
+    direction, product = operator._direction_buffers()
+    np.copyto(weight, contact)
+    np.multiply(weight, 1.0 / operator.self_influence, out=q)
+    np.copyto(direction, q)
+    operator._transform_direction()
+    np.multiply(product, weight, out=residual)
+    np.subtract(weight, residual, out=residual)
     target = (tol**2) * n_contact
 
     def precondition(source: np.ndarray) -> np.ndarray:
         if preconditioner is None:
-            return source.copy()
+            return source
         preconditioner.input_block[...] = source
         preconditioner.execute()
-        return preconditioner.output_block * weight
+        np.multiply(preconditioner.output_block, weight, out=preconditioner.output_block)
+        return preconditioner.output_block
 
-    direction = precondition(residual)
+    np.copyto(direction, precondition(residual))
     rz = _dot(residual, direction)
     iterations = 0
     converged = _dot(residual, residual) <= target
     while not converged and iterations < max_iter:
         iterations += 1
-        operator._apply(direction, product)
+        operator._transform_direction()
         np.multiply(product, weight, out=product)
         step = rz / _dot(direction, product)
-        np.multiply(direction, step, out=work)
-        q += work
-        np.multiply(product, step, out=work)
-        residual -= work
+        direction *= step  # q += step direction and residual -= step K direction, in place
+        q += direction
+        product *= step
+        residual -= product
         converged = _dot(residual, residual) <= target
         if converged:
             break
         preconditioned = precondition(residual)
         rz_new = _dot(residual, preconditioned)
-        direction *= rz_new / rz
+        direction *= rz_new / (rz * step)
         direction += preconditioned
         rz = rz_new
     return float(q.sum()) * operator.spacing**2, converged, iterations
@@ -670,7 +708,8 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     if load is not None:
         total = load / pixel_area
         if initial is not None and initial.sum() > 0.0:
-            p = initial * (total / float(initial.sum()))
+            p = _owned(initial)
+            p *= total / float(p.sum())
         else:
             p = np.full(z.shape, total / z.size)
         outcome = _constrained_cg(operator, z, p, total=total, separation=None, tol=tol,
@@ -678,13 +717,13 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
                                   preconditioner=preconditioner)
     else:
         if initial is not None and initial.any():
-            p = initial
+            p = _owned(initial)
         else:
             p = _separation_start(operator, z, separation, ws)
         outcome = _constrained_cg(operator, z, p, total=None, separation=separation, tol=tol,
                                   max_iter=max_iter, ws=ws,
                                   preconditioner=preconditioner)
-    u = ws.u.copy()
+    u = ws.take_displacement()
     p = outcome.pressure
     contact = p > 0.0
     if separation is None:
@@ -713,6 +752,12 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     if not pressure.any():
         return None
     return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1)
+
+
+def _owned(initial: np.ndarray) -> np.ndarray:
+    """The start pressure to iterate on in place: ``initial`` itself (the callers hand over
+    arrays they made), unless it is read-only, i.e. a previous result."""
+    return initial if initial.flags.writeable else np.array(initial)
 
 
 def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d: float,
