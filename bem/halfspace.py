@@ -190,7 +190,7 @@ class HalfSpace:
         h = self.spacing
         quadrant = np.empty((rows, columns))
         offset_x = np.arange(columns) * h
-        block = max(1, (1 << 14) // columns)  # temporaries of 128 kB
+        block = max(1, (1 << 12) // columns)  # temporaries of 32 kB
         for start in range(0, rows, block):
             stop = min(rows, start + block)
             quadrant[start:stop] = love_pixel_displacement(
