@@ -77,6 +77,8 @@ _COARSEST_GRID = 64
 #: Stopping tolerance of the coarse solves of the nested iteration (starts only).
 #: (the fine iteration counts were the same with 1e-4, 1e-6 and 1e-9 on WM surfaces).
 _COARSE_TOLERANCE = 1e-6
+#: Most iterations of each coarse solve of the nested iteration.
+_COARSE_MAX_ITERATIONS = 500
 
 #: Relative residual of the conjugate-gradient stiffness solve.
 _STIFFNESS_TOLERANCE = 1e-11
@@ -390,12 +392,15 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     rows, columns = z.shape
     if rows % 2 or columns % 2 or min(rows, columns) // 2 < _COARSEST_GRID:
         return None
-    coarse = operator.coarse()
     heights = np.ascontiguousarray(z[::2, ::2])
+    if operator.periodic and separation is not None and separation <= float(heights.mean()):
+        return None  # full contact on the coarse grid: no load to start from
+    coarse = operator.coarse()
     with warnings.catch_warnings():  # an unconverged start is still a start
         warnings.simplefilter("ignore", ConvergenceWarning)
         solution = _solve(coarse, heights, load=load, separation=separation,
-                          tol=max(tol, _COARSE_TOLERANCE), max_iter=max_iter, initial=None,
+                          tol=max(tol, _COARSE_TOLERANCE),
+                          max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=None,
                           stiffness=False, ws=_Workspace(coarse.shape))
     pressure = np.asarray(solution.pressure)
     if not pressure.any():

@@ -86,3 +86,18 @@ def test_odd_grid_solves_without_nested_start():
     new = solve_contact(heights, 1.0 / 63, load=1e-2)
     plain = solve_contact(heights, 1.0 / 63, load=1e-2, preconditioned=False)
     assert_same_state(new, plain)
+
+
+def test_periodic_separation_near_full_contact():
+    # a separation between the mean height and the (higher) mean of every other point: the
+    # coarse problem would be in full contact, so the solve starts without it
+    n = 128
+    heights = -surface(n)
+    coarse_mean, mean = float(heights[::2, ::2].mean()), float(heights.mean())
+    assert coarse_mean > mean
+    separation = 0.5 * (mean + coarse_mean)
+    new = solve_contact(heights, 1.0 / n, separation=separation, periodic=True)
+    plain = solve_contact(heights, 1.0 / n, separation=separation, periodic=True,
+                          preconditioned=False)
+    assert new.area_fraction > 0.5
+    assert_same_state(new, plain)
