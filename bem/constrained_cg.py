@@ -102,17 +102,21 @@ def _dot(a: np.ndarray, b: np.ndarray) -> float:
 
 def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total: float | None,
                     separation: float | None, tol: float, max_iter: int,
-                    ws: _Workspace, preconditioner=None) -> _Outcome:
+                    ws: _Workspace, preconditioner: InverseKernel | None = None) -> _Outcome:
     """Polonsky-Keer iteration from the start ``p >= 0`` (modified in place).
 
     ``total`` is the target ``sum p`` (load control; p must already sum to it), or
-    ``separation`` is d (separation control). Returns with ``ws.u = K p`` exact.
+    ``separation`` is d (separation control). Returns with ``ws.u = K p`` exact. With a
+    ``preconditioner`` the direction is built from ``P M gc`` instead of the contact gap gc
+    (module docstring); entering pixels then get the pressure ``-tau_e g`` with
+    ``tau_e = tau (gc . P M gc) / (gc . gc)``, the step length expressed per unit gap as in the
+    plain iteration, where ``tau_e = tau``.
 
     Implementation notes (each full-grid pass costs about a tenth of an FFT pair, so they are
     counted): the search direction t and its displacement r = K t live in the operator's FFT
     buffers (no copies around the product); t is saved around the occasional full product of p
     only when the next iteration needs it. In load control the sum of t follows the recurrence
-    t <- beta t + gc (gc sums to zero) and is summed afresh only after a step that clipped
+    t <- beta t + gc (gc, or its preconditioned version, sums to zero) and is summed afresh only after a step that clipped
     pixels (t is then masked); sum p after the step follows from it and the few changed pixels
     when they are known.
     """

@@ -108,7 +108,7 @@ class HalfSpace:
         FFT threads used.
     direct_source_limit : int
         Up to this many point sources, the solver adds their displacement by direct sums of
-        :attr:`centred_kernel` instead of an FFT product (cost model in ``__init__``).
+        :attr:`influence` instead of an FFT product (cost model in ``__init__``).
     planner_effort : str
         pyFFTW planner effort used (ignored by the scipy backend).
     """
@@ -150,7 +150,6 @@ class HalfSpace:
         self._scaled_spectrum = self._kernel_spectrum()
         self._scaled_spectrum /= self._fft.size
         self._influence: np.ndarray | None = None
-        self._centred_kernel: np.ndarray | None = None
         self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
         # (_add_sources, 2 passes over the grid each) than by one FFT product: a product costs
