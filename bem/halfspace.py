@@ -38,6 +38,7 @@ import math
 import os
 
 import numpy as np
+import scipy.fft
 
 from bem import checks
 
@@ -107,7 +108,7 @@ class HalfSpace:
         FFT threads used.
     direct_source_limit : int
         Up to this many point sources, the solver adds their displacement by direct sums of
-        :attr:`centred_kernel` instead of an FFT product (cost model in ``__init__``).
+        :attr:`influence` instead of an FFT product (cost model in ``__init__``).
     planner_effort : str
         pyFFTW planner effort used (ignored by the scipy backend).
     """
@@ -140,13 +141,13 @@ class HalfSpace:
         self.backend = self._fft.backend
         self.threads = self._fft.threads
         self.planner_effort = planner_effort
-        spectrum = self._kernel_spectrum()
-        self.kernel_spectrum = spectrum  # K_hat, unnormalised DFT convention (read-only)
-        self.kernel_spectrum.setflags(write=False)
-        # 1/M folded in, each value repeated for the real and imaginary part of the spectrum,
-        # so the product is one real multiply over the float view of the complex buffer.
-        self._scaled_spectrum = np.repeat(spectrum / self._fft.size, 2, axis=1)
-        self._centred_kernel: np.ndarray | None = None
+        # K_hat / M (1/M folded in), real: the one stored copy of the kernel (16 bytes per grid
+        # point non-periodic); multiplying the complex spectrum by it in place costs about a
+        # tenth of the FFT pair
+        self._scaled_spectrum = self._kernel_spectrum()
+        self._scaled_spectrum /= self._fft.size
+        self._influence: np.ndarray | None = None
+        self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
         # (_add_sources, 2 passes over the grid each) than by one FFT product: a product costs
         # ~ M log2 M for M convolution points; measured ratios here were 0.3-0.8 of
@@ -166,15 +167,40 @@ class HalfSpace:
             q = np.hypot(qy[:, None], qx[None, :])
             spectrum = np.divide(2.0 / self.e_star, q, out=np.zeros_like(q), where=q > 0)
             return spectrum
-        # Offsets in wrap-around order: 0, 1, ..., N-1, -N, ..., -1 (the -N entry is never
-        # used by the first N x N block of the product; G is even, so its sign is immaterial).
-        offset_y = np.fft.fftfreq(my, d=1.0 / my) * h
-        offset_x = np.fft.fftfreq(mx, d=1.0 / mx) * h
-        kernel = love_pixel_displacement(offset_x[None, :], offset_y[:, None],
-                                          half_width_x=0.5 * h, e_star=self.e_star)
-        # One-off transforms use scipy.fft on one worker: a pocketfft thread pool left behind
-        # competes with the FFTW threads for the cores (a 10x slower product measured here).
-        return RealFFT2(self.convolution_shape, backend="scipy", threads=1).forward(kernel).real.copy()
+        # G is even in x and y: on the 2N x 2N wrap-around grid (offsets 0, 1, ..., N-1, -N,
+        # ..., -1; the -N entry is never used by the first N x N block of the product, and its
+        # sign is immaterial) its DFT is the type-I DCT of the quadrant of offsets 0..N, which
+        # needs a (N+1) x (N+1) array instead of 2N x 2N ones.
+        quadrant = self._love_quadrant(ny + 1, nx + 1)
+        scipy.fft.dct(quadrant, type=1, axis=0, overwrite_x=True, workers=1)
+        scipy.fft.dct(quadrant, type=1, axis=1, overwrite_x=True, workers=1)
+        # rows of the rfft spectrum: k = 0..N from the DCT, k = N+1..2N-1 mirrored (2N - k)
+        spectrum = np.empty((my, nx + 1))
+        spectrum[: ny + 1] = quadrant
+        spectrum[ny + 1:] = quadrant[ny - 1: 0: -1]
+        return spectrum
+
+    def _love_quadrant(self, rows: int, columns: int) -> np.ndarray:
+        """Love's pixel displacement at offsets ``(j h, i h)``, j < rows, i < columns, evaluated
+        in blocks of rows (bounded temporaries)."""
+        h = self.spacing
+        quadrant = np.empty((rows, columns))
+        offset_x = np.arange(columns) * h
+        block = max(1, (1 << 12) // columns)  # temporaries of 32 kB
+        for start in range(0, rows, block):
+            stop = min(rows, start + block)
+            quadrant[start:stop] = love_pixel_displacement(
+                offset_x[None, :], np.arange(start, stop)[:, None] * h, half_width_x=0.5 * h,
+                e_star=self.e_star)
+        return quadrant
+
+    @property
+    def kernel_spectrum(self) -> np.ndarray:
+        """``K_hat`` [length/pressure] in the unnormalised DFT convention of the module
+        docstring, shape of the rfft spectrum of the convolution grid (fresh, read-only)."""
+        spectrum = self._scaled_spectrum * self._fft.size
+        spectrum.setflags(write=False)
+        return spectrum
 
     # -- the operator --------------------------------------------------------------------------
 
@@ -207,8 +233,7 @@ class HalfSpace:
         # transforms only read it
         fft.input_block[...] = pressure
         fft.execute_forward()
-        spectrum = fft.spectrum_buffer.view(np.float64)
-        np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
+        np.multiply(fft.spectrum_buffer, self._scaled_spectrum, out=fft.spectrum_buffer)
         fft.execute_inverse()
         out[...] = fft.output_block
 
@@ -223,11 +248,48 @@ class HalfSpace:
         """Output block = K * input block, in the FFT buffers (no copies)."""
         fft = self._fft
         fft.execute_forward()
-        spectrum = fft.spectrum_buffer.view(np.float64)
-        np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
+        np.multiply(fft.spectrum_buffer, self._scaled_spectrum, out=fft.spectrum_buffer)
         fft.execute_inverse()
 
+    def coarse(self) -> HalfSpace:
+        """The operator of every other grid point: half the shape, twice the spacing, same E*,
+        periodicity and threads; built on first use and kept (the solver's nested starts).
+
+        Raises
+        ------
+        ValueError
+            If a side of the grid is odd.
+        """
+        if self.shape[0] % 2 or self.shape[1] % 2:
+            raise ValueError(f"the coarse operator needs an even grid, got shape {self.shape}")
+        if self._coarse is None:
+            self._coarse = HalfSpace((self.shape[0] // 2, self.shape[1] // 2),
+                                     2.0 * self.spacing, e_star=self.e_star,
+                                     periodic=self.periodic, backend=self.backend,
+                                     threads=self.threads)
+        return self._coarse
+
     # -- real-space influence coefficients ---------------------------------------------------
+
+    @property
+    def influence(self) -> np.ndarray:
+        """Influence coefficients of non-negative offsets, shape ``shape`` [length/pressure].
+
+        Non-periodic: ``G[j, i]``, the displacement at offset ``(j, i)`` pixels (either sign: G
+        is even in both). Periodic: the displacement at offset ``(j, i)`` summed over all periodic
+        images with the zero-mean convention, one period (offset ``-j`` is row ``rows - j``).
+        Computed on first use and cached; read-only.
+        """
+        if self._influence is None:
+            ny, nx = self.shape
+            if self.periodic:
+                inverse = RealFFT2(self.shape, backend="scipy", threads=1)
+                influence = inverse.inverse(self.kernel_spectrum.astype(complex))
+            else:
+                influence = self._love_quadrant(ny, nx)
+            influence.setflags(write=False)
+            self._influence = influence
+        return self._influence
 
     @property
     def centred_kernel(self) -> np.ndarray:
@@ -235,39 +297,54 @@ class HalfSpace:
 
         ``C[rows - 1 + dj, columns - 1 + di]`` is the displacement at offset ``(dj, di)`` pixels
         from a pixel under unit pressure (periodic: summed over all periodic images, with the
-        zero-mean convention). Computed on first use (one inverse FFT) and cached; read-only.
+        zero-mean convention). Built from :attr:`influence` on each access (4 times its memory:
+        the solver does not use it); read-only.
         """
-        if self._centred_kernel is None:
-            ny, nx = self.shape
-            inverse = RealFFT2(self.convolution_shape, backend="scipy", threads=1)
-            kernel = inverse.inverse(self.kernel_spectrum.astype(complex))
-            # rows -(ny-1)..(ny-1) and columns -(nx-1)..(nx-1), in wrap-around order of kernel
-            rows = np.arange(-(ny - 1), ny) % self.convolution_shape[0]
-            cols = np.arange(-(nx - 1), nx) % self.convolution_shape[1]
-            centred = np.ascontiguousarray(kernel[np.ix_(rows, cols)])
-            centred.setflags(write=False)
-            self._centred_kernel = centred
-        return self._centred_kernel
+        ny, nx = self.shape
+        influence = self.influence
+        if self.periodic:
+            rows, cols = np.arange(-(ny - 1), ny) % ny, np.arange(-(nx - 1), nx) % nx
+        else:
+            rows, cols = np.abs(np.arange(-(ny - 1), ny)), np.abs(np.arange(-(nx - 1), nx))
+        centred = np.ascontiguousarray(influence[np.ix_(rows, cols)])
+        centred.setflags(write=False)
+        return centred
 
     @property
     def self_influence(self) -> float:
         """Displacement of a pixel under unit pressure on itself [length/pressure]."""
-        return float(self.centred_kernel[self.shape[0] - 1, self.shape[1] - 1])
+        return float(self.influence[0, 0])
 
     def _add_sources(self, flat_indices: np.ndarray, values: np.ndarray, out: np.ndarray,
                      work: np.ndarray) -> None:
         """``out += K * (sum of point pressures values at flat_indices)`` by direct summation.
 
         Cost ``len(values) * rows * columns``: cheaper than an FFT product for a handful of
-        pixels. ``work`` is scratch of ``shape``.
+        pixels. ``work`` is scratch of ``shape``. Each source adds :attr:`influence` in four
+        blocks: offsets of either sign along each axis (reflected non-periodic, wrapped
+        periodic).
         """
-        kernel = self.centred_kernel
+        influence = self.influence
         ny, nx = self.shape
         rows, cols = np.divmod(flat_indices, nx)
         for row, col, value in zip(rows.tolist(), cols.tolist(), values.tolist()):
-            block = kernel[ny - 1 - row: 2 * ny - 1 - row, nx - 1 - col: 2 * nx - 1 - col]
-            np.multiply(block, value, out=work)
-            np.add(out, work, out=out)
+            for target_rows, source_rows in self._blocks(row, ny):
+                for target_cols, source_cols in self._blocks(col, nx):
+                    scratch = work[target_rows, target_cols]
+                    np.multiply(influence[source_rows, source_cols], value, out=scratch)
+                    out[target_rows, target_cols] += scratch
+
+    def _blocks(self, index: int, size: int) -> tuple[tuple[slice, slice], ...]:
+        """(target, source) slices along one axis for a source at ``index``: targets at and
+        after it, then before it (empty blocks left out)."""
+        after = (slice(index, size), slice(0, size - index))
+        if index == 0:
+            return (after,)
+        if self.periodic:  # offset -k is row size - k
+            before = (slice(0, index), slice(size - index, size))
+        else:  # offset -k is offset k: rows index, index - 1, ..., 1
+            before = (slice(0, index), slice(index, 0, -1))
+        return after, before
 
     def __repr__(self) -> str:
         return (f"HalfSpace(shape={self.shape}, spacing={self.spacing!r}, e_star={self.e_star!r}, "

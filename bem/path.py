@@ -62,6 +62,7 @@ def contact_curve(
     max_iter: int = DEFAULT_MAX_ITERATIONS,
     operator: HalfSpace | None = None,
     callback: Callable[[int, ContactSolution], None] | None = None,
+    preconditioned: bool = True,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -87,7 +88,7 @@ def contact_curve(
         (:func:`count_contacts`: 4-connected, merged across the edges when periodic).
         ``stiffness`` S = -dW/dd [force/length] and ``conductance`` 2 S / E* [length] cost one
         extra conjugate-gradient solve per point and are computed only when asked for.
-    e_star, periodic, tol, max_iter, operator
+    e_star, periodic, tol, max_iter, operator, preconditioned
         As in :func:`bem.solve_contact`.
     callback : callable, optional
         ``callback(index, solution)`` after each solved point (``index`` in the caller's order),
@@ -145,7 +146,7 @@ def contact_curve(
             load=target if loads is not None else None,
             separation=target if separations is not None else None,
             tol=tol, max_iter=int(max_iter), initial=initial, stiffness=want_stiffness,
-            ws=workspace)
+            ws=workspace, preconditioned=preconditioned)
         if solution.load > 0.0:
             initial = np.array(solution.pressure)
         separation[index] = solution.separation

@@ -27,14 +27,25 @@ half-space product of the search direction; the displacement of the pressure is 
 exactly, ``u <- c (u - tau K t + K e)``, where e are the changes the projection ``p >= 0`` and
 the entering pixels make: by direct sums of influence coefficients when they touch a few pixels
 (:attr:`bem.HalfSpace.direct_source_limit`), otherwise by a full product of p, which is also
-made every 50 iterations and at the end. On rough surfaces the contact set changes in most
-iterations: 1.25 to 1.8 products per iteration overall (benchmarks/bench_bem.py). Element-wise
-work runs in place on preallocated arrays; inner products use numpy's reductions, not BLAS,
-whose spinning threads stall the FFT threads.
+made every 50 iterations and at the end. Element-wise work runs in place on preallocated arrays;
+inner products use numpy's reductions, not BLAS, whose spinning threads stall the FFT threads
+(:mod:`bem.constrained_cg`).
+
+Grid-independent iteration counts (default, ``preconditioned=True``): the gap on the contact set
+is preconditioned by the inverse half-space symbol ``(E*/2)|q|`` restricted to the contact set
+(:mod:`bem.preconditioner`, one n x n FFT pair per iteration), and a cold start is the pressure
+of the same problem on every other grid point, solved the same way down to 64 x 64 and repeated
+on 2 x 2 pixels (nested iteration; ``HalfSpace.coarse`` keeps the coarse operators). On a WM
+surface (D = 2.5) at 4 / 18 / 44 % contact the iterations went from 76 / 109 / 228 (N = 256) and
+244 / 475 / 1026 (N = 1024) to 24 / 36 / 56 and 31 / 48 / 70 (benchmarks/bench_bem.py). The
+stopping rule and hence the converged state are the same as the plain iteration's
+(``preconditioned=False``): tests/test_bem_preconditioned.py checks identical contact sets and
+area, load, separation and stiffness to 1e-6.
 
 Stiffness: the incremental problem on the converged contact set C, ``K_CC q = 1`` (unit rigid
-approach) solved by conjugate gradients; ``S = -dW/dd = h^2 sum q``, and the conductance by
-Barber's analogy ``C rho = 2 S / E*`` (docs/theory.md, eq. T5).
+approach) solved by conjugate gradients with the same preconditioner (:mod:`bem.stiffness`);
+``S = -dW/dd = h^2 sum q``, and the conductance by Barber's analogy ``C rho = 2 S / E*``
+(docs/theory.md, eq. T5).
 """
 
 from __future__ import annotations
@@ -47,7 +58,9 @@ import numpy as np
 
 from bem import checks
 
+from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
 from bem.halfspace import HalfSpace
+from bem.stiffness import _stiffness
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ContactSolution", "solve_contact", "DEFAULT_TOLERANCE", "DEFAULT_MAX_ITERATIONS",
@@ -59,14 +72,22 @@ DEFAULT_TOLERANCE = 1e-9
 DEFAULT_MAX_ITERATIONS = 5000
 #: Smallest accepted grid side (points).
 MINIMUM_GRID = 4
-#: Exact recomputation of u = K p every this many iterations (bounds rounding drift).
-_REFRESH_INTERVAL = 50
+#: Nested iteration: coarse solves down to grids of this side (:func:`_coarse_start`).
+_COARSEST_GRID = 64
+#: Stopping tolerance of the coarse solves of the nested iteration (starts only).
+#: (the fine iteration counts were the same with 1e-4, 1e-6 and 1e-9 on WM surfaces).
+_COARSE_TOLERANCE = 1e-6
+#: Most iterations of each coarse solve of the nested iteration.
+_COARSE_MAX_ITERATIONS = 500
+
 #: Relative residual of the conjugate-gradient stiffness solve.
 _STIFFNESS_TOLERANCE = 1e-11
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
-    return checks.frozen_array(array, dtype=None)
+    """``array`` made read-only in place: the solver hands out arrays it made and owns."""
+    array.setflags(write=False)
+    return array
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,288 +211,6 @@ def _check_initial(initial, shape) -> np.ndarray | None:
 
 
 # ------------------------------------------------------------------------------------------------
-# the constrained conjugate-gradient iteration
-
-
-class _Workspace:
-    """Preallocated arrays of one grid, reused by every iteration (and along a load path)."""
-
-    def __init__(self, shape: tuple[int, int]) -> None:
-        self.u = np.empty(shape)
-        self.g = np.empty(shape)
-        self.g_contact = np.empty(shape)
-        self.t = np.zeros(shape)
-        self.r = np.empty(shape)
-        self.work = np.empty(shape)
-        self.contact_weight = np.empty(shape)
-        self.contact = np.empty(shape, dtype=bool)
-        self.flag = np.empty(shape, dtype=bool)
-
-
-@dataclass
-class _Outcome:
-    pressure: np.ndarray
-    converged: bool
-    iterations: int
-    residual: float
-    message: str
-
-
-def _dot(a: np.ndarray, b: np.ndarray) -> float:
-    """Inner product of two arrays of one shape without BLAS.
-
-    OpenBLAS worker threads keep spinning after a call and then compete with the FFT threads
-    for the cores (a 60x slowdown of the next FFT measured here on 2 cores), so the iteration
-    uses numpy's own reductions.
-    """
-    return float(np.einsum("ij,ij->", a, b))
-
-
-def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total: float | None,
-                    separation: float | None, tol: float, max_iter: int,
-                    ws: _Workspace) -> _Outcome:
-    """Polonsky-Keer iteration from the start ``p >= 0`` (modified in place).
-
-    ``total`` is the target ``sum p`` (load control; p must already sum to it), or
-    ``separation`` is d (separation control). Returns with ``ws.u = K p`` exact.
-
-    Implementation notes (each full-grid pass costs about a tenth of an FFT pair, so they are
-    counted): the search direction t and its displacement r = K t live in the operator's FFT
-    buffers (no copies around the product); t is saved around the occasional full product of p
-    only when the next iteration needs it. In load control the sum of t follows the recurrence
-    t <- beta t + gc (gc sums to zero) and is summed afresh only after a step that clipped
-    pixels (t is then masked); sum p after the step follows from it and the few changed pixels
-    when they are known.
-    """
-    load_control = total is not None
-    u, g, gc, saved_t, work = ws.u, ws.g, ws.g_contact, ws.t, ws.work
-    weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
-    t, r = operator._direction_buffers()
-    flat_p, flat_g = p.reshape(-1), g.reshape(-1)
-    direct_limit = operator.direct_source_limit
-    if direct_limit:
-        operator.centred_kernel  # noqa: B018 - build the influence coefficients once, up front
-    operator._apply(p, u)
-    reset = True        # next direction is the steepest descent one (beta = 0)
-    shrunk = True       # the last step removed pixels from the contact set
-    g_norm_old = 1.0
-    residual = math.inf
-    since_refresh = 0
-    tau_fallback = None
-    t_sum = 0.0
-    flat_contact, flat_weight = contact.reshape(-1), weight.reshape(-1)
-    stale = True        # contact / weight / n_contact must be recomputed from p
-    n_contact = 0
-    restarted = False   # separation control restarted after losing every contact
-    for iteration in range(1, max_iter + 1):
-        # contact set: recomputed after bulk changes, else kept up to date pixel by pixel
-        if stale:
-            np.greater(p, 0.0, out=contact)
-            n_contact = int(np.count_nonzero(contact))
-            np.copyto(weight, contact)
-            stale = False
-        # gap at the current state: g = u - z + d, d given or the mean of z - u on the contacts
-        np.subtract(u, z, out=g)
-        if load_control:
-            g -= _dot(g, weight) / n_contact
-        else:
-            g += separation
-        np.multiply(g, weight, out=gc)
-        g_norm = _dot(gc, gc)
-        # conjugate search direction on the contact set
-        # t_sum = sum of t (zero outside the contact set); gc sums to zero in load control
-        if reset or g_norm_old == 0.0:
-            np.copyto(t, gc)
-            t_sum = 0.0
-        else:
-            beta = g_norm / g_norm_old
-            if shrunk:
-                np.multiply(t, weight, out=t)
-            t *= beta
-            t += gc
-            if load_control:
-                t_sum = float(t.sum()) if shrunk else beta * t_sum
-        g_norm_old = g_norm
-        operator._transform_direction()  # r = K t
-        rt = _dot(r, t)
-        if t_sum != 0.0:
-            rt -= _dot(r, weight) / n_contact * t_sum
-        if rt > 0.0 and math.isfinite(rt):
-            tau = _dot(gc, t) / rt
-            tau_fallback = tau
-        else:  # t = 0: the contact set is solved exactly; only new contacts may remain
-            if tau_fallback is None:
-                tau_fallback = 1.0 / operator.self_influence
-            tau = tau_fallback
-        step = gc  # the contact gap is not needed any more: reuse its buffer for tau t
-        np.multiply(t, tau, out=step)
-        p -= step
-        # project on p >= 0 (boolean masks and counts are the cheap passes; ufuncs with
-        # where= and float count_nonzero are 10-50x slower than a plain pass)
-        np.less(p, 0.0, out=flag)
-        clipped = int(np.count_nonzero(flag))
-        sources = []  # (flat indices, values) of p_new / scale - (p_old - tau t), if few
-        change = 0.0  # their sum
-        if clipped:
-            if clipped <= direct_limit:
-                clipping = np.flatnonzero(flag)
-                values = -flat_p[clipping]
-                flat_p[clipping] = 0.0
-                flat_contact[clipping] = False
-                flat_weight[clipping] = 0.0
-                n_contact -= clipped
-                sources.append((clipping, values))
-                change += float(values.sum())
-            else:
-                np.maximum(p, 0.0, out=p)
-                stale = True
-        # points outside the contact set that overlap enter it: p = 0 and g < 0
-        np.less(g, 0.0, out=flag)
-        if stale:
-            np.logical_and(flag, p == 0.0, out=flag)
-        else:
-            np.greater(flag, contact, out=flag)  # g < 0 and not in contact
-        entered = int(np.count_nonzero(flag))
-        if entered:
-            entering = np.flatnonzero(flag)
-            values = -tau * flat_g[entering]
-            flat_p[entering] = values
-            flat_contact[entering] = True
-            flat_weight[entering] = 1.0
-            n_contact += entered
-            sources.append((entering, values))
-            change += float(values.sum())
-        scale = 1.0
-        if load_control:
-            if clipped <= direct_limit:
-                current = total - tau * t_sum + change
-            else:
-                current = float(p.sum())
-            if current <= 0.0:  # everything was clipped: restart from a uniform pressure
-                p.fill(total / p.size)
-                operator._apply(p, u)
-                reset = shrunk = stale = True
-                continue
-            scale = total / current
-            p *= scale
-        elif (n_contact == 0) if not stale else not p.any():
-            # Separation control and the step clipped every pixel. The caller enters this loop
-            # only when some point overlaps the plane (d < max z), so an empty contact set is an
-            # overshoot (from a poor initial pressure, say), never the answer: restart once from
-            # the interference start, and report failure if it happens again.
-            if restarted:
-                operator._apply(p, u)
-                return _Outcome(p, False, iteration, math.inf,
-                                "lost every contact although the plane overlaps the surface")
-            restarted = True
-            np.copyto(p, _separation_start(operator, z, separation, ws))
-            operator._apply(p, u)
-            reset = shrunk = stale = True
-            continue
-        reset, shrunk = entered > 0, clipped > 0
-        # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
-        # made by the projection and the entering points: by direct sums when they are few,
-        # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
-        since_refresh += 1
-        if (clipped > direct_limit or clipped + entered > direct_limit
-                or since_refresh >= _REFRESH_INTERVAL):
-            if not reset:
-                np.copyto(saved_t, t)
-            operator._apply(p, u)  # overwrites the FFT buffers t and r
-            if not reset:
-                np.copyto(t, saved_t)
-            since_refresh = 0
-            stale = True  # resynchronise the contact set with p > 0
-        else:
-            np.multiply(r, tau, out=r)
-            u -= r
-            for indices, values in sources:
-                operator._add_sources(indices, values, u, work)
-            if scale != 1.0:
-                u *= scale
-        if clipped or entered:
-            continue  # the contact set changed: not converged
-        # stopping rule: relative pressure change; with an unchanged contact set the new
-        # pressure is scale (p_old - tau t), so p - p_old = (1 - 1/scale) p - tau t
-        if scale != 1.0:
-            np.multiply(p, 1.0 - 1.0 / scale, out=work)
-            np.subtract(work, step, out=work)
-            np.abs(work, out=work)
-            residual = float(work.sum()) / total
-        else:
-            np.abs(step, out=work)
-            total_now = float(p.sum())
-            residual = float(work.sum()) / total_now
-        if residual <= tol:
-            if since_refresh:
-                operator._apply(p, u)
-            return _Outcome(p, True, iteration, residual, "converged")
-    operator._apply(p, u)
-    change = (f"relative pressure change {residual:.3g} > tol = {tol:.3g}"
-              if math.isfinite(residual) else "the contact set changed at every iteration")
-    return _Outcome(p, False, max_iter, residual,
-                    f"not converged after {max_iter} iterations ({change})")
-
-
-def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,
-                      ws: _Workspace) -> np.ndarray:
-    """Start for separation control: the interference ``max(z - d, 0)`` as a pressure shape,
-    scaled to minimise the energy along it (one half-space product)."""
-    p = np.maximum(z - separation, 0.0)
-    operator._apply(p, ws.u)
-    curvature = _dot(p, ws.u)
-    slope = _dot(p, z - separation)
-    if curvature > 0.0:
-        p *= slope / curvature
-    return p
-
-
-# ------------------------------------------------------------------------------------------------
-# incremental stiffness
-
-
-def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter: int,
-               ws: _Workspace) -> tuple[float, bool, int]:
-    """Solve ``K_CC q = 1`` on the contact set C by conjugate gradients; ``S = h^2 sum q``.
-
-    Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns (S, converged, iterations).
-    """
-    n_contact = int(np.count_nonzero(contact))
-    if n_contact == 0:
-        return 0.0, True, 0
-    if operator.periodic and n_contact == contact.size:
-        warnings.warn("bem.solve_contact: full contact of a periodic surface: the stiffness is "
-                      "infinite (no load can push the plane further)", ConvergenceWarning,
-                      stacklevel=4)
-        return math.inf, True, 0
-    weight = np.asarray(contact, dtype=float)
-    q = weight / operator.self_influence
-    product, work = ws.r, ws.work
-    operator._apply(q, product)
-    residual = weight - product * weight
-    direction = residual.copy()
-    rr = _dot(residual, residual)
-    target = (tol**2) * n_contact
-    iterations = 0
-    converged = rr <= target
-    while not converged and iterations < max_iter:
-        iterations += 1
-        operator._apply(direction, product)
-        np.multiply(product, weight, out=product)
-        step = rr / _dot(direction, product)
-        np.multiply(direction, step, out=work)
-        q += work
-        np.multiply(product, step, out=work)
-        residual -= work
-        rr_new = _dot(residual, residual)
-        converged = rr_new <= target
-        direction *= rr_new / rr
-        direction += residual
-        rr = rr_new
-    return float(q.sum()) * operator.spacing**2, converged, iterations
-
-
-# ------------------------------------------------------------------------------------------------
 # public entry point
 
 
@@ -488,6 +227,7 @@ def solve_contact(
     initial=None,
     operator: HalfSpace | None = None,
     stiffness: bool = False,
+    preconditioned: bool = True,
 ) -> ContactSolution:
     """Contact of a rough elastic surface with a rigid plane, at given load or separation.
 
@@ -525,6 +265,10 @@ def solve_contact(
         A prebuilt operator of the same shape, spacing, E* and periodicity (built otherwise).
     stiffness : bool
         Also solve the incremental problem for the stiffness S = -dW/dd.
+    preconditioned : bool
+        Precondition the iteration and start cold solves from the coarse grid (module
+        docstring); False gives the plain Polonsky-Keer iteration, whose iteration count grows
+        like n. Both converge to the same state under the same stopping rule.
 
     Returns
     -------
@@ -564,13 +308,19 @@ def solve_contact(
     initial = _check_initial(initial, z.shape)
     operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
     return _solve(operator, z, load=load, separation=separation, tol=tol, max_iter=int(max_iter),
-                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape))
+                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape),
+                  preconditioned=preconditioned)
 
 
 def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation: float | None,
            tol: float, max_iter: int, initial: np.ndarray | None, stiffness: bool,
-           ws: _Workspace) -> ContactSolution:
+           ws: _Workspace, preconditioned: bool = True) -> ContactSolution:
     """The solve after validation (shared with the load path)."""
+    preconditioner = ws.inverse_kernel(operator) if preconditioned else None
+    ws.preconditioned = preconditioned
+    if initial is None and preconditioned:
+        initial = _coarse_start(operator, z, load=load, separation=separation, tol=tol,
+                                max_iter=max_iter)
     pixel_area = operator.spacing**2
     nominal_area = z.size * pixel_area
     highest = float(z.max())
@@ -584,19 +334,22 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     if load is not None:
         total = load / pixel_area
         if initial is not None and initial.sum() > 0.0:
-            p = initial * (total / float(initial.sum()))
+            p = _owned(initial)
+            p *= total / float(p.sum())
         else:
             p = np.full(z.shape, total / z.size)
         outcome = _constrained_cg(operator, z, p, total=total, separation=None, tol=tol,
-                                  max_iter=max_iter, ws=ws)
+                                  max_iter=max_iter, ws=ws,
+                                  preconditioner=preconditioner)
     else:
         if initial is not None and initial.any():
-            p = initial
+            p = _owned(initial)
         else:
             p = _separation_start(operator, z, separation, ws)
         outcome = _constrained_cg(operator, z, p, total=None, separation=separation, tol=tol,
-                                  max_iter=max_iter, ws=ws)
-    u = ws.u.copy()
+                                  max_iter=max_iter, ws=ws,
+                                  preconditioner=preconditioner)
+    u = ws.take_displacement()
     p = outcome.pressure
     contact = p > 0.0
     if separation is None:
@@ -604,6 +357,36 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     else:
         d = separation
     return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area)
+
+
+def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
+                  separation: float | None, tol: float, max_iter: int) -> np.ndarray | None:
+    """Nested iteration: the pressure of the same problem on every other grid point (the same
+    continuous surface sampled at spacing 2h, solved recursively the same way), repeated on 2 x 2
+    pixels; None when the grid is odd or its half is below ``_COARSEST_GRID``."""
+    rows, columns = z.shape
+    if rows % 2 or columns % 2 or min(rows, columns) // 2 < _COARSEST_GRID:
+        return None
+    heights = np.ascontiguousarray(z[::2, ::2])
+    if operator.periodic and separation is not None and separation <= float(heights.mean()):
+        return None  # full contact on the coarse grid: no load to start from
+    coarse = operator.coarse()
+    with warnings.catch_warnings():  # an unconverged start is still a start
+        warnings.simplefilter("ignore", ConvergenceWarning)
+        solution = _solve(coarse, heights, load=load, separation=separation,
+                          tol=max(tol, _COARSE_TOLERANCE),
+                          max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=None,
+                          stiffness=False, ws=_Workspace(coarse.shape))
+    pressure = np.asarray(solution.pressure)
+    if not pressure.any():
+        return None
+    return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1)
+
+
+def _owned(initial: np.ndarray) -> np.ndarray:
+    """The start pressure to iterate on in place: ``initial`` itself (the callers hand over
+    arrays they made), unless it is read-only, i.e. a previous result."""
+    return initial if initial.flags.writeable else np.array(initial)
 
 
 def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d: float,
@@ -620,7 +403,7 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
     if stiffness:
         stiffness_value, stiffness_converged, stiffness_iterations = _stiffness(
             operator, contact, tol=_STIFFNESS_TOLERANCE, max_iter=max(1000, 10 * z.shape[0]),
-            ws=ws)
+            ws=ws, preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None)
         if not stiffness_converged:
             converged = False
             message += f"; stiffness solve not converged after {stiffness_iterations} iterations"

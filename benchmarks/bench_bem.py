@@ -1,24 +1,29 @@
-"""Benchmark of the boundary-element contact solver (bem.solve_contact).
+"""Benchmark of the boundary-element contact solver (bem.solve_contact) across grids.
 
-For N = 256, 512, 1024 and periodic / non-periodic half-spaces, prints the time of one FFT pair
-of the convolution grid (2N x 2N non-periodic, N x N periodic), the time of one half-space
-product, and for a Weierstrass-Mandelbrot surface (D = 2.4, rms slope 0.1, seed 0) at about 2 %,
-10 % and 30 % contact area: iterations, products per iteration, time per iteration (also over
-the FFT-pair time) and total time at the default tolerance, cold start. The loads giving those
-areas are found first (untimed) on N = 256 and refined on each grid up to 512; N = 1024 reuses
-the loads of N = 512 (the surface is the same up to resolution), so its area fractions are
-approximately the targets and are printed as reached.
+One Weierstrass-Mandelbrot surface (D = 2.5, rms slope 0.1, seed 9173, ``slope_grid=1024``, so
+every grid samples the same continuous surface; L = 1, E* = 1) at the loads 2e-3, 1e-2 and 3e-2
+(about 4, 18 and 44 % contact area; above N = 1024 only 1e-2), tol 1e-9, cold start,
+non-periodic and periodic. Per grid
+N and load it prints: iterations on the N x N grid (the nested coarse solves are counted in the
+time, not in this column), the solve time, the time of one real FFT pair of the convolution grid
+(2N x 2N non-periodic, N x N periodic) and the solve time over iterations in those FFT pairs,
+and the peak of numpy allocations (``tracemalloc``) of one solve with the stiffness, operator
+built inside, in bytes per grid point (a separate, untimed run, at the first load, as
+validation/bench.py measures it). The operator, with its coarse levels, is built before the
+timed solves, and its build time is printed once per grid.
 
-When the optional ``tamaas`` package is importable (not a dependency of this project), Tamaas's
-PolonskyKeerRey solves the same surface and load, and its time and the relative differences of
-area and mean gap are printed (mean gap from Tamaas's own displacement, with the separation
-taken as the mean of z - u over its contact set, as bem does).
+``--plain`` solves with the plain Polonsky-Keer iteration (``preconditioned=False``), the
+solver before preconditioning. ``--path N`` also times a 12-point load path (``contact_curve``,
+loads 1e-3 to 3e-2 geometric, warm starts) on N x N. When the optional ``tamaas`` package is
+importable, Tamaas's PolonskyKeerRey solves the same problems (N <= ``--tamaas-max``) in a
+separate process: its time, the ratio to ours and the relative differences of area and mean gap
+(Tamaas's tolerance is its own error measure, 1e-10 by default).
 
-Times are medians of repeated runs (FFT pairs and products: 15 runs; solves: ``--repeat``,
-3 runs at N = 256 and 1 above by default) on whatever else the machine is doing: on a shared
-machine they are pessimistic. The full run takes about 5 minutes on 2 cores (``--quick``: 30 s).
+Times are of single runs on whatever else the machine does: on a shared machine they are upper
+bounds (the load average is printed).
 
-Usage: ``python benchmarks/bench_bem.py [--quick] [--sizes N ...] [--repeat R] [--no-tamaas]``
+Usage: ``python benchmarks/bench_bem.py [--sizes N ...] [--periodic {no,yes,both}] [--plain]
+[--path N] [--no-memory] [--no-tamaas]``
 """
 
 from __future__ import annotations
@@ -26,11 +31,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
-import statistics
 import time
+import tracemalloc
 
 import numpy as np
 
@@ -38,7 +44,12 @@ import bem
 from bem.solver import DEFAULT_TOLERANCE
 from validation import wm_surface
 
-TARGET_AREAS = (0.02, 0.10, 0.30)
+LOADS = (2e-3, 1e-2, 3e-2)
+PATH_LOADS = tuple(np.geomspace(1e-3, 3e-2, 12))
+
+
+def surface(n: int) -> np.ndarray:
+    return wm_surface(n, D=2.5, rms_slope=0.1, seed=9173, slope_grid=1024)
 
 
 def median_time(function, repeat: int) -> float:
@@ -50,28 +61,27 @@ def median_time(function, repeat: int) -> float:
     return statistics.median(times)
 
 
-def find_loads(heights, operator, guesses, targets=TARGET_AREAS, steps=4):
-    """Loads giving the target area fractions: secant steps in log(load) vs log(area)."""
+def fft_pair_ms(operator: bem.HalfSpace) -> float:
+    """One real FFT pair of the operator's convolution grid [ms], median of 7."""
+    fft = bem.fft.RealFFT2(operator.convolution_shape, threads=operator.threads,
+                           planner_effort=operator.planner_effort)
+    fft.real_buffer[...] = np.random.default_rng(0).uniform(size=fft.shape)
+
+    def pair():
+        fft.execute_forward()
+        fft.execute_inverse()
+
+    return 1e3 * median_time(pair, 7)
+
+
+def peak_bytes_per_point(heights, load, periodic, preconditioned) -> float:
     n = heights.shape[0]
-    loads = []
-    for target, guess in zip(targets, guesses):
-        points = []
-        load = guess
-        for _ in range(steps):
-            solution = bem.solve_contact(heights, 1.0 / n, load=load, operator=operator,
-                                         periodic=operator.periodic, tol=1e-6)
-            points.append((np.log(load), np.log(solution.area_fraction)))
-            if abs(solution.area_fraction / target - 1) < 0.01:
-                break
-            if len(points) == 1:
-                slope = 1.0  # area roughly proportional to load at small loads
-            else:
-                (x0, y0), (x1, y1) = points[-2], points[-1]
-                slope = (y1 - y0) / (x1 - x0) if x1 != x0 else 1.0
-                slope = slope if slope > 0.1 else 0.1
-            load = float(np.exp(np.log(load) + (np.log(target) - points[-1][1]) / slope))
-        loads.append(load)
-    return loads
+    tracemalloc.start()
+    bem.solve_contact(heights, 1.0 / n, load=load, periodic=periodic, stiffness=True,
+                      preconditioned=preconditioned)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    return peak / n**2
 
 
 _TAMAAS_SCRIPT = """
@@ -111,106 +121,95 @@ def tamaas_solve(heights, load, periodic, tolerance):
     return json.loads(result.stdout.strip().splitlines()[-1])
 
 
+def load_path(n: int, preconditioned: bool) -> None:
+    heights = surface(n)
+    start = time.perf_counter()
+    operator = bem.HalfSpace((n, n), 1.0 / n)
+    built = time.perf_counter() - start
+    start = time.perf_counter()
+    curve = bem.contact_curve(heights, 1.0 / n, loads=PATH_LOADS, operator=operator,
+                              preconditioned=preconditioned)
+    elapsed = time.perf_counter() - start
+    iterations = curve.extras["iterations"]
+    print(f"12-point load path, {n} x {n} non-periodic, loads 1e-3..3e-2 (area "
+          f"{curve.area[0]:.3f}..{curve.area[-1]:.3f}): {elapsed:.1f} s after a {built:.1f} s "
+          f"operator build; iterations {int(iterations.sum())} "
+          f"({', '.join(str(int(i)) for i in iterations)}); "
+          f"all converged: {bool(np.all(curve.extras['converged']))}", flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="N = 128 and 256 only, one run each")
-    parser.add_argument("--sizes", type=int, nargs="+", default=None)
-    parser.add_argument("--repeat", type=int, default=None,
-                        help="timed runs per solve (median); default 3 for N <= 256, else 1")
+    parser.add_argument("--sizes", type=int, nargs="*", default=[128, 256, 512, 1024, 2048])
+    parser.add_argument("--all-loads-max", type=int, default=1024,
+                        help="above this N only the middle load (about 18 %% area) is solved")
+    parser.add_argument("--periodic", choices=("no", "yes", "both"), default="both")
+    parser.add_argument("--plain", action="store_true",
+                        help="the plain Polonsky-Keer iteration (preconditioned=False)")
+    parser.add_argument("--path", type=int, default=None, help="time a 12-point load path on N")
+    parser.add_argument("--no-memory", action="store_true")
+    parser.add_argument("--memory-max", type=int, default=1024)
     parser.add_argument("--no-tamaas", action="store_true")
-    parser.add_argument("--tamaas-max", type=int, default=512,
-                        help="largest N for the Tamaas comparison (default 512)")
-    parser.add_argument("--tamaas-tol", type=float, default=1e-10,
-                        help="Tamaas's own tolerance (its error measure differs from bem's)")
+    parser.add_argument("--tamaas-max", type=int, default=512)
+    parser.add_argument("--tamaas-tol", type=float, default=1e-10)
     args = parser.parse_args()
-    sizes = args.sizes or ((128, 256) if args.quick else (256, 512, 1024))
+    preconditioned = not args.plain
     try:
         if args.no_tamaas:
             raise ImportError
-        import tamaas  # noqa: F401
-        have_tamaas = True
+        import tamaas
+        tamaas_version = tamaas.__version__
     except ImportError:
-        have_tamaas = False
+        tamaas_version = None
     print(f"FFT backend: {'pyfftw' if bem.fft.have_pyfftw() else 'scipy'}, "
           f"CPUs {bem.fft.default_threads()}, load average {os.getloadavg()[0]:.1f}, "
-          f"default tol {DEFAULT_TOLERANCE:g}; "
-          f"Tamaas comparison: {'yes' if have_tamaas else 'no (tamaas not importable)'}")
-    header = ("| N | half-space | threads | FFT pair (ms) | product (ms) | area | iterations | products/it "
-              "| ms/iteration | it / FFT pair | total (s) |")
-    rule = "|---|---|---|---|---|---|---|---|---|---|---|"
-    if have_tamaas:
-        header += " Tamaas total (s) | Tamaas / bem | rel. diff area | rel. diff mean gap |"
-        rule += "---|---|---|---|"
+          f"tol {DEFAULT_TOLERANCE:g}, {'plain' if args.plain else 'preconditioned, nested'}; "
+          f"Tamaas: {tamaas_version or 'not importable'}")
+    header = ("| N | half-space | load | area | iterations | time (s) | FFT pair (ms) "
+              "| FFT pairs/iteration | peak (B/point) |")
+    if tamaas_version:
+        header += " Tamaas (s) | Tamaas / bem | d area | d mean gap |"
     print(header)
-    print(rule, flush=True)
-    guesses = {False: [0.0005, 0.003, 0.012], True: [0.0005, 0.003, 0.012]}
-    for n in sizes:
-        heights = wm_surface(n, D=2.4, rms_slope=0.1, seed=0)
-        repeat = args.repeat or (1 if args.quick or n > 256 else 3)
-        for periodic in (False, True):
+    print("|" + "---|" * (header.count("|") - 1))
+    periodicities = {"no": (False,), "yes": (True,), "both": (False, True)}[args.periodic]
+    for n in args.sizes:
+        heights = surface(n)
+        for periodic in periodicities:
+            start = time.perf_counter()
             operator = bem.HalfSpace((n, n), 1.0 / n, periodic=periodic)
-            # the reference: a full real FFT pair of the convolution grid (2N x 2N non-periodic;
-            # the operator's own pruned transforms do about 3/4 of that work)
-            fft = bem.fft.RealFFT2(operator.convolution_shape, threads=operator.threads,
-                                   planner_effort=operator.planner_effort)
-            fft.real_buffer[...] = np.random.default_rng(0).uniform(size=fft.shape)
-
-            def fft_pair():
-                fft.execute_forward()
-                fft.execute_inverse()
-
-            fft_ms = 1e3 * median_time(fft_pair, 15)
-            pressure, displacement = np.random.default_rng(1).uniform(size=(2, n, n))
-            product_ms = 1e3 * median_time(lambda: operator._apply(pressure, displacement), 15)
-            if n <= 512:
-                loads = find_loads(heights, operator, guesses[periodic])
-                guesses[periodic] = loads
-            else:
-                loads = guesses[periodic]
-            for load in loads:
-                products = [0]
-                apply, transform = operator._apply, operator._transform_direction
-
-                def counting(source, out, apply=apply, products=products):
-                    products[0] += 1
-                    apply(source, out)
-
-                def counting_direction(transform=transform, products=products):
-                    products[0] += 1
-                    transform()
-
-                operator._apply = counting
-                operator._transform_direction = counting_direction
-                times = []
-                for _ in range(repeat):
-                    products[0] = 0
-                    start = time.perf_counter()
-                    solution = bem.solve_contact(heights, 1.0 / n, load=load, operator=operator,
-                                                 periodic=periodic)
-                    times.append(time.perf_counter() - start)
-                operator._apply, operator._transform_direction = apply, transform
-                total = statistics.median(times)
-                per_iteration = 1e3 * total / solution.iterations
-                row = (f"| {n} | {'periodic' if periodic else 'non-periodic'} | {operator.threads} "
-                       f"| {fft_ms:.2f} "
-                       f"| {product_ms:.2f} | {solution.area_fraction:.3f} | {solution.iterations} "
-                       f"| {products[0] / solution.iterations:.2f} | {per_iteration:.2f} "
-                       f"| {per_iteration / fft_ms:.2f} | {total:.2f} |")
+            bem.solve_contact(heights, 1.0 / n, load=LOADS[0], operator=operator,
+                              periodic=periodic, tol=1e-3, preconditioned=preconditioned)
+            setup = time.perf_counter() - start
+            pair = fft_pair_ms(operator)
+            memory = None
+            if not args.no_memory and n <= args.memory_max:
+                memory = peak_bytes_per_point(heights, LOADS[0], periodic, preconditioned)
+            for load in LOADS if n <= args.all_loads_max else LOADS[1:2]:
+                start = time.perf_counter()
+                solution = bem.solve_contact(heights, 1.0 / n, load=load, operator=operator,
+                                             periodic=periodic, preconditioned=preconditioned)
+                elapsed = time.perf_counter() - start
+                per_iteration = 1e3 * elapsed / solution.iterations / pair
+                row = (f"| {n} | {'periodic' if periodic else 'non-periodic'} | {load:g} "
+                       f"| {solution.area_fraction:.3f} | {solution.iterations} | {elapsed:.2f} "
+                       f"| {pair:.2f} | {per_iteration:.1f} "
+                       f"| {'-' if memory is None else f'{memory:.0f}'} |")
                 if not solution.converged:
                     row += " (not converged)"
-                if have_tamaas:
+                if tamaas_version:
                     if n <= args.tamaas_max:
-                        elapsed, area, mean_gap = tamaas_solve(heights, load, periodic,
-                                                               args.tamaas_tol)
-                        row += (f" {elapsed:.2f} | {elapsed / total:.1f} "
+                        spent, area, mean_gap = tamaas_solve(heights, load, periodic,
+                                                             args.tamaas_tol)
+                        row += (f" {spent:.2f} | {spent / elapsed:.1f} "
                                 f"| {area / solution.area_fraction - 1:.1e} "
                                 f"| {mean_gap / solution.mean_gap - 1:.1e} |")
                     else:
                         row += " - | - | - | - |"
                 print(row, flush=True)
-    if have_tamaas:
-        print(f"Tamaas: one cold run per point in a separate process, tolerance "
-              f"{args.tamaas_tol:g}, up to N = {args.tamaas_max}.")
+            print(f"(N = {n}, {'periodic' if periodic else 'non-periodic'}: operator and coarse "
+                  f"levels built in {setup:.1f} s, FFT threads {operator.threads})", flush=True)
+    if args.path:
+        load_path(args.path, preconditioned)
 
 
 if __name__ == "__main__":

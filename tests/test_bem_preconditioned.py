@@ -1,0 +1,103 @@
+"""The preconditioned, nested solver against the plain Polonsky-Keer iteration on WM surfaces.
+
+The contract: the same contact set, and area, load, separation and stiffness to 1e-6 relative,
+at several grids and area fractions, periodic and not, in load and in separation control.
+"""
+
+import numpy as np
+import pytest
+
+from bem import HalfSpace, contact_curve, solve_contact
+from bem.preconditioner import InverseKernel
+from validation import wm_surface
+
+#: Loads of the WM surface below giving about 4 %, 18 % and 44 % contact area.
+LOADS = (2e-3, 1e-2, 3e-2)
+
+
+def surface(n: int) -> np.ndarray:
+    return wm_surface(n, D=2.5, rms_slope=0.1, seed=9173, slope_grid=1024)
+
+
+def assert_same_state(new, plain):
+    assert new.converged and plain.converged
+    assert np.array_equal(new.contact, plain.contact)
+    assert new.area == plain.area
+    assert new.load == pytest.approx(plain.load, rel=1e-6)
+    assert new.separation == pytest.approx(plain.separation, rel=1e-6)
+    assert new.mean_gap == pytest.approx(plain.mean_gap, rel=1e-6)
+
+
+def compare_load_control(n: int, periodic: bool) -> None:
+    heights = surface(n)
+    operator = HalfSpace((n, n), 1.0 / n, periodic=periodic)
+    for load in LOADS:
+        new = solve_contact(heights, 1.0 / n, load=load, periodic=periodic, operator=operator,
+                            stiffness=True)
+        plain = solve_contact(heights, 1.0 / n, load=load, periodic=periodic, operator=operator,
+                              stiffness=True, preconditioned=False)
+        assert_same_state(new, plain)
+        assert new.stiffness == pytest.approx(plain.stiffness, rel=1e-6)
+        # separation control at the separation found gives the same state
+        at_separation = solve_contact(heights, 1.0 / n, separation=plain.separation,
+                                      periodic=periodic, operator=operator)
+        plain_at_separation = solve_contact(heights, 1.0 / n, separation=plain.separation,
+                                            periodic=periodic, operator=operator,
+                                            preconditioned=False)
+        assert_same_state(at_separation, plain_at_separation)
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_same_state_as_polonsky_keer(periodic):
+    compare_load_control(64, periodic)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("periodic", [False, True])
+@pytest.mark.parametrize("n", [128, 256])
+def test_same_state_as_polonsky_keer_on_finer_grids(n, periodic):
+    compare_load_control(n, periodic)
+
+
+def test_load_path_matches_single_solves():
+    n = 64
+    heights = surface(n)
+    curve = contact_curve(heights, 1.0 / n, loads=LOADS, quantities=("area", "stiffness"))
+    for index, load in enumerate(LOADS):
+        plain = solve_contact(heights, 1.0 / n, load=load, stiffness=True, preconditioned=False)
+        assert curve.area[index] == plain.area
+        assert curve.separation[index] == pytest.approx(plain.separation, rel=1e-6)
+        assert curve.stiffness[index] == pytest.approx(plain.stiffness, rel=1e-6)
+
+
+def test_inverse_kernel_inverts_the_periodic_half_space():
+    n, spacing, e_star = 32, 0.01, 2.5
+    operator = HalfSpace((n, n), spacing, e_star=e_star, periodic=True)
+    inverse = InverseKernel((n, n), spacing, e_star=e_star)
+    pressure = np.random.default_rng(3).normal(size=(n, n))
+    pressure -= pressure.mean()  # the periodic operator drops the mean
+    inverse.input_block[...] = operator.displacement(pressure)
+    inverse.execute()
+    assert np.allclose(inverse.output_block, pressure, rtol=0, atol=1e-12 * np.abs(pressure).max())
+
+
+def test_odd_grid_solves_without_nested_start():
+    heights = surface(66)[:63, :63]
+    new = solve_contact(heights, 1.0 / 63, load=1e-2)
+    plain = solve_contact(heights, 1.0 / 63, load=1e-2, preconditioned=False)
+    assert_same_state(new, plain)
+
+
+def test_periodic_separation_near_full_contact():
+    # a separation between the mean height and the (higher) mean of every other point: the
+    # coarse problem would be in full contact, so the solve starts without it
+    n = 128
+    heights = -surface(n)
+    coarse_mean, mean = float(heights[::2, ::2].mean()), float(heights.mean())
+    assert coarse_mean > mean
+    separation = 0.5 * (mean + coarse_mean)
+    new = solve_contact(heights, 1.0 / n, separation=separation, periodic=True)
+    plain = solve_contact(heights, 1.0 / n, separation=separation, periodic=True,
+                          preconditioned=False)
+    assert new.area_fraction > 0.5
+    assert_same_state(new, plain)
