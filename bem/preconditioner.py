@@ -1,7 +1,7 @@
 """Inverse-kernel preconditioner of the half-space operator on a contact set.
 
 The half-space operator K acts on a pressure field like ``2 / (E* |q|)`` in Fourier space
-(THEORY.md, "The reference"), so its condition number on an n x n grid grows like n and so does
+(docs/theory.md, "8. The reference"), so its condition number on an n x n grid grows like n and so does
 the number of conjugate-gradient iterations of the unpreconditioned contact solver. The
 preconditioner is the inverse symbol on the n x n grid taken as one period,
 

@@ -1,4 +1,4 @@
-"""Incremental normal stiffness of a converged contact state (THEORY.md, "The reference").
+"""Incremental normal stiffness of a converged contact state (docs/theory.md, "8.6 Stiffness by the incremental problem").
 
 The incremental problem on the contact set C, ``K_CC q = 1`` (unit rigid approach), solved by
 conjugate gradients preconditioned like the contact iteration (:mod:`bem.preconditioner`);
