@@ -70,6 +70,8 @@ def test_persson_row_is_compared_by_its_mean_gap(tmp_path):
     assert fields[("persson", "separation")] == "mean_gap"
     assert fields[("gw", "separation")] == "separation"
     assert "| Persson | mean gap ū |" in text and "| original GW | separation d |" in text
+    holds = text.split("## Where each theory holds")[1].split("##")[0]   # one table for all
+    assert "| Persson |" in holds and "| original GW |" in holds and "mean gap ū:" in holds
     curves = rows(tmp_path / "curves.csv")
     errors = [r for r in rows(tmp_path / "errors.csv")
               if r["model"] == "persson" and r["quantity"] == "separation"]

@@ -167,6 +167,40 @@ def _findings_section(analyses: list[Analysis]) -> list[str]:
     return lines + [" ".join(part.split()) + "\n" for part in rules]
 
 
+def _holds_section(analyses: list[Analysis]) -> list[str]:
+    """One table for every model: where it holds, per surface and quantity, at the largest
+    tolerance (asperity models and Persson's theory side by side)."""
+    columns = [c for a in analyses for c in a.comparisons if len(a.result.scene.surface.D) == 1]
+    if not columns:
+        return []
+    keys = {k for c in columns for k in c.models if k[1] in MAP_QUANTITIES}
+    quantities = sorted({q for _, q in keys}, key=MAP_QUANTITIES.index)
+    names = model_order({m for m, _ in keys})
+    header, rows = ["model"], {m: [model_label(m)] for m in names}
+    for comparison in columns:
+        for quantity in quantities:
+            header.append(f"{quantity}, D = {comparison.D:g}")
+            for model in names:
+                entry = comparison.models.get((model, quantity))
+                if entry is None or not entry.ranges:
+                    rows[model].append("–")
+                    continue
+                index = int(np.argmax(entry.tolerances))
+                what = compared_label(quantity, entry.reference_field)
+                cell = entry.ranges[index].describe(".1e")
+                rows[model].append(cell if what == compared_label(quantity) else f"{what}: {cell}")
+    tolerance = max(max(c.models[k].tolerances) for c in columns for k in c.models
+                    if c.models[k].tolerances)
+    return (["## Where each theory holds\n",
+             f"Load range (longest run of ✔, with the BEM's area fraction over it) within the "
+             f"tolerance {tolerance:g} (relative for area and conductance, in units of σ for "
+             "separation); the asperity models are judged by the separation d, Persson's theory "
+             "by the mean gap ū, each against the BEM's own field of that name. Per-point "
+             "verdicts and the other tolerances are in the sections below and in "
+             "`validity.csv`.\n"]
+            + md_table(header, list(rows.values())))
+
+
 def _verdict_rows(comparison: Comparison) -> list[list[str]]:
     rows = []
     keys = sorted(comparison.models, key=lambda k: (model_rank(k[0]), QUANTITY_ORDER.index(k[1])))
@@ -326,6 +360,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     analyses = [analyse(result) for result in results]
     written = write_tables(folder, analyses)
     figures = _Figures(folder, _header(seconds, mode, command))
+    figures.lines += _holds_section(analyses)
     figures.lines += _findings_section(analyses)
     for analysis in analyses:
         scene = analysis.result.scene
