@@ -1,6 +1,6 @@
 """Persson's theory of contact between randomly rough surfaces, as a model of the project.
 
-Equations (P1)-(P9) are those of docs/theory_persson.md (Persson 2001, J. Chem. Phys. 115,
+Equations (P1)-(P9) are those of docs/theory.md, section 7 (Persson 2001, J. Chem. Phys. 115,
 3840; Persson 2007, Phys. Rev. Lett. 99, 125502; Yang & Persson 2008, J. Phys.: Condens.
 Matter 20, 215214; Campana, Persson & Muser 2011, J. Phys.: Condens. Matter 23, 085001).
 
@@ -56,6 +56,7 @@ from asperity.gw_functions import monotone_root
 from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
 from bem.checks import positive, real_number
 from bem.curve import ContactCurve
+from bem.model import check_points
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["PERSSON_QUANTITIES", "YANG_PERSSON_GAMMA", "Persson", "separation_kernel"]
@@ -158,7 +159,7 @@ class Persson:
     gamma : float, keyword-only
         Correction factor of Yang & Persson (2008) in the mean-gap relation (P5), in (0, 1];
         default 0.42 (the value used with this correction in later comparisons, e.g. Almqvist
-        et al. 2011; see docs/theory_persson.md); 1 gives Persson (2007). The area (P3) does
+        et al. 2011; see docs/theory.md); 1 gives Persson (2007). The area (P3) does
         not use it.
 
     Examples
@@ -182,6 +183,11 @@ class Persson:
         if gamma > 1.0:
             raise ValueError(f"gamma must be in (0, 1], got {self.gamma!r}")
         object.__setattr__(self, "gamma", gamma)
+
+    @property
+    def name(self) -> str:
+        """Short identifier of the model (:class:`bem.ContactModel`)."""
+        return "persson"
 
     # constructors ---------------------------------------------------------------------------
     @classmethod
@@ -287,9 +293,9 @@ class Persson:
         None): separation, load, area and mean_pressure are always returned, as by every model
         of the project; stiffness and conductance (one more integral) only when asked for.
         Loads above ``17.7 E* h'_rms A`` (x_T > 25) give mean gap 0 and infinite stiffness: the
-        gap underflows in double precision.
+        gap underflows in double precision. Loads must be finite and >= 0 (``ValueError``).
         """
-        w = _non_negative(load, "load", "0 gives mean gap +inf")
+        w = check_points("load", load, non_negative=True)
         return self._curve(w / self.nominal_area, w, None, _quantity_names(quantities))
 
     def at_separation(self, separation: ArrayLike, *,

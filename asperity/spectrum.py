@@ -1,6 +1,6 @@
 """Isotropic power spectral density (PSD) of a rough surface, for Persson's theory.
 
-Convention (docs/theory_persson.md, eq. P1), used throughout the project's Persson code:
+Convention (docs/theory.md, eq. P1), used throughout the project's Persson code:
 
     C(q) = (2 pi)^-2 * integral d^2x <h(x) h(0)> exp(-i q.x)      [length^4],
 
@@ -216,7 +216,7 @@ def radial_power_spectrum(heights: ArrayLike, spacing: float, *, window: str = "
     # The rings span [dq/2, (n + 1/2) dq]: extend the spectrum to those edges, flat below the
     # first ring (no power is invented at unresolved wavelengths) and along the last piece's
     # power law above the last, so 2 pi integral q C dq counts every ring once (Parseval up
-    # to the ring discretisation; docs/theory_persson.md).
+    # to the ring discretisation; docs/theory.md).
     top = (ring[keep].max() + 0.5) * step
     slope = math.log(c[-1] / c[-2]) / math.log(q[-1] / q[-2])
     return IsotropicSpectrum(np.concatenate(([0.5 * step], q, [top])),

@@ -115,3 +115,29 @@ def test_a_model_compared_with_another_reference_field():
     assert separation.reference_field == "mean_gap"
     identity = compare_realizations(results, reference_fields={})
     np.testing.assert_allclose(identity.models[("gw", "separation")].summary.mean, 0.2)
+
+
+def test_the_registry_says_which_reference_field_a_model_is_compared_with():
+    # by default the fields come from the registry: a model registered with
+    # reference_fields={"separation": "mean_gap"} is compared with the BEM's mean gap, the others
+    # with its separation; no name of a model is needed outside the registry
+    from validation import models
+    from validation.compare import compare_realizations
+
+    gap = {"mean_gap": np.array([3.2, 2.2, 1.2])}
+    results = [realization(k, LOAD, AREA, [3.2, 2.2, 1.2], reference_extras=gap) for k in (0, 1)]
+    models.register("test_gap_model", lambda inputs: None, label="gap model", default=False,
+                    reference_fields={"separation": "mean_gap"})
+    try:
+        for r in results:
+            r.curves["test_gap_model"] = r.curves["gw"]
+        comparison = compare_realizations(results)
+    finally:
+        models.unregister("test_gap_model")
+    gap_model = comparison.models[("test_gap_model", "separation")]
+    assert gap_model.reference_field == "mean_gap"
+    np.testing.assert_allclose(gap_model.summary.mean, 0.0, atol=1e-12)
+    gw = comparison.models[("gw", "separation")]
+    assert gw.reference_field == "separation"
+    np.testing.assert_allclose(gw.summary.mean, 0.2)
+    assert models.entry("persson").reference_fields == {"separation": "mean_gap"}

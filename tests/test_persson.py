@@ -192,10 +192,12 @@ def test_curve_fields_and_shapes():
 
 def test_limits_zero_and_infinite_load():
     model = power_law_model()
-    curve = model.at_load([0.0, np.inf, 1e300])
-    np.testing.assert_array_equal(curve.separation, [np.inf, 0.0, 0.0])
-    np.testing.assert_array_equal(curve.area, [0.0, model.nominal_area, model.nominal_area])
-    np.testing.assert_array_equal(curve.stiffness, [0.0, np.inf, np.inf])
+    curve = model.at_load([0.0, 1e300])
+    np.testing.assert_array_equal(curve.separation, [np.inf, 0.0])
+    np.testing.assert_array_equal(curve.area, [0.0, model.nominal_area])
+    np.testing.assert_array_equal(curve.stiffness, [0.0, np.inf])
+    with pytest.raises(ValueError, match="load must be finite"):
+        model.at_load([1.0, np.inf])          # the contract of every model: loads are finite
     back = model.at_separation([np.inf, 0.0, 1e300])
     np.testing.assert_array_equal(back.load, [0.0, np.inf, 0.0])
 

@@ -2,6 +2,7 @@
 
 import csv
 
+import numpy as np
 import pytest
 
 from validation.cli import main
@@ -52,6 +53,37 @@ def test_report_with_no_converged_bem_point(unconverged, tmp_path):
     assert "`????`" in text and "nowhere" in text and "**0 / 0 /" in text
     assert "fewer than two converged BEM realizations" in text  # finding (c) says why
     assert "Command: `python -m validation x`" in text and "run time 0.2 min" in text
+
+
+def test_persson_row_is_compared_by_its_mean_gap(tmp_path):
+    # Persson's separation is a mean gap: its rows say so, and are computed against the BEM's
+    # mean gap, which curves.csv lists beside the BEM's separation d
+    scene = parse_scene({"name": "persson-row", "title": "Persson beside GW",
+                         "surface": {"D": 2.4, "rms_slope": 0.1, "n": 32},
+                         "realizations": {"count": 2, "seed": 1},
+                         "loads": {"min": 1e-4, "max": 1e-2, "count": 3},
+                         "models": {"use": ["gw", "persson", "bem"]}}, source="test")
+    results = run_scenes([scene], progress=False)
+    text = write_report(results, tmp_path).read_text(encoding="utf-8")
+    validity = rows(tmp_path / "validity.csv")
+    fields = {(r["model"], r["quantity"]): r["reference_field"] for r in validity}
+    assert fields[("persson", "separation")] == "mean_gap"
+    assert fields[("gw", "separation")] == "separation"
+    assert "| Persson | mean gap ū |" in text and "| original GW | separation d |" in text
+    holds = text.split("## Where each theory holds")[1].split("##")[0]   # one table for all
+    assert "| Persson |" in holds and "| original GW |" in holds and "mean gap ū:" in holds
+    curves = rows(tmp_path / "curves.csv")
+    errors = [r for r in rows(tmp_path / "errors.csv")
+              if r["model"] == "persson" and r["quantity"] == "separation"]
+    for realization in results[0].realizations[2.4]:
+        bem = realization.curves["bem"]
+        gap = [float(r["mean_gap"]) for r in curves
+               if r["model"] == "bem" and int(r["seed"]) == realization.task.seed]
+        np.testing.assert_allclose(gap, bem.extras["mean_gap"], rtol=1e-9)
+        assert not np.allclose(bem.extras["mean_gap"], bem.separation)   # two different fields
+    expected = np.mean([(r.curves["persson"].separation - r.curves["bem"].extras["mean_gap"])
+                        / r.sigma for r in results[0].realizations[2.4]], axis=0)
+    np.testing.assert_allclose([float(r["mean_error"]) for r in errors], expected, rtol=1e-8)
 
 
 def test_tables_are_written_before_the_figures(unconverged, tmp_path, monkeypatch):

@@ -6,8 +6,9 @@ Error measures (at equal total load W, realization by realization):
 * separation (and the mean gap): ``(d_model - d_reference) / sigma`` with sigma the standard
   deviation of the summit heights of that realization (the paper's unit of separation).
 
-A model may be compared with a different field of the reference than its own quantity's name
-(:data:`REFERENCE_FIELDS`; e.g. a separation compared with the reference's mean gap).
+A model may be compared with a different field of the reference than its own quantity's name:
+its registry entry says which (``validation.models.entry(name).reference_fields``; Persson's
+separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
 At each load point the errors over realizations give a mean, a 95 % Student-t confidence
 interval and, with the reference's own error band, a verdict (holds / fails / undecided;
@@ -22,6 +23,7 @@ import numpy as np
 
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from validation import models
 from validation.verdicts import (
     HOLDS,
     ErrorInterval,
@@ -37,7 +39,6 @@ from validation.verdicts import (
 __all__ = [
     "ABSOLUTE_QUANTITIES",
     "COMPARED_QUANTITIES",
-    "REFERENCE_FIELDS",
     "RELATIVE_QUANTITIES",
     "Comparison",
     "ErrorSummary",
@@ -58,10 +59,6 @@ ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
 COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
-#: Which reference field a model's quantity is compared with, where it is not the quantity of
-#: the same name (model -> {quantity: reference field}). Persson's theory predicts the mean
-#: gap, not the separation of the mean planes.
-REFERENCE_FIELDS: dict[str, dict[str, str]] = {"persson": {"separation": "mean_gap"}}
 
 
 def _field(curve: ContactCurve, name: str) -> np.ndarray | None:
@@ -251,6 +248,12 @@ def _unconverged(results, model: str, reference_model: str) -> int:
                for r in results)
 
 
+def _registered_fields(names) -> dict[str, dict[str, str]]:
+    """model -> {quantity: reference field} from the registry (models it does not know: {})."""
+    known = models.reference_fields()
+    return {name: dict(known[name]) for name in names if name in known}
+
+
 def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
                          reference_model: str = "bem",
                          reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
@@ -266,7 +269,8 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
     reference_fields : dict, optional
-        model -> {quantity: reference field}; default :data:`REFERENCE_FIELDS`.
+        model -> {quantity: reference field}; default: the registry's entries
+        (:func:`validation.models.reference_fields`).
 
     Notes
     -----
@@ -278,7 +282,7 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
     first = results[0]
     if reference_model not in first.curves:
         raise ValueError(f"the results hold no {reference_model!r} reference curve")
-    mapping = REFERENCE_FIELDS if reference_fields is None else reference_fields
+    mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)
     area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)

@@ -26,6 +26,8 @@ from __future__ import annotations
 
 from typing import Iterable
 
+from validation import models
+
 __all__ = ["BEM_EXPONENT", "STIFFNESS_SHARE", "task_cost", "schedule", "remaining_seconds"]
 
 #: Growth of a BEM load path's time with the grid size N (cost ∝ N^BEM_EXPONENT).
@@ -36,7 +38,6 @@ STIFFNESS_SHARE = 0.8
 #: at N = 256. Nearly independent of N: a WM surface's summits are set by its highest
 #: frequency, not by the grid (measured 0.05-0.2 s per task at N = 128 and 256).
 ASPERITY_SHARE = 0.02
-_ASPERITY_MODELS = ("gw", "improved_gw", "discrete", "discrete_no_interaction", "persson")
 
 
 def _needs_stiffness(quantities) -> bool:
@@ -57,11 +58,15 @@ def task_cost(task, computed: Iterable[str] | None = None) -> float:
     points = task.loads.count / 16.0
     log = None if computed is None else [entry.split()[0] for entry in computed]
     cost = 0.0
-    if "bem" in task.models and (log is None or "bem" in log):
+    references = [m for m in task.models if m in models.names() and models.entry(m).reference]
+    if references and (log is None or any(m in log for m in references)):
         bem = points * (task.surface.n / 256.0) ** BEM_EXPONENT
         cost += bem * (1.0 + (STIFFNESS_SHARE if _needs_stiffness(task.quantities) else 0.0))
-    if any(m in task.models for m in _ASPERITY_MODELS) and (
-            log is None or any(e.startswith(("summits", "discrete")) for e in log)):
+    others = [m for m in task.models if m in models.names() and not models.entry(m).reference]
+    # what counts is work that a cache hit saves: the summits and the cached models' paths
+    # (the closed-form curves are evaluated again on every run and cost next to nothing)
+    saved = ("summits",) + tuple(m for m in others if models.entry(m).cached)
+    if others and (log is None or any(e.split("-")[0] in saved for e in log)):
         cost += ASPERITY_SHARE * points
     return cost
 

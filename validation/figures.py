@@ -15,7 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from validation.compare import Comparison, converged_points
-from validation.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, model_label)
+from validation.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, compared_label,
+                               model_label)
 from validation.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
 
 __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_load",
@@ -51,6 +52,8 @@ def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
         out["stiffness"] = reduced.conductance / 2.0
     if curve.contacts is not None:
         out["contacts"] = np.asarray(curve.contacts, dtype=float)
+    if "mean_gap" in curve.extras:
+        out["mean_gap"] = np.asarray(curve.extras["mean_gap"], dtype=float) / sigma
     return out
 
 
@@ -119,6 +122,8 @@ def plot_against(ax, results, x: str, y: str, *, models, length: float, logx=Fal
             drawn += ax.plot(*mean, label=model_label(model), **style)
         if left_out:
             notes.append(f"{model_label(model)}: {left_out} point(s) not drawn")
+    if x == "separation":
+        drawn += _reference_mean_gap(ax, results, models, y, length, logy)
     ax.set_xlabel(QUANTITY_LABELS[x])
     ax.set_ylabel(QUANTITY_LABELS[y])
     if not any(len(line.get_xdata()) and np.isfinite(line.get_ydata()).any() for line in drawn):
@@ -129,6 +134,24 @@ def plot_against(ax, results, x: str, y: str, *, models, length: float, logx=Fal
         drawn.append(ax.text(0.02, 0.02, "unconverged or non-positive, not drawn:\n"
                              + "\n".join(notes), transform=ax.transAxes, fontsize=6))
     ax.grid(True, which="both", alpha=0.3)
+    return drawn
+
+
+def _reference_mean_gap(ax, results, models, y: str, length: float, logy: bool) -> list:
+    """The reference's mean gap ū/σ beside its separation d/σ (dotted): the quantity Persson's
+    theory is compared with."""
+    from validation import models as registry
+
+    drawn = []
+    for model in models:
+        if model not in registry.names() or not registry.entry(model).reference:
+            continue
+        pairs, _ = _drawable(results, model, "mean_gap", y, length, False, logy)
+        if pairs and not np.all(np.isnan([p[1] for p in pairs])):
+            with np.errstate(invalid="ignore"), _quiet():
+                mean = [np.nanmean([p[i] for p in pairs], axis=0) for i in (0, 1)]
+            style = dict(MODEL_STYLES.get(model, {}), linestyle=":", linewidth=1.5)
+            drawn += ax.plot(*mean, label=f"{model_label(model)}, mean gap ū/σ", **style)
     return drawn
 
 
@@ -150,10 +173,13 @@ def plot_errors(ax, comparison: Comparison, quantity: str, tolerances):
     """Mean error with its 95 % interval (band) against Load per model; grey: reference band."""
     drawn, load = [], comparison.load
     entries = [(m, e) for (m, q), e in comparison.models.items() if q == quantity]
+    fields = {compared_label(quantity, e.reference_field) for _, e in entries}
     for model, entry in entries:
         style = MODEL_STYLES.get(model, {})
         mean = entry.summary.mean
-        drawn += ax.plot(load, mean, label=model_label(model), **style)
+        label = model_label(model) + (f" ({compared_label(quantity, entry.reference_field)})"
+                                      if len(fields) > 1 else "")
+        drawn += ax.plot(load, mean, label=label, **style)
         if entry.interval is not None:
             half = np.where(np.isfinite(entry.interval.half_width), entry.interval.half_width, np.nan)
             drawn.append(ax.fill_between(load, mean - half, mean + half, color=style.get("color"),
@@ -167,7 +193,10 @@ def plot_errors(ax, comparison: Comparison, quantity: str, tolerances):
             drawn.append(ax.axhline(sign * tol, color="red", linewidth=0.6, linestyle=":"))
     ax.set_xscale("log")
     ax.set_xlabel(QUANTITY_LABELS["load"])
-    ax.set_ylabel(ERROR_LABELS.get(quantity, quantity))
+    ylabel = ERROR_LABELS.get(quantity, quantity)
+    if len(fields) > 1:     # e.g. separation d of the asperity models, mean gap ū of Persson
+        ylabel = f"error of {' or '.join(sorted(fields, reverse=True))} / σ"
+    ax.set_ylabel(ylabel)
     if not any(np.any(np.isfinite(e.summary.mean)) for _, e in entries):
         return drawn + show_no_data(ax, "no converged point: no error to show")
     ax.set_yscale("symlog", linthresh=min(tolerances) / 2)
@@ -209,7 +238,9 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
     error = np.array([np.abs(c.models[(model, quantity)].summary.mean)
                       if (model, quantity) in c.models else np.full(load.shape, np.nan)
                       for c in comparisons])
-    ax.set_title(f"{model_label(model)}: {quantity}", fontsize=9)
+    field = next((c.models[(model, quantity)].reference_field for c in comparisons
+                  if (model, quantity) in c.models), "")
+    ax.set_title(f"{model_label(model)}: {compared_label(quantity, field)}", fontsize=9)
     if not np.any(np.isfinite(error)):
         return show_no_data(ax, "no converged point")
     error = np.ma.masked_invalid(np.clip(error, 1e-4, 10.0))

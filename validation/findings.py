@@ -212,7 +212,8 @@ def _runs_text(load: np.ndarray, mask: np.ndarray) -> str:
 
 def closest_models(comparison: Comparison) -> Finding:
     """Finding (e): the asperity model closest to the BEM per quantity, and where none holds."""
-    claim = "which asperity model is closest to the exact BEM, and where none holds"
+    claim = ("which model (asperity models, Persson) is closest to the exact BEM, and where "
+             "none holds")
     parts = []
     quantities = list(dict.fromkeys(q for (_, q) in comparison.models))
     for quantity in quantities:
@@ -230,7 +231,8 @@ def closest_models(comparison: Comparison) -> Finding:
         best = min(entries, key=score)
         none = np.all([e.verdicts[index] != HOLDS for e in entries], axis=0)
         held = best.counts(index)[HOLDS]
-        closest = (f"{model_label(best.model)} ({held} of {none.size} points hold within "
+        what = "" if best.reference_field in ("", quantity) else f", {best.reference_field}"
+        closest = (f"{model_label(best.model)} ({held} of {none.size} points{what} hold within "
                    f"{tolerance:g})" if held else f"no model holds within {tolerance:g} anywhere")
         parts.append(f"{quantity}: {closest}; none holds at Load {_runs_text(comparison.load, none)}")
     return Finding("e", claim, "; ".join(parts) or "no comparison", NEW)

@@ -11,6 +11,7 @@ __all__ = [
     "MODEL_LABELS",
     "MODEL_STYLES",
     "QUANTITY_LABELS",
+    "compared_label",
     "model_label",
     "model_order",
 ]
@@ -22,7 +23,7 @@ MODEL_STYLES = _models.styles()
 QUANTITY_LABELS = {
     "area": "Area = A/L²",
     "load": "Load = W/(E* L²)",
-    "separation": "Separation = d/σ",
+    "separation": "Separation = d/σ (Persson: mean gap ū/σ)",
     "conductance": "Conductance = Cρσ/L²",
     "stiffness": "Stiffness S σ/(E* L²)",
     "contacts": "contacts",
@@ -34,6 +35,15 @@ ERROR_LABELS = {
     "stiffness": "relative error of stiffness",
     "contacts": "relative error of contact count",
 }
+#: What a model's quantity is compared with, by the reference's field: an asperity model's
+#: separation is the rigid-plane separation d, Persson's the mean gap ū (docs/theory.md, 7).
+FIELD_LABELS = {"separation": "separation d", "mean_gap": "mean gap ū"}
+
+
+def compared_label(quantity: str, reference_field: str = "") -> str:
+    """The name of what is compared: ``separation d`` or ``mean gap ū`` for separations (by
+    the reference field the model is compared with), else the quantity's name."""
+    return FIELD_LABELS.get(reference_field or quantity, quantity)
 
 
 def model_label(model: str) -> str:

@@ -18,8 +18,8 @@ import numpy as np
 from validation.compare import Comparison, compare_realizations
 from validation.figures import dimensionless
 from validation.findings import Finding, check_findings
-from validation.labels import (MODEL_LABELS, QUANTITY_LABELS, model_label, model_order,
-                               model_rank)
+from validation.labels import (MODEL_LABELS, QUANTITY_LABELS, compared_label, model_label,
+                               model_order, model_rank)
 from validation.runner import SceneResult
 from validation.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                  verdict_strip)
@@ -113,7 +113,8 @@ def _header(seconds, mode, command) -> list[str]:
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
            f"mode: {mode}" if mode else ""]
     return [
-        "# Where do asperity models hold? Validation against the exact half-space solution\n",
+        "# Where do asperity models and Persson's theory hold? Validation against the exact "
+        "half-space solution\n",
         "; ".join(part for part in run if part) + ".\n",
         f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} (Python "
         f"{platform.python_version()}, numpy {np.__version__}, FFT backend "
@@ -123,6 +124,15 @@ def _header(seconds, mode, command) -> list[str]:
         "Cρσ/L² = −2 ∂Load/∂Separation. Errors are taken at equal load against the "
         "boundary-element (BEM) solution of the same realization: relative for area and "
         "conductance, in units of σ for separation.\n",
+        "**Separation and mean gap.** The asperity models (GW, improved GW, discrete) predict "
+        "the separation d between the rigid plane and the mean plane of the undeformed rough "
+        "surface; they are compared with the BEM's separation d (rows \"separation d\"). "
+        "Persson's theory predicts the mean gap ū, the average distance between the rigid "
+        "plane and the *deformed* surface; it is compared with the BEM's mean gap (rows "
+        "\"mean gap ū\"), also in units of σ. On the non-periodic half-space the two differ by "
+        "the mean elastic displacement, which grows with the load; curves.csv lists both for "
+        "the BEM (columns separation_d and mean_gap). Persson's conductance is 2S/E* with "
+        "S = −dW/dū, compared with the BEM's 2S/E*, S = −dW/dd.\n",
         "**How a verdict is reached.** At each load point the errors over realizations give a "
         "mean and its 95 % confidence interval, mean ± t₀.₉₇₅,ₙ₋₁ · s/√n (Student t, s the "
         "sample standard deviation, n the realizations that converged there). The interval is "
@@ -157,12 +167,46 @@ def _findings_section(analyses: list[Analysis]) -> list[str]:
     return lines + [" ".join(part.split()) + "\n" for part in rules]
 
 
+def _holds_section(analyses: list[Analysis]) -> list[str]:
+    """One table for every model: where it holds, per surface and quantity, at the largest
+    tolerance (asperity models and Persson's theory side by side)."""
+    columns = [c for a in analyses for c in a.comparisons if len(a.result.scene.surface.D) == 1]
+    if not columns:
+        return []
+    keys = {k for c in columns for k in c.models if k[1] in MAP_QUANTITIES}
+    quantities = sorted({q for _, q in keys}, key=MAP_QUANTITIES.index)
+    names = model_order({m for m, _ in keys})
+    header, rows = ["model"], {m: [model_label(m)] for m in names}
+    for comparison in columns:
+        for quantity in quantities:
+            header.append(f"{quantity}, D = {comparison.D:g}")
+            for model in names:
+                entry = comparison.models.get((model, quantity))
+                if entry is None or not entry.ranges:
+                    rows[model].append("–")
+                    continue
+                index = int(np.argmax(entry.tolerances))
+                what = compared_label(quantity, entry.reference_field)
+                cell = entry.ranges[index].describe(".1e")
+                rows[model].append(cell if what == compared_label(quantity) else f"{what}: {cell}")
+    tolerance = max(max(c.models[k].tolerances) for c in columns for k in c.models
+                    if c.models[k].tolerances)
+    return (["## Where each theory holds\n",
+             f"Load range (longest run of ✔, with the BEM's area fraction over it) within the "
+             f"tolerance {tolerance:g} (relative for area and conductance, in units of σ for "
+             "separation); the asperity models are judged by the separation d, Persson's theory "
+             "by the mean gap ū, each against the BEM's own field of that name. Per-point "
+             "verdicts and the other tolerances are in the sections below and in "
+             "`validity.csv`.\n"]
+            + md_table(header, list(rows.values())))
+
+
 def _verdict_rows(comparison: Comparison) -> list[list[str]]:
     rows = []
     keys = sorted(comparison.models, key=lambda k: (model_rank(k[0]), QUANTITY_ORDER.index(k[1])))
     for key in keys:
         entry = comparison.models[key]
-        cells = [model_label(entry.model), entry.quantity]
+        cells = [model_label(entry.model), compared_label(entry.quantity, entry.reference_field)]
         for index, rng in enumerate(entry.ranges):
             counts = entry.counts(index)
             cells += [f"`{verdict_strip(entry.verdicts[index])}`",
@@ -204,7 +248,8 @@ def _curve_figures(figures: _Figures, scene, results, D: float) -> None:
                                                          models=models, length=L), panels),
                 f"{scene.name}-fig4-separation.png",
                 f"Area, load{' and conductance' if conductance else ''} against separation, "
-                f"D = {D:g} (paper Fig. 4, BEM added; thin lines: realizations).")
+                f"D = {D:g} (paper Fig. 4, BEM added; thin lines: realizations; dotted: the "
+                f"BEM against its mean gap ū/σ, the quantity Persson's curve is drawn against).")
     figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "load", y, models=models,
                                                          length=L, logx=True), panels[::2]),
                 f"{scene.name}-fig5-load.png",
@@ -315,6 +360,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     analyses = [analyse(result) for result in results]
     written = write_tables(folder, analyses)
     figures = _Figures(folder, _header(seconds, mode, command))
+    figures.lines += _holds_section(analyses)
     figures.lines += _findings_section(analyses)
     for analysis in analyses:
         scene = analysis.result.scene

@@ -19,14 +19,15 @@ __all__ = ["write_tables", "TABLES"]
 TABLES = {
     "curves.csv": ["scene", "D", "seed", "n", "model", "point", "converged", "Load", "Area",
                    "Separation", "Conductance", "contacts", "load_W", "area", "separation_d",
-                   "stiffness", "conductance", "sigma"],
+                   "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap"],
     "errors.csv": ["scene", "D", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source"],
     "verdicts.csv": ["scene", "D", "model", "quantity", "point", "Load", "tolerance", "verdict"],
     "validity.csv": ["scene", "D", "model", "quantity", "tolerance", "load_min", "load_max",
                      "area_fraction_min", "area_fraction_max", "points", "total", "holds",
-                     "fails", "undecided", "reference_band_max", "unconverged"],
+                     "fails", "undecided", "reference_band_max", "unconverged",
+                     "reference_field"],
     "findings.csv": ["scene", "D", "finding", "claim", "evidence", "verdict"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
@@ -48,6 +49,9 @@ def _curve_rows(analysis) -> list[list]:
             for model, curve in r.curves.items():
                 values = dimensionless(curve, r.sigma, result.scene.surface.L)
                 converged = converged_points(curve)
+                # the mean gap (BEM, Persson) beside the separation d; NaN where not computed
+                gap = np.asarray(curve.extras.get("mean_gap", np.full(curve.load.shape, np.nan)),
+                                 dtype=float)
                 for k in range(curve.load.size):
                     rows.append([result.scene.name, D, r.task.seed, r.task.surface.n, model, k,
                                  bool(converged[k])] + [_column(values, q, k) for q in
@@ -55,7 +59,8 @@ def _curve_rows(analysis) -> list[list]:
                                 + [float(curve.load[k]), float(curve.area[k]),
                                    float(curve.separation[k]),
                                    _column({"s": curve.stiffness}, "s", k),
-                                   _column({"c": curve.conductance}, "c", k), r.sigma])
+                                   _column({"c": curve.conductance}, "c", k), r.sigma,
+                                   gap[k] / r.sigma, gap[k]])
     return rows
 
 
@@ -80,7 +85,8 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                            else math.nan, e.unconverged])
+                                            else math.nan, e.unconverged,
+                                            e.reference_field or quantity])
     return out
 
 
