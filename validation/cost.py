@@ -1,12 +1,11 @@
 """Expected cost of realization tasks: weights for a progress bar's ETA and for scheduling.
 
 A realization's time is dominated by the BEM load path: per load point a Polonsky-Keer solve
-of N² unknowns whose FFTs cost N² log N each and whose iteration count grows with N, plus the
-stiffness solves when conductance or stiffness is asked for. Measured growth per doubling of
-N (BEM path, 16 loads, tolerance 1e-8; README solver table and this module's calibration,
-both on two shared cores): about x7 from 128 to 256, x9-10 from 256 to 1024, so
-cost ∝ N^BEM_EXPONENT; the stiffness solves add about STIFFNESS_SHARE of the
-path. Summits, GW curves and the discrete model cost a fixed, small share per task.
+of N² unknowns whose FFTs cost N² log N each; with the preconditioned, nested solver the
+iteration count barely grows with N, but the larger FFTs fall out of the processor's caches.
+Measured (WM D = 2.5, 16 loads from 1e-5 to 1e-2, tolerance 1e-8, two cores): a path takes
+1.8 s at N = 256 and 10.9 s at N = 512 (x6.1 per doubling), so cost ∝ N^BEM_EXPONENT; the
+stiffness solves add 0.3 (N = 256) to 0.6 (N = 512) of the path, STIFFNESS_SHARE on average. Summits, GW curves and the discrete model cost a fixed, small share per task.
 
 An ETA from fixed weights is only as good as the exponent; :func:`remaining_seconds` instead
 learns one rate (seconds per unit of cost) per grid size from the tasks already done, and uses
@@ -31,9 +30,9 @@ from validation import models
 __all__ = ["BEM_EXPONENT", "STIFFNESS_SHARE", "task_cost", "schedule", "remaining_seconds"]
 
 #: Growth of a BEM load path's time with the grid size N (cost ∝ N^BEM_EXPONENT).
-BEM_EXPONENT = 3.2
+BEM_EXPONENT = 2.6
 #: Extra time of the stiffness solves, as a share of the BEM load path.
-STIFFNESS_SHARE = 0.8
+STIFFNESS_SHARE = 0.5
 #: Surface, summits, the closed-form curves and the discrete model, as a share of one BEM path
 #: at N = 256. Nearly independent of N: a WM surface's summits are set by its highest
 #: frequency, not by the grid (measured 0.05-0.2 s per task at N = 128 and 256).

@@ -30,19 +30,26 @@ class Progress:
                  label: str = "realizations", always: bool = False) -> None:
         stream = sys.stderr if stream is None else stream
         interactive = bool(getattr(stream, "isatty", lambda: False)())
+        # tqdm's own ETA assumes units of equal cost; the caller's learnt estimate (``eta`` of
+        # :meth:`advance`) is shown instead when it has one
         self.bar = tqdm(total=total, file=stream, unit=f" {label}", dynamic_ncols=interactive,
                         disable=not (interactive or always), leave=True, smoothing=0.1,
-                        mininterval=0.5 if interactive else 0.0)
+                        mininterval=0.5 if interactive else 0.0,
+                        bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt}{unit} [{elapsed}{postfix}]")
 
-    def advance(self, what: str = "") -> None:
-        """One unit done; ``what`` (the unit just finished) is shown after the bar."""
-        if what:
-            self.bar.set_postfix_str(what, refresh=False)
+    def advance(self, what: str = "", *, eta: float | None = None) -> None:
+        """One unit done; ``what`` (the unit just finished) and ``eta``, the expected seconds
+        still to run, are shown after the bar."""
+        left = "" if eta is None else f"ETA {_clock(eta)}"
+        postfix = ", ".join(part for part in (left, what) if part)
+        if postfix:
+            self.bar.set_postfix_str(postfix, refresh=False)
         self.bar.update(1)
         if self.bar.total is not None and self.bar.n >= self.bar.total:
             self.close()
 
     def close(self) -> None:
+        """Finish the bar (idempotent)."""
         self.bar.close()
 
     def __enter__(self) -> "Progress":
@@ -50,3 +57,10 @@ class Progress:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _clock(seconds: float) -> str:
+    """``h:mm:ss`` or ``m:ss`` of a duration in seconds."""
+    minutes, secs = divmod(int(round(max(0.0, seconds))), 60)
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"

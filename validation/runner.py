@@ -33,6 +33,7 @@ from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation import models
 from validation.cache import Cache, cache_key
 from validation.models import ModelInputs
+from validation.cost import remaining_seconds, schedule
 from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces import wm_surface
@@ -301,6 +302,33 @@ def run_realization(task: RealizationTask) -> RealizationResult:
 # --------------------------------------------------------------------------------------------
 # many scenes
 
+def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Progress | None
+               ) -> dict[RealizationTask, RealizationResult]:
+    """Run the tasks (in the given order) in this process or over ``executor``; the bar shows
+    an ETA learnt from the tasks already done (:func:`validation.cost.remaining_seconds`)."""
+    started = time.perf_counter()
+    workers = 1 if executor is None else max(1, int(getattr(executor, "_max_workers", 1)))
+    results: dict[RealizationTask, RealizationResult] = {}
+
+    def finished(task: RealizationTask, result: RealizationResult) -> None:
+        results[task] = result
+        if bar:
+            pending = [t for t in tasks if t not in results]
+            eta = remaining_seconds(list(results.items()), pending, workers,
+                                    time.perf_counter() - started) if pending else 0.0
+            bar.advance(task.describe(), eta=eta)
+
+    if executor is None:
+        for task in tasks:
+            finished(task, run_realization(task))
+    else:
+        futures: dict[Future, RealizationTask] = {executor.submit(run_realization, t): t
+                                                  for t in tasks}
+        for future in as_completed(futures):
+            finished(futures[future], future.result())
+    return results
+
+
 def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                cache_dir: str | None = None, progress: bool = True, stream=None
                ) -> list[SceneResult]:
@@ -326,21 +354,9 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                          f"repeated: {', '.join(duplicates)}")
     started = time.perf_counter()
     plans = [plan_scene(scene, cache_dir=cache_dir) for scene in scenes]
-    unique = list(dict.fromkeys(task for tasks in plans for task in tasks))
-    bar = Progress(len(unique), stream=stream) if progress and unique else None
-    results: dict[RealizationTask, RealizationResult] = {}
-    if executor is None:
-        for task in unique:
-            results[task] = run_realization(task)
-            if bar:
-                bar.advance(task.describe())
-    else:
-        futures: dict[Future, RealizationTask] = {executor.submit(run_realization, t): t for t in unique}
-        for future in as_completed(futures):
-            task = futures[future]
-            results[task] = future.result()
-            if bar:
-                bar.advance(task.describe())
+    unique = schedule(dict.fromkeys(task for tasks in plans for task in tasks))
+    results = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
+                         if progress and unique else None)
     out = []
     for scene, plan in zip(scenes, plans):
         if scene.kind == "theory":
