@@ -222,6 +222,27 @@ class Comparison:
         return float(np.nanmax(np.abs(values)))
 
 
+def _per_point_reference_error(results, reference_model: str,
+                                quantities: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The reference's own error per load from its curves' ``<quantity>_error`` extras: the
+    largest over the realizations, relative (separation: in units of sigma); {} without them."""
+    out: dict[str, np.ndarray] = {}
+    for name in quantities:
+        per_realization = []
+        for result in results:
+            curve = result.curves[reference_model]
+            error, value = curve.extras.get(f"{name}_error"), getattr(curve, name)
+            if error is None or value is None:
+                break
+            scale = result.sigma if name == "separation" else np.abs(value)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                per_realization.append(np.where(scale > 0, np.asarray(error) / scale, np.nan))
+        else:
+            if per_realization:
+                out[name] = np.max(per_realization, axis=0)
+    return out
+
+
 def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
                          reference_model: str = "bem") -> Comparison:
     """Compare every model with the reference over the realizations of one D.
@@ -269,7 +290,7 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
             summary = summarise_errors(name, arrays)
             ranges = tuple(validity_range(load, summary.mean, tol, area_fraction) for tol in tolerances)
             models[(model, name)] = ModelComparison(model, name, summary, ranges, unconverged)
-    reference_error: dict[str, np.ndarray] = {}
+    reference_error = _per_point_reference_error(results, reference_model, quantities)
     if reference is not None:
         coarse = next((r for r in results if r.task.seed == reference.task.seed), first)
         fine_curve = reference.curves[reference_model]

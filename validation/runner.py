@@ -1,8 +1,9 @@
 """The runner: from a scene to a plan, from a plan to results, computing only what is asked.
 
-The plan of a surface scene is one :class:`RealizationTask` per (D, realization), plus, when the
-scene asks for the boundary-element reference's own error, one task per D on a grid twice as
-fine (BEM only). A task computes, in order and only when needed:
+The plan of a surface scene is one :class:`RealizationTask` per (D, realization); when the scene
+asks for the boundary-element reference's own error, every BEM curve carries per-point error
+estimates (extras ``<quantity>_error``, :func:`bem.path.error_estimates`). A task computes,
+in order and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
   so no surface);
@@ -121,24 +122,13 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
     if scene.kind == "theory":
         return []
     tasks = []
-    # Whether the reference error is estimated is a property of the scene, not of a
-    # realization: leaving it out of the task lets scenes share identical realizations.
-    bem_settings = replace(scene.bem, reference_error=False)
     for D in scene.surface.D:
         surface = replace(scene.surface, D=(D,))
         for k in range(scene.realizations):
             tasks.append(RealizationTask(surface=surface, seed=scene.seed + k, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
-                                         quantities=scene.quantities, bem=bem_settings,
+                                         quantities=scene.quantities, bem=scene.bem,
                                          cache_dir=cache_dir))
-        if "bem" in scene.models and scene.bem.reference_error:
-            # the same continuous surface as realization 0, sampled twice as finely
-            fine = replace(surface, n=2 * surface.n)
-            tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
-                                         loads=scene.loads, models=("bem",), m=scene.m,
-                                         quantities=scene.quantities, bem=bem_settings,
-                                         cache_dir=cache_dir, purpose="reference-error",
-                                         slope_grid=surface.n))
     return tasks
 
 
@@ -248,7 +238,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                      lambda: bem.contact_curve(heights(), spacing, e_star=task.e_star,
                                                periodic=task.bem.periodic, tol=task.bem.tol,
                                                max_iter=task.bem.max_iter,
-                                               quantities=curve_quantities, **path))
+                                               quantities=curve_quantities,
+                                               error_estimate=task.bem.reference_error, **path))
         if loads is None:  # separation path: the other models follow the reference's loads
             loads = curves["bem"].load
 

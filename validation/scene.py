@@ -48,7 +48,7 @@ File format (every key, with its default)::
     periodic = false
     tol = 1e-8
     max_iter = 2000
-    reference_error = true          # estimate the BEM's own error on one realization at 2n
+    reference_error = true          # per-point error estimate of every BEM curve (grid n/2 vs n)
 
     [tolerances]
     levels = [0.05, 0.2]            # relative error (and separation error in units of sigma)
