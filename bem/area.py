@@ -28,8 +28,14 @@ import math
 
 import numpy as np
 
-__all__ = ["AREA_ESTIMATORS", "DEFAULT_AREA_ESTIMATOR", "PERIMETER_COEFFICIENT",
-           "YASTREBOV_COEFFICIENT", "contact_edges", "contact_area"]
+__all__ = [
+    "AREA_ESTIMATORS",
+    "DEFAULT_AREA_ESTIMATOR",
+    "PERIMETER_COEFFICIENT",
+    "YASTREBOV_COEFFICIENT",
+    "contact_area",
+    "contact_edges",
+]
 
 #: Names accepted by :func:`contact_area`.
 AREA_ESTIMATORS = ("perimeter", "subpixel", "pixels")
@@ -39,7 +45,7 @@ DEFAULT_AREA_ESTIMATOR = "perimeter"
 YASTREBOV_COEFFICIENT = (math.pi - 1.0 + math.log(2.0)) / 24.0
 #: alpha fitted on Hertz contacts of radius 8-40 pixels solved by bem.solve_contact
 #: (benchmarks/bench_area.py --fit), by kernel: periodic (spectral) and non-periodic (Love).
-PERIMETER_COEFFICIENT = {False: 0.09, True: 0.09}
+PERIMETER_COEFFICIENT = {False: 0.092, True: 0.088}
 
 
 def _check_contact(contact) -> np.ndarray:

@@ -16,7 +16,7 @@ from bem.halfspace import HalfSpace
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _solve, _Workspace)
 
-__all__ = ["contact_curve", "count_contacts", "error_estimates", "ERROR_FACTOR"]
+__all__ = ["ERROR_FACTOR", "contact_curve", "count_contacts", "error_estimates"]
 
 #: Contact spots are 4-connected: pixels sharing an edge belong to one spot.
 _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)

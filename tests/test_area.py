@@ -98,3 +98,54 @@ def test_bad_estimator_and_inputs_are_rejected():
         contact_area(np.ones((4, 4)), 1.0)
     with pytest.raises(ValueError, match="area_estimator"):
         bem.contact_curve(np.zeros((8, 8)), 1.0, loads=[1.0], area_estimator="nope")
+
+
+@pytest.mark.slow
+def test_small_wm_mesh_convergence_and_error_estimate(finest=256):
+    from validation import wm_surface
+
+    # one continuous surface on finest/4, finest/2 and finest points; converged area: Richardson
+    # of the pixel counts at finest/2 and finest (first order)
+    fine = wm_surface(finest, D=2.5, rms_slope=0.1, seed=9173, slope_grid=finest)
+    loads = [3e-3, 1e-2]
+    sizes = (finest // 4, finest // 2, finest)
+    curves = {n: bem.contact_curve(fine[::finest // n, ::finest // n], 1.0 / n, loads=loads,
+                                   quantities=("area", "separation", "contacts"),
+                                   error_estimate=(n == sizes[1]))
+              for n in sizes}
+    converged = 2 * curves[finest].extras["pixel_area"] - curves[sizes[1]].extras["pixel_area"]
+    for n in sizes[:2]:
+        pixels = np.abs(curves[n].extras["pixel_area"] / converged - 1)
+        corrected = np.abs(curves[n].area / converged - 1)
+        assert np.all(corrected < 0.5 * pixels)
+    # the per-point estimate (from the grid of half the points) bounds the default estimator's
+    # true error
+    curve = curves[sizes[1]]
+    assert np.all(curve.extras["area_error"] >= np.abs(curve.area - converged))
+    for name in ("separation_error", "mean_gap_error", "contacts_error"):
+        assert curve.extras[name].shape == curve.load.shape
+    np.testing.assert_allclose(
+        curve.extras["area_error"],
+        bem.path.ERROR_FACTOR["area"] * np.abs(curve.area - curves[sizes[0]].area), rtol=1e-12)
+
+
+@pytest.mark.parametrize("control", ["loads", "separations"])
+def test_error_estimate_extras_come_from_the_half_grid(control):
+    from validation import wm_surface
+
+    heights = wm_surface(32, D=2.3, rms_slope=0.1, seed=5)
+    path = {"loads": [1e-3, 1e-2]} if control == "loads" else {
+        "separations": [float(heights.max()) - 0.5 * float(heights.std()), float(heights.mean())]}
+    quantities = ("area", "separation", "contacts", "stiffness", "conductance")
+    curve = bem.contact_curve(heights, 1 / 32, quantities=quantities, error_estimate=True, **path)
+    coarse = bem.contact_curve(heights[::2, ::2], 1 / 16, quantities=quantities, **path)
+    for name in ("area", "separation", "contacts", "stiffness", "conductance"):
+        np.testing.assert_allclose(curve.extras[f"{name}_error"],
+                                   bem.path.ERROR_FACTOR.get(name, 1.0)
+                                   * np.abs(getattr(curve, name) - getattr(coarse, name)))
+    np.testing.assert_allclose(curve.extras["mean_gap_error"],
+                               np.abs(curve.extras["mean_gap"] - coarse.extras["mean_gap"]))
+    assert curve.extras["converged"].dtype == bool
+    plain = bem.contact_curve(heights, 1 / 32, quantities=quantities, **path)
+    assert "area_error" not in plain.extras
+    np.testing.assert_array_equal(plain.area, curve.area)

@@ -162,7 +162,7 @@ def plot_errors(ax, comparison: Comparison, quantity: str, tolerances):
     ref = comparison.reference_error.get(quantity)
     if ref is not None:
         drawn += ax.plot(comparison.load, ref, color="gray", marker="x", linestyle="none",
-                         label="BEM reference error (n vs 2n)")
+                         label="BEM reference error (per point, n/2 vs n)")
     for tol in tolerances:
         for sign in (-1, 1):
             drawn.append(ax.axhline(sign * tol, color="red", linewidth=0.6, linestyle=":"))
