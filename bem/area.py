@@ -45,7 +45,7 @@ DEFAULT_AREA_ESTIMATOR = "perimeter"
 YASTREBOV_COEFFICIENT = (math.pi - 1.0 + math.log(2.0)) / 24.0
 #: alpha fitted on Hertz contacts of radius 8-40 pixels solved by bem.solve_contact
 #: (benchmarks/bench_area.py --fit), by kernel: periodic (spectral) and non-periodic (Love).
-PERIMETER_COEFFICIENT = {False: 0.092, True: 0.088}
+PERIMETER_COEFFICIENT = {False: 0.100, True: 0.096}
 
 
 def _check_contact(contact) -> np.ndarray:

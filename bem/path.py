@@ -10,13 +10,14 @@ import scipy.ndimage
 import scipy.sparse
 import scipy.sparse.csgraph
 
-from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area
+from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.halfspace import HalfSpace
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _solve, _Workspace)
 
-__all__ = ["ERROR_FACTOR", "contact_curve", "count_contacts", "error_estimates"]
+__all__ = ["ERROR_FACTOR", "PERIMETER_COEFFICIENT_UNCERTAINTY", "contact_curve", "count_contacts",
+           "error_estimates"]
 
 #: Contact spots are 4-connected: pixels sharing an edge belong to one spot.
 _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
@@ -119,7 +120,8 @@ def contact_curve(
     -------
     ContactCurve
         With extras ``converged`` (bool array), ``iterations``, ``residual``, ``mean_gap``
-        [length] and ``pixel_area`` [length^2] (h^2 times the number of contact pixels); with
+        [length], ``pixel_area`` [length^2] (h^2 times the number of contact pixels) and
+        ``staircase_perimeter`` [length] (h times the contact/non-contact pixel edges); with
         ``error_estimate`` also ``<quantity>_error`` for ``area``, ``separation``,
         ``mean_gap`` and, when computed, ``contacts``, ``stiffness`` and ``conductance``
         (absolute, in the quantity's units).
@@ -163,6 +165,7 @@ def contact_curve(
     size = targets.size
     separation, load, area = np.empty(size), np.empty(size), np.empty(size)
     mean_gap, residual, pixel_area = np.empty(size), np.empty(size), np.empty(size)
+    perimeter = np.empty(size)
     iterations = np.empty(size, dtype=int)
     converged = np.empty(size, dtype=bool)
     contacts = np.empty(size) if want_contacts else None
@@ -185,6 +188,7 @@ def contact_curve(
             solution.contact, spacing, periodic=periodic, estimator=area_estimator,
             pressure=solution.pressure, gap=solution.gap, e_star=e_star))
         pixel_area[index] = solution.pixel_area
+        perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
         mean_gap[index] = solution.mean_gap
         residual[index] = solution.residual
         iterations[index] = solution.iterations
@@ -197,7 +201,7 @@ def contact_curve(
             callback(int(index), solution)
     nominal_area = z.size * spacing**2
     extras = {"converged": converged, "iterations": iterations, "residual": residual,
-              "mean_gap": mean_gap, "pixel_area": pixel_area}
+              "mean_gap": mean_gap, "pixel_area": pixel_area, "staircase_perimeter": perimeter}
     curve = ContactCurve(
         separation=separation,
         load=load,
@@ -216,26 +220,41 @@ def contact_curve(
         z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
         tol=tol, max_iter=max_iter, area_estimator=area_estimator,
         **({"loads": targets} if loads is not None else {"separations": targets}))
-    extras.update(error_estimates(curve, coarse))
+    extras.update(error_estimates(curve, coarse, spacing))
     extras["converged"] = converged & coarse.extras["converged"]
     return replace(curve, extras=extras)
 
 
-#: Safety factor of :func:`error_estimates` on |Q_N - Q_(N/2)|, per quantity (README,
-#: "Accuracy of the reference": chosen so that the estimate bounds the error measured against
-#: converged values on WM surfaces; quantities not listed use 1, the first-order rule).
-ERROR_FACTOR = {"area": 1.0}
+#: Safety factor f of :func:`error_estimates` on |Q_N - Q_(N/2)| (README, "Accuracy of the
+#: reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
+#: error of area, stiffness, separation and mean gap against converged values in the mesh study
+#: of benchmarks/bench_area.py (WM, D = 2.05-2.95, N = 256 and 512).
+ERROR_FACTOR = 2.0
+#: Uncertainty of the perimeter coefficient alpha over surfaces (fits on WM surfaces of
+#: D = 2.05 ... 2.95 spread by this much about bem.area.PERIMETER_COEFFICIENT): the area error
+#: is at least this times h times the staircase perimeter.
+PERIMETER_COEFFICIENT_UNCERTAINTY = 0.015
 
 _ERROR_QUANTITIES = ("area", "separation", "contacts", "stiffness", "conductance")
 
 
-def error_estimates(fine: ContactCurve, coarse: ContactCurve) -> dict[str, np.ndarray]:
+def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) -> dict[str, np.ndarray]:
     """Per-point discretisation-error estimates of a curve from the same path on half the grid.
 
-    For a quantity Q converging as ``Q_N = Q + c h^p``, the error of the fine grid is
-    ``|Q_N - Q| = |Q_N - Q_(N/2)| / (2^p - 1)``; the estimate is ``f |Q_N - Q_(N/2)|`` with the
-    factor f of :data:`ERROR_FACTOR` (f = 1 is the first-order rule p = 1, and bounds the
-    error of any faster-converging quantity while its convergence is monotone).
+    For a quantity converging as ``Q_N = Q + c h^p`` the error of the fine grid is
+    ``|Q_N - Q_(N/2)| / (2^p - 1)``, which is ``|Q_N - Q_(N/2)|`` at first order (the order of
+    every quantity here). The estimate is ``f |Q_N - Q_(N/2)|`` with ``f =``
+    :data:`ERROR_FACTOR`, which also covers convergence that is not yet monotone; for the area
+    at least ``delta_alpha h P`` (P the staircase perimeter, extras ``staircase_perimeter``, and
+    delta_alpha = :data:`PERIMETER_COEFFICIENT_UNCERTAINTY`), because the perimeter
+    estimator's residual error can vanish on both grids by chance.
+
+    Parameters
+    ----------
+    fine, coarse : ContactCurve
+        The path on the grid of spacing h and on every second point (spacing 2h).
+    spacing : float
+        h [length].
 
     Returns
     -------
@@ -248,7 +267,10 @@ def error_estimates(fine: ContactCurve, coarse: ContactCurve) -> dict[str, np.nd
     for name in _ERROR_QUANTITIES:
         a, b = getattr(fine, name), getattr(coarse, name)
         if a is not None and b is not None:
-            out[f"{name}_error"] = ERROR_FACTOR.get(name, 1.0) * np.abs(a - b)
-    out["mean_gap_error"] = ERROR_FACTOR.get("mean_gap", 1.0) * np.abs(
+            out[f"{name}_error"] = ERROR_FACTOR * np.abs(a - b)
+    out["mean_gap_error"] = ERROR_FACTOR * np.abs(
         np.asarray(fine.extras["mean_gap"]) - np.asarray(coarse.extras["mean_gap"]))
+    floor = PERIMETER_COEFFICIENT_UNCERTAINTY * spacing * np.asarray(
+        fine.extras["staircase_perimeter"])
+    out["area_error"] = np.maximum(out["area_error"], floor)
     return out

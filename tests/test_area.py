@@ -11,7 +11,7 @@ from bem.area import AREA_ESTIMATORS, YASTREBOV_COEFFICIENT, contact_area, conta
 from bem.reference import westergaard
 
 
-def hertz_areas(radius_pixels: float, offsets: int = 4, periodic: bool = False):
+def hertz_areas(radius_pixels: float, offsets: int = 8, periodic: bool = False):
     """(pixel count, default estimator) over exact Hertz area, for several sub-pixel centres."""
     n, R = (64, 2000.0) if not periodic else (128, 2000.0)
     rng = np.random.default_rng(3)
@@ -126,7 +126,9 @@ def test_small_wm_mesh_convergence_and_error_estimate(finest=256):
         assert curve.extras[name].shape == curve.load.shape
     np.testing.assert_allclose(
         curve.extras["area_error"],
-        bem.path.ERROR_FACTOR["area"] * np.abs(curve.area - curves[sizes[0]].area), rtol=1e-12)
+        np.maximum(bem.path.ERROR_FACTOR * np.abs(curve.area - curves[sizes[0]].area),
+                   bem.path.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"]
+                   / sizes[1]), rtol=1e-12)
 
 
 @pytest.mark.parametrize("control", ["loads", "separations"])
@@ -137,14 +139,21 @@ def test_error_estimate_extras_come_from_the_half_grid(control):
     path = {"loads": [1e-3, 1e-2]} if control == "loads" else {
         "separations": [float(heights.max()) - 0.5 * float(heights.std()), float(heights.mean())]}
     quantities = ("area", "separation", "contacts", "stiffness", "conductance")
-    curve = bem.contact_curve(heights, 1 / 32, quantities=quantities, error_estimate=True, **path)
+    contacts = {}
+    curve = bem.contact_curve(heights, 1 / 32, quantities=quantities, error_estimate=True,
+                              callback=lambda index, s: contacts.__setitem__(index, s.contact), **path)
     coarse = bem.contact_curve(heights[::2, ::2], 1 / 16, quantities=quantities, **path)
-    for name in ("area", "separation", "contacts", "stiffness", "conductance"):
+    factor = bem.path.ERROR_FACTOR
+    for name in ("separation", "contacts", "stiffness", "conductance"):
         np.testing.assert_allclose(curve.extras[f"{name}_error"],
-                                   bem.path.ERROR_FACTOR.get(name, 1.0)
-                                   * np.abs(getattr(curve, name) - getattr(coarse, name)))
+                                   factor * np.abs(getattr(curve, name) - getattr(coarse, name)))
     np.testing.assert_allclose(curve.extras["mean_gap_error"],
-                               np.abs(curve.extras["mean_gap"] - coarse.extras["mean_gap"]))
+                               factor * np.abs(curve.extras["mean_gap"] - coarse.extras["mean_gap"]))
+    floor = bem.path.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"] / 32
+    np.testing.assert_allclose(curve.extras["area_error"],
+                               np.maximum(factor * np.abs(curve.area - coarse.area), floor))
+    np.testing.assert_allclose(curve.extras["staircase_perimeter"] * 32,
+                               [contact_edges(contacts[k]) for k in range(2)])
     assert curve.extras["converged"].dtype == bool
     plain = bem.contact_curve(heights, 1 / 32, quantities=quantities, **path)
     assert "area_error" not in plain.extras
