@@ -57,9 +57,9 @@ def solve_path(D: float, n: int, cache: pathlib.Path) -> dict[str, np.ndarray]:
     curve = bem.contact_curve(heights, 1.0 / n, loads=LOADS, quantities=("area", "stiffness"),
                               tol=1e-9, callback=keep)
     print(f"  solved D = {D} N = {n} in {time.perf_counter() - start:.0f} s", flush=True)
-    data = dict(heights=heights, pressure=np.array(fields["pressure"]),
-                gap=np.array(fields["gap"]), load=curve.load, separation=curve.separation,
-                stiffness=curve.stiffness, mean_gap=np.asarray(curve.extras["mean_gap"]))
+    data = {"heights": heights, "pressure": np.array(fields["pressure"]),
+            "gap": np.array(fields["gap"]), "load": curve.load, "separation": curve.separation,
+            "stiffness": curve.stiffness, "mean_gap": np.asarray(curve.extras["mean_gap"])}
     cache.mkdir(parents=True, exist_ok=True)
     np.savez(path, **data)
     return data

@@ -94,6 +94,8 @@ def test_bad_estimator_and_inputs_are_rejected():
         contact_area(contact, 1.0, estimator="nope")
     with pytest.raises(ValueError, match="pressure and gap"):
         contact_area(contact, 1.0, estimator="subpixel")
+    with pytest.raises(ValueError, match="spacing"):
+        contact_area(contact, 0.0)
     with pytest.raises(TypeError, match="boolean"):
         contact_area(np.ones((4, 4)), 1.0)
     with pytest.raises(ValueError, match="area_estimator"):
