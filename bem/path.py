@@ -124,7 +124,8 @@ def contact_curve(
         ``staircase_perimeter`` [length] (h times the contact/non-contact pixel edges); with
         ``error_estimate`` also ``<quantity>_error`` for ``area``, ``separation``,
         ``mean_gap`` and, when computed, ``contacts``, ``stiffness`` and ``conductance``
-        (absolute, in the quantity's units).
+        (absolute, in the quantity's units); ``converged`` then requires both grids to have
+        converged (an estimate from an unconverged half-grid solve is no certificate).
 
     Raises
     ------
@@ -144,8 +145,9 @@ def contact_curve(
         raise ValueError(f"area_estimator must be one of {AREA_ESTIMATORS}, got {area_estimator!r}")
     if not isinstance(error_estimate, (bool, np.bool_)):
         raise ValueError(f"error_estimate must be True or False, got {error_estimate!r}")
-    if error_estimate and z.shape[0] < 8:
-        raise ValueError(f"error_estimate needs a grid of at least 8 x 8, got {z.shape}")
+    if error_estimate and (z.shape[0] < 8 or z.shape[0] % 2):
+        raise ValueError(f"error_estimate needs an even grid of at least 8 x 8 (the half grid "
+                         f"covers the same window), got {z.shape}")
     if (loads is None) == (separations is None):
         raise ValueError("give exactly one of loads (forces) and separations (lengths)")
     if loads is not None:

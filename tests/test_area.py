@@ -98,6 +98,8 @@ def test_bad_estimator_and_inputs_are_rejected():
         contact_area(contact, 0.0)
     with pytest.raises(TypeError, match="boolean"):
         contact_area(np.ones((4, 4)), 1.0)
+    with pytest.raises(ValueError, match="even grid"):
+        bem.contact_curve(np.zeros((9, 9)), 1.0, loads=[1.0], error_estimate=True)
     with pytest.raises(ValueError, match="area_estimator"):
         bem.contact_curve(np.zeros((8, 8)), 1.0, loads=[1.0], area_estimator="nope")
 
