@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Callable, Iterable
 
 import numpy as np
@@ -9,13 +10,15 @@ import scipy.ndimage
 import scipy.sparse
 import scipy.sparse.csgraph
 
+from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.halfspace import HalfSpace
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _solve, _Workspace)
 
-__all__ = ["contact_curve", "count_contacts"]
+__all__ = ["ERROR_FACTOR", "PERIMETER_COEFFICIENT_UNCERTAINTY", "contact_curve", "count_contacts",
+           "error_estimates"]
 
 #: Contact spots are 4-connected: pixels sharing an edge belong to one spot.
 _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
@@ -63,6 +66,8 @@ def contact_curve(
     operator: HalfSpace | None = None,
     callback: Callable[[int, ContactSolution], None] | None = None,
     preconditioned: bool = True,
+    area_estimator: str = DEFAULT_AREA_ESTIMATOR,
+    error_estimate: bool = False,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -93,12 +98,24 @@ def contact_curve(
     callback : callable, optional
         ``callback(index, solution)`` after each solved point (``index`` in the caller's order),
         e.g. for progress reports or to keep pressure fields.
+    area_estimator : str
+        How the area is read from the contact set (:func:`bem.area.contact_area`):
+        ``"perimeter"`` (default), ``"subpixel"`` or ``"pixels"``.
+    error_estimate : bool
+        Also estimate each point's discretisation error (:func:`error_estimates`): the same
+        heights sampled every second point (``heights[::2, ::2]``, spacing 2h, same window) are
+        solved at the same loads or separations, about 1/8 of the cost of the path itself.
 
     Returns
     -------
     ContactCurve
-        With extras ``converged`` (bool array), ``iterations``, ``residual`` and ``mean_gap``
-        [length].
+        With extras ``converged`` (bool array), ``iterations``, ``residual``, ``mean_gap``
+        [length], ``pixel_area`` [length^2] (h^2 times the number of contact pixels) and
+        ``staircase_perimeter`` [length] (h times the contact/non-contact pixel edges); with
+        ``error_estimate`` also ``<quantity>_error`` for ``area``, ``separation``,
+        ``mean_gap`` and, when computed, ``contacts``, ``stiffness`` and ``conductance``
+        (absolute, in the quantity's units); ``converged`` then requires both grids to have
+        converged (an estimate from an unconverged half-grid solve is no certificate).
 
     Raises
     ------
@@ -114,6 +131,13 @@ def contact_curve(
     unknown = [q for q in quantities if q not in CURVE_QUANTITIES]
     if unknown:
         raise ValueError(f"quantities must be among {CURVE_QUANTITIES}, got unknown {unknown}")
+    if area_estimator not in AREA_ESTIMATORS:
+        raise ValueError(f"area_estimator must be one of {AREA_ESTIMATORS}, got {area_estimator!r}")
+    if not isinstance(error_estimate, (bool, np.bool_)):
+        raise ValueError(f"error_estimate must be True or False, got {error_estimate!r}")
+    if error_estimate and (z.shape[0] < 8 or z.shape[0] % 2):
+        raise ValueError(f"error_estimate needs an even grid of at least 8 x 8 (the half grid "
+                         f"covers the same window), got {z.shape}")
     if (loads is None) == (separations is None):
         raise ValueError("give exactly one of loads (forces) and separations (lengths)")
     if loads is not None:
@@ -132,7 +156,8 @@ def contact_curve(
 
     size = targets.size
     separation, load, area = np.empty(size), np.empty(size), np.empty(size)
-    mean_gap, residual = np.empty(size), np.empty(size)
+    mean_gap, residual, pixel_area = np.empty(size), np.empty(size), np.empty(size)
+    perimeter = np.empty(size)
     iterations = np.empty(size, dtype=int)
     converged = np.empty(size, dtype=bool)
     contacts = np.empty(size) if want_contacts else None
@@ -151,7 +176,11 @@ def contact_curve(
             initial = np.array(solution.pressure)
         separation[index] = solution.separation
         load[index] = solution.load
-        area[index] = solution.area
+        area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
+            solution.contact, spacing, periodic=periodic, estimator=area_estimator,
+            pressure=solution.pressure, gap=solution.gap, e_star=e_star))
+        pixel_area[index] = solution.pixel_area
+        perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
         mean_gap[index] = solution.mean_gap
         residual[index] = solution.residual
         iterations[index] = solution.iterations
@@ -163,7 +192,9 @@ def contact_curve(
         if callback is not None:
             callback(int(index), solution)
     nominal_area = z.size * spacing**2
-    return ContactCurve(
+    extras = {"converged": converged, "iterations": iterations, "residual": residual,
+              "mean_gap": mean_gap, "pixel_area": pixel_area, "staircase_perimeter": perimeter}
+    curve = ContactCurve(
         separation=separation,
         load=load,
         area=area,
@@ -173,6 +204,65 @@ def contact_curve(
         contacts=contacts,
         stiffness=stiffness if "stiffness" in quantities else None,
         conductance=2.0 * stiffness / e_star if "conductance" in quantities else None,
-        extras={"converged": converged, "iterations": iterations, "residual": residual,
-                "mean_gap": mean_gap},
+        extras=extras,
     )
+    if not error_estimate:
+        return curve
+    coarse = contact_curve(
+        z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
+        tol=tol, max_iter=max_iter, area_estimator=area_estimator, preconditioned=preconditioned,
+        **({"loads": targets} if loads is not None else {"separations": targets}))
+    extras.update(error_estimates(curve, coarse, spacing))
+    extras["converged"] = converged & coarse.extras["converged"]
+    return replace(curve, extras=extras)
+
+
+#: Safety factor f of :func:`error_estimates` on |Q_N - Q_(N/2)| (README, "Accuracy of the
+#: reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
+#: error of area, stiffness, separation and mean gap against converged values in the mesh study
+#: of benchmarks/bench_area.py (WM, D = 2.05-2.95, N = 256 and 512).
+ERROR_FACTOR = 2.0
+#: Uncertainty of the perimeter coefficient alpha over surfaces (fits on WM surfaces of
+#: D = 2.05 ... 2.95 spread by this much about bem.area.PERIMETER_COEFFICIENT): the area error
+#: is at least this times h times the staircase perimeter.
+PERIMETER_COEFFICIENT_UNCERTAINTY = 0.015
+
+_ERROR_QUANTITIES = ("area", "separation", "contacts", "stiffness", "conductance")
+
+
+def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) -> dict[str, np.ndarray]:
+    """Per-point discretisation-error estimates of a curve from the same path on half the grid.
+
+    For a quantity converging as ``Q_N = Q + c h^p`` the error of the fine grid is
+    ``|Q_N - Q_(N/2)| / (2^p - 1)``, which is ``|Q_N - Q_(N/2)|`` at first order (the order of
+    every quantity here). The estimate is ``f |Q_N - Q_(N/2)|`` with ``f =``
+    :data:`ERROR_FACTOR`, which also covers convergence that is not yet monotone; for the area
+    at least ``delta_alpha h P`` (P the staircase perimeter, extras ``staircase_perimeter``, and
+    delta_alpha = :data:`PERIMETER_COEFFICIENT_UNCERTAINTY`), because the perimeter
+    estimator's residual error can vanish on both grids by chance.
+
+    Parameters
+    ----------
+    fine, coarse : ContactCurve
+        The path on the grid of spacing h and on every second point (spacing 2h).
+    spacing : float
+        h [length].
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        ``<quantity>_error`` [units of the quantity], absolute, for ``area``, ``separation``,
+        ``mean_gap`` and those of ``contacts``, ``stiffness`` and ``conductance`` both curves
+        hold.
+    """
+    out = {}
+    for name in _ERROR_QUANTITIES:
+        a, b = getattr(fine, name), getattr(coarse, name)
+        if a is not None and b is not None:
+            out[f"{name}_error"] = ERROR_FACTOR * np.abs(a - b)
+    out["mean_gap_error"] = ERROR_FACTOR * np.abs(
+        np.asarray(fine.extras["mean_gap"]) - np.asarray(coarse.extras["mean_gap"]))
+    floor = PERIMETER_COEFFICIENT_UNCERTAINTY * spacing * np.asarray(
+        fine.extras["staircase_perimeter"])
+    out["area_error"] = np.maximum(out["area_error"], floor)
+    return out

@@ -57,6 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from bem import checks
+from bem.area import contact_area
 
 from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
 from bem.halfspace import HalfSpace
@@ -110,7 +111,8 @@ class ContactSolution:
     mean_pressure : float
         W / A with A = (n h)^2 the nominal area [pressure].
     area : float
-        Real contact area, h^2 times the number of contact pixels [length^2].
+        Real contact area [length^2] by the default estimator of :mod:`bem.area` (the pixel
+        count corrected for the staircase perimeter; ``pixel_area`` is the plain count).
     separation : float
         d [length] (module docstring for the reference plane). Given in separation control,
         ``mean over the contact set of (z - u)`` in load control; for zero load, ``max(z)``
@@ -132,6 +134,9 @@ class ContactSolution:
         A = (n h)^2 [length^2].
     e_star : float
         Composite modulus E* [pressure].
+    pixel_area : float
+        h^2 times the number of contact pixels [length^2] (what most codes report; its error
+        is of the order of the perimeter times h, see :mod:`bem.area`).
     """
 
     pressure: np.ndarray
@@ -150,6 +155,7 @@ class ContactSolution:
     stiffness: float | None = None
     nominal_area: float = 1.0
     e_star: float = 1.0
+    pixel_area: float = math.nan
 
     @property
     def conductance(self) -> float | None:
@@ -417,7 +423,7 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
         contact=_frozen(contact),
         load=load,
         mean_pressure=load / nominal_area,
-        area=float(np.count_nonzero(contact)) * pixel_area,
+        area=contact_area(contact, operator.spacing, periodic=operator.periodic),
         separation=float(d),
         mean_gap=float(gap.mean()),
         converged=bool(converged),
@@ -427,4 +433,5 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
         stiffness=None if stiffness_value is None else float(stiffness_value),
         nominal_area=float(nominal_area),
         e_star=float(operator.e_star),
+        pixel_area=float(np.count_nonzero(contact)) * pixel_area,
     )

@@ -116,7 +116,7 @@ def test_flat_punch_stiffness():
         assert solution.converged
         # the punch is linear: W = S delta
         assert solution.load == pytest.approx(solution.stiffness * 1e-3, rel=1e-8)
-        equivalent_radius = math.sqrt(solution.area / math.pi)
+        equivalent_radius = math.sqrt(solution.pixel_area / math.pi)
         error = abs(solution.stiffness / flat_punch_stiffness(equivalent_radius, 2.0) - 1)
         # pixelated boundary: observed 2 %, 1 %, 0.5 %, i.e. O(h / a); bound 0.2 h / a
         assert error <= 0.2 / pixels_per_radius

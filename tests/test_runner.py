@@ -114,11 +114,18 @@ def test_any_executor_and_shared_tasks_run_once():
     assert [r is s for r, s in zip(first, second)] == [True, True]
 
 
-def test_reference_error_task_uses_twice_the_grid():
-    scene = tiny(**{"bem.reference_error": True, "quantities.use": ["area", "load", "separation"]})
+def test_reference_error_travels_per_point_with_every_bem_curve():
+    scene = tiny(**{"bem.reference_error": True, "quantities.use": ["area", "load", "separation"],
+                    "models.use": ["gw", "bem"]})
     tasks = plan_scene(scene)
-    fine = [t for t in tasks if t.purpose == "reference-error"]
-    assert len(fine) == 1 and fine[0].surface.n == 64 and fine[0].models == ("bem",)
+    assert all(t.purpose == "realization" for t in tasks)  # no finer-grid task any more
+    (result,) = run_scenes([scene], progress=False)
+    for realization in result.realizations[2.3]:
+        curve = realization.curves["bem"]
+        for name in ("area_error", "separation_error", "mean_gap_error"):
+            error = curve.extras[name]
+            assert error.shape == curve.load.shape and np.all(error >= 0)
+        assert np.any(curve.extras["area_error"] > 0)
 
 
 def test_progress_bar_reports_work_done_on_a_terminal_only():

@@ -1,8 +1,9 @@
 """The runner: from a scene to a plan, from a plan to results, computing only what is asked.
 
-The plan of a surface scene is one :class:`RealizationTask` per (D, realization), plus, when the
-scene asks for the boundary-element reference's own error, one task per D on a grid twice as
-fine (BEM only). A task computes, in order and only when needed:
+The plan of a surface scene is one :class:`RealizationTask` per (D, realization); when the scene
+asks for the boundary-element reference's own error, every BEM curve carries per-point error
+estimates (extras ``<quantity>_error``, :func:`bem.path.error_estimates`). A task computes,
+in order and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
   so no surface);
@@ -139,25 +140,13 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
     if scene.kind == "theory":
         return []
     tasks = []
-    # Whether the reference error is estimated is a property of the scene, not of a
-    # realization: leaving it out of the task lets scenes share identical realizations.
-    bem_settings = replace(scene.bem, reference_error=False)
     for D in scene.surface.D:
         surface = replace(scene.surface, D=(D,))
         for k in range(scene.realizations):
             tasks.append(RealizationTask(surface=surface, seed=scene.seed + k, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
-                                         quantities=scene.quantities, bem=bem_settings,
+                                         quantities=scene.quantities, bem=scene.bem,
                                          cache_dir=cache_dir))
-        references = [name for name in scene.models if models.entry(name).reference]
-        if references and scene.bem.reference_error:
-            # the same continuous surface as realization 0, sampled twice as finely
-            fine = replace(surface, n=2 * surface.n)
-            tasks.append(RealizationTask(surface=fine, seed=scene.seed, e_star=scene.e_star,
-                                         loads=scene.loads, models=tuple(references), m=scene.m,
-                                         quantities=scene.quantities, bem=bem_settings,
-                                         cache_dir=cache_dir, purpose="reference-error",
-                                         slope_grid=surface.n))
     return tasks
 
 
@@ -283,7 +272,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     inputs = ModelInputs(spacing=task.surface.spacing, nominal_area=nominal_area,
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
                          bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
-                                          max_iter=task.bem.max_iter))
+                                          max_iter=task.bem.max_iter,
+                                          error_estimate=task.bem.reference_error))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):

@@ -207,8 +207,9 @@ class LoadPath:
 
 @dataclass(frozen=True)
 class BemSettings:
-    """Boundary-element settings of a scene (``reference_error``: estimate the BEM's own error
-    on one realization at twice the grid)."""
+    """Boundary-element settings of a scene (``reference_error``: every BEM curve carries a
+    per-point estimate of its own discretisation error, from the same path on half the grid,
+    :func:`bem.contact_curve` ``error_estimate``)."""
 
     periodic: bool = False
     tol: float = 1e-8
