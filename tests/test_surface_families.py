@@ -136,8 +136,8 @@ def test_self_affine_fine_sample_is_the_same_surface():
     assert not np.allclose(coarse, surface_heights(surface, seed=4))
 
 
-def test_self_affine_scene_end_to_end(tmp_path):
-    from validation.figures import validity_map_figure
+def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
+    import validation.report
 
     scene = parse_scene({"name": "sa", "surface": {"family": "self-affine", "hurst": [0.5, 0.8],
                                                    "rms_slope": 0.1, "n": 32},
@@ -150,15 +150,20 @@ def test_self_affine_scene_end_to_end(tmp_path):
     assert all(r.curves["bem"].extras["converged"].all() for rs in result.realizations.values()
                for r in rs)
     assert all(r.task.describe().startswith("H=") for r in result.realizations[0.5])
+    labels, add = {}, validation.report._Figures.add
+
+    def remember(self, fig, name, caption):
+        labels[name] = fig.axes[0].get_ylabel()
+        add(self, fig, name, caption)
+
+    monkeypatch.setattr(validation.report._Figures, "add", remember)
     write_report([result], tmp_path)
     for name in ("sa-validity-map", "sa-errors-H0.5", "sa-verdicts-H0.8"):
         assert (tmp_path / f"{name}.png").stat().st_size > 5_000
+    assert labels["sa-validity-map.png"] == "Hurst exponent H"
     validity = rows(tmp_path / "validity.csv")
     assert {r["H"] for r in validity} == {"0.5", "0.8"} and {r["D"] for r in validity} == {""}
-    analysis = analyse(result)
-    assert [c.parameter for c in analysis.comparisons] == ["H", "H"]
-    figure = validity_map_figure(analysis.comparisons, [("gw", "area")], scene.tolerances)
-    assert figure.axes[0].get_ylabel() == "Hurst exponent H"
+    assert [c.parameter for c in analyse(result).comparisons] == ["H", "H"]
     text = (tmp_path / "report.md").read_text(encoding="utf-8")
     assert "### H = 0.8" in text and "Gaussian self-affine, H = 0.5, 0.8" in text
 
