@@ -253,11 +253,11 @@ def _surface_text(scene, count: int) -> str:
     elif s.family == "self-affine":
         amplitude = (f"rms slope {s.rms_slope:g}" if s.rms_slope is not None
                      else f"rms height {s.rms_height:g}")
-        cutoffs = ", ".join(f"{name} {value:g}" for name, value in (
+        cutoffs = "".join(f", {name} wavelength {value:g}" for name, value in (
             ("long cut-off", s.long_cutoff), ("rolloff", s.rolloff),
             ("short cut-off", s.short_cutoff)) if value is not None)
         family = (f"Gaussian self-affine, H = {', '.join(f'{h:g}' for h in s.hurst)}, "
-                  f"{amplitude}{', ' + cutoffs if cutoffs else ''} (wavelengths), L = {s.L:g}, "
+                  f"{amplitude}{cutoffs}, L = {s.L:g}, "
                   f"{'periodic' if s.window == 1 else f'window of a periodic surface {s.window} L wide'}, "
                   f"grid {s.n} × {s.n}, {count} realization(s)")
     else:
