@@ -45,8 +45,8 @@ def realization(seed, load, model_area, model_separation, converged=(True, True,
                              mean_pressure=load, nominal_area=1.0, e_star=1.0, extras=extras)
     model = ContactCurve(separation=model_separation, load=load, area=model_area,
                          mean_pressure=load, nominal_area=1.0, e_star=1.0)
-    task = SimpleNamespace(seed=seed, surface=SimpleNamespace(L=1.0),
-                           quantities=("area", "separation"), D=2.3)
+    task = SimpleNamespace(seed=seed, surface=SimpleNamespace(L=1.0, sweep_name="D"),
+                           quantities=("area", "separation"), sweep_value=2.3)
     return SimpleNamespace(task=task, curves={"bem": reference, "gw": model}, sigma=sigma)
 
 

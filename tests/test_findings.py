@@ -41,7 +41,8 @@ def results(bem_scatter=0.0, **models):
         curves = {"bem": curve(index=index, scatter=bem_scatter)}
         for name, change in models.items():
             curves[name] = curve(index=index, **change)
-        task = SimpleNamespace(seed=index, surface=SimpleNamespace(L=1.0), D=2.3,
+        task = SimpleNamespace(seed=index, surface=SimpleNamespace(L=1.0, sweep_name="D"),
+                               sweep_value=2.3,
                                quantities=("area", "separation", "conductance"))
         out.append(SimpleNamespace(task=task, curves=curves, sigma=1.0))
     return out

@@ -170,7 +170,9 @@ class ModelComparison:
 
 @dataclass(frozen=True)
 class Comparison:
-    """All models against the reference for one surface family (one D) of a scene.
+    """All models against the reference for one surface family of a scene: one ``value`` of
+    its swept ``parameter`` (D of a WM surface, H of a self-affine one; "" and 0 for a measured
+    map).
 
     ``load`` is the paper's dimensionless Load = W/(E* L^2) of the path; ``area_fraction`` the
     reference's mean area fraction at each load; ``reference_error`` the mesh-study estimate of
@@ -179,12 +181,18 @@ class Comparison:
     compared field where the reference band came from.
     """
 
-    D: float
+    value: float
     load: np.ndarray
     area_fraction: np.ndarray
     models: dict[tuple[str, str], ModelComparison]
     reference_error: dict[str, np.ndarray]
     band_source: dict[str, str] = field(default_factory=dict)
+    parameter: str = "D"
+
+    @property
+    def D(self) -> float:
+        """The sweep value (the fractal dimension D of a WM family; kept for old callers)."""
+        return self.value
 
     def reference_error_max(self, quantity: str) -> float:
         values = self.reference_error.get(quantity)
@@ -302,5 +310,6 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
             models[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
                 area_fraction, tolerances, field_name)
-    return Comparison(D=first.task.D, load=load, area_fraction=area_fraction, models=models,
+    return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
+                      load=load, area_fraction=area_fraction, models=models,
                       reference_error=mesh, band_source={k: v[1] for k, v in bands.items()})

@@ -24,6 +24,8 @@ __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_l
            "plot_validity_map", "panels_figure", "verdict_figure", "validity_map_figure"]
 
 VERDICT_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
+#: Axis label of each swept surface parameter (validation.scene.SWEEPS).
+SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H"}
 
 
 def pyplot():
@@ -229,12 +231,13 @@ def plot_verdicts(ax, comparison: Comparison, index: int):
 
 
 def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: str, tolerances):
-    """|mean error| of one model in the (Load, D) plane, with the tolerance contours."""
+    """|mean error| of one model in the plane of Load and the swept parameter (D, H), with the
+    tolerance contours."""
     from matplotlib.colors import LogNorm
 
-    comparisons = sorted(comparisons, key=lambda c: c.D)
+    comparisons = sorted(comparisons, key=lambda c: c.value)
     load = comparisons[0].load
-    D = np.array([c.D for c in comparisons])
+    values = np.array([c.value for c in comparisons])
     error = np.array([np.abs(c.models[(model, quantity)].summary.mean)
                       if (model, quantity) in c.models else np.full(load.shape, np.nan)
                       for c in comparisons])
@@ -244,14 +247,17 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
     if not np.any(np.isfinite(error)):
         return show_no_data(ax, "no converged point")
     error = np.ma.masked_invalid(np.clip(error, 1e-4, 10.0))
-    mesh = ax.pcolormesh(load, D, error, shading="nearest", norm=LogNorm(1e-3, 3.0), cmap="viridis")
+    mesh = ax.pcolormesh(load, values, error, shading="nearest", norm=LogNorm(1e-3, 3.0),
+                         cmap="viridis")
     drawn = [mesh]
-    if len(D) > 1 and not np.ma.is_masked(error):
-        drawn.append(ax.contour(load, D, error, levels=sorted(tolerances), colors="white",
+    if len(values) > 1 and not np.ma.is_masked(error):
+        drawn.append(ax.contour(load, values, error, levels=sorted(tolerances), colors="white",
                                 linewidths=1.0))
     ax.set_xscale("log")
     ax.set_xlabel(QUANTITY_LABELS["load"])
-    ax.set_ylabel("fractal dimension D")
+    parameter = comparisons[0].parameter
+    ax.set_ylabel(SWEEP_AXES.get(parameter, parameter))
+    ax.set_yticks(values)
     return drawn
 
 
@@ -266,7 +272,7 @@ def panels_figure(draw, panels: list, *, width: float = 5.0, height: float = 4.0
 
 
 def verdict_figure(comparison: Comparison):
-    """The verdict chart of one D: one panel per tolerance."""
+    """The verdict chart of one surface family: one panel per tolerance."""
     first = next((e for e in comparison.models.values() if e.verdicts), None)
     count = len(first.tolerances) if first else 1
     rows = max(1, len(comparison.models))
@@ -279,7 +285,7 @@ def verdict_figure(comparison: Comparison):
 
 
 def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
-    """|mean error| over (Load, D): rows quantities, columns models."""
+    """|mean error| over Load and the swept parameter: rows quantities, columns models."""
     models = list(dict.fromkeys(k[0] for k in keys))
     quantities = list(dict.fromkeys(k[1] for k in keys))
     fig, axes = subplots(len(quantities), len(models),

@@ -34,7 +34,7 @@ MAP_QUANTITIES = ("area", "separation", "conductance", "stiffness")
 
 @dataclass(frozen=True)
 class Analysis:
-    """One scene's results with its comparisons (by D) and findings (by D)."""
+    """One scene's results with its comparisons and findings, by sweep value (D, H)."""
 
     result: SceneResult
     comparisons: list[Comparison] = field(default_factory=list)
@@ -42,16 +42,17 @@ class Analysis:
 
 
 def analyse(result: SceneResult) -> Analysis:
-    """Compare every D of a surface scene with the BEM and check the paper's findings."""
+    """Compare every sweep value (D, H) of a surface scene with the BEM and check the paper's
+    findings."""
     scene = result.scene
     if scene.kind == "theory" or "bem" not in scene.models:
         return Analysis(result)
     comparisons, findings = [], {}
-    for D, realizations in sorted(result.realizations.items()):
-        comparison = compare_realizations(realizations, result.reference_error.get(D),
+    for value, realizations in sorted(result.realizations.items()):
+        comparison = compare_realizations(realizations, result.reference_error.get(value),
                                           tolerances=scene.tolerances)
         comparisons.append(comparison)
-        findings[D] = check_findings(realizations, comparison, scene.tolerances)
+        findings[value] = check_findings(realizations, comparison, scene.tolerances)
     return Analysis(result, comparisons, findings)
 
 
@@ -76,6 +77,15 @@ class _Figures:
         fig.savefig(self.folder / name, dpi=100)
         pyplot().close(fig)
         self.lines += [f"![{caption}]({name})\n", f"*{caption}*\n"]
+
+
+def _at(parameter: str, value: float) -> str:
+    """Which member of a scene's family: "D = 2.05", "H = 0.8", or "measured map"."""
+    return f"{parameter} = {value:g}" if parameter else "measured map"
+
+
+def _file_suffix(parameter: str, value: float) -> str:
+    return f"-{parameter}{value:g}" if parameter else ""
 
 
 def _percent_or_sigma(value: float, quantity: str) -> str:
@@ -149,7 +159,8 @@ def _header(seconds, mode, command) -> list[str]:
 def _findings_section(analyses: list[Analysis]) -> list[str]:
     from validation import findings as module
 
-    chosen = [a for a in analyses if a.findings and len(a.result.scene.surface.D) == 1] or \
+    chosen = [a for a in analyses
+              if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
         [a for a in analyses if a.findings]
     lines = ["## Findings\n"]
     if not chosen:
@@ -158,9 +169,11 @@ def _findings_section(analyses: list[Analysis]) -> list[str]:
                  "(rules and thresholds below the table).\n")
     rows = []
     for analysis in chosen:
-        for D, found in analysis.findings.items():
+        parameter = analysis.result.scene.surface.sweep_name
+        for value, found in analysis.findings.items():
             for f in found:
-                rows.append([f"({f.key}) {f.claim}", f"{analysis.result.scene.name}, D = {D:g}",
+                rows.append([f"({f.key}) {f.claim}",
+                             f"{analysis.result.scene.name}, {_at(parameter, value)}",
                              f.evidence.replace("|", "/"), f"**{f.verdict}**"])
     lines += md_table(["finding", "surface", "numbers that decide it", "verdict"], rows)
     rules = module.RULES.replace("\n(", "\n\n(").split("\n\n")
@@ -237,7 +250,7 @@ def _verdict_table(comparison: Comparison, tolerances) -> list[str]:
             + md_table(header, rows + ([total_row + ["", ""]] if totals else [])))
 
 
-def _curve_figures(figures: _Figures, scene, results, D: float) -> None:
+def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
     from validation.figures import panels_figure, plot_against
 
     models = model_order(results[0].curves)
@@ -248,13 +261,14 @@ def _curve_figures(figures: _Figures, scene, results, D: float) -> None:
                                                          models=models, length=L), panels),
                 f"{scene.name}-fig4-separation.png",
                 f"Area, load{' and conductance' if conductance else ''} against separation, "
-                f"D = {D:g} (paper Fig. 4, BEM added; thin lines: realizations; dotted: the "
-                f"BEM against its mean gap ū/σ, the quantity Persson's curve is drawn against).")
+                f"{_at(scene.surface.sweep_name, value)} (paper Fig. 4, BEM added; thin lines: "
+                f"realizations; dotted: the BEM against its mean gap ū/σ, the quantity Persson's "
+                f"curve is drawn against).")
     figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "load", y, models=models,
                                                          length=L, logx=True), panels[::2]),
                 f"{scene.name}-fig5-load.png",
-                f"Area{' and conductance' if conductance else ''} against load, D = {D:g} "
-                f"(paper Fig. 5, BEM added).")
+                f"Area{' and conductance' if conductance else ''} against load, "
+                f"{_at(scene.surface.sweep_name, value)} (paper Fig. 5, BEM added).")
 
 
 def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
@@ -263,40 +277,69 @@ def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> Non
     quantities = sorted({q for (_, q) in comparison.models}, key=QUANTITY_ORDER.index)
     if not quantities:
         return
+    at, suffix = (f(comparison.parameter, comparison.value) for f in (_at, _file_suffix))
     figures.add(panels_figure(lambda ax, q: plot_errors(ax, comparison, q, scene.tolerances),
                               quantities, legend=7),
-                f"{scene.name}-errors-D{comparison.D:g}.png",
-                f"Mean error of each model against the BEM at equal load, D = {comparison.D:g} "
+                f"{scene.name}-errors{suffix}.png",
+                f"Mean error of each model against the BEM at equal load, {at} "
                 f"(coloured band: 95 % interval over realizations; grey: reference band; dotted "
                 f"red: tolerances).")
-    figures.add(verdict_figure(comparison), f"{scene.name}-verdicts-D{comparison.D:g}.png",
-                f"Verdict per load point, D = {comparison.D:g}: ✔ holds, ✘ fails, ? undecided.")
+    figures.add(verdict_figure(comparison), f"{scene.name}-verdicts{suffix}.png",
+                f"Verdict per load point, {at}: ✔ holds, ✘ fails, ? undecided.")
+
+
+def _surface_text(scene, count: int) -> str:
+    """One sentence on the surface family, grid, realizations, material and BEM."""
+    s = scene.surface
+    if s.family == "wm":
+        family = (f"WM, D = {', '.join(f'{d:g}' for d in s.D)}, γ = {s.gamma:g}, M = {s.M}, "
+                  f"n_max = {s.n_max}, rms slope = {s.rms_slope or 'from G'}, grid {s.n} × "
+                  f"{s.n}, {count} realization(s)")
+    elif s.family == "self-affine":
+        amplitude = (f"rms slope {s.rms_slope:g}" if s.rms_slope is not None
+                     else f"rms height {s.rms_height:g}")
+        cutoffs = "".join(f", {name} wavelength {value:g}" for name, value in (
+            ("long cut-off", s.long_cutoff), ("rolloff", s.rolloff),
+            ("short cut-off", s.short_cutoff)) if value is not None)
+        family = (f"Gaussian self-affine, H = {', '.join(f'{h:g}' for h in s.hurst)}, "
+                  f"{amplitude}{cutoffs}, L = {s.L:g}, "
+                  f"{'periodic' if s.window == 1 else f'window of a periodic surface {s.window} L wide'}, "
+                  f"grid {s.n} × {s.n}, {count} realization(s)")
+    else:
+        from validation.surface_families import file_digest, read_map
+
+        scan = read_map(s)
+        side = scan.heights.shape[0]
+        family = (f"measured map `{pathlib.Path(s.path).name}` (SHA-256 "
+                  f"{file_digest(s.path)[:12]}…), {side} × {side} pixels of "
+                  f"{scan.spacing:.4g} {s.unit}, detrend {s.detrend}; realizations: {s.tiles} "
+                  f"non-overlapping tile(s) of {s.n} × {s.n} pixels, L = {s.L:.4g} {s.unit}; "
+                  f"lengths in {s.unit}")
+    return (f"Surface: {family}; E* = {scene.e_star:g}; BEM "
+            f"{'periodic' if scene.bem.periodic else 'non-periodic'}, tol {scene.bem.tol:g}.\n")
 
 
 def _surface_section(figures: _Figures, analysis: Analysis) -> None:
     result, lines = analysis.result, figures.lines
     scene, s = result.scene, result.scene.surface
     count = len(next(iter(result.realizations.values()), []))
-    lines.append(f"Surface: WM, D = {', '.join(f'{d:g}' for d in s.D)}, γ = {s.gamma:g}, "
-                 f"M = {s.M}, n_max = {s.n_max}, rms slope = {s.rms_slope or 'from G'}, grid "
-                 f"{s.n} × {s.n}, {count} realization(s); E* = {scene.e_star:g}; BEM "
-                 f"{'periodic' if scene.bem.periodic else 'non-periodic'}, tol {scene.bem.tol:g}.\n")
+    lines.append(_surface_text(scene, count))
     if not analysis.comparisons:
         lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
-    for D, results in sorted(result.realizations.items()):
-        comparison = next((c for c in analysis.comparisons if c.D == D), None)
-        lines.append(f"### D = {D:g}\n")
+    for value, results in sorted(result.realizations.items()):
+        comparison = next((c for c in analysis.comparisons if c.value == value), None)
+        lines.append(f"### {_at(s.sweep_name, value)}\n")
         counts = [r.summit_count for r in results]
         if any(counts) and comparison is not None:
             lines.append(f"Summits per realization: {min(counts)}–{max(counts)}; reference area "
                          f"fraction {100 * comparison.area_fraction[0]:.3g} % – "
                          f"{100 * comparison.area_fraction[-1]:.3g} % over the load path.\n")
-        if len(s.D) == 1:
-            _curve_figures(figures, scene, results, D)
+        if len(s.sweep_values) == 1:
+            _curve_figures(figures, scene, results, value)
         if comparison is not None:
             _comparison_figures(figures, scene, comparison)
             lines.extend(_verdict_table(comparison, scene.tolerances))
-    if len(s.D) > 1 and analysis.comparisons:
+    if len(s.sweep_values) > 1 and analysis.comparisons:
         _validity_map(figures, scene, analysis.comparisons)
 
 
@@ -308,7 +351,8 @@ def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> No
     if keys:
         figures.add(validity_map_figure(comparisons, keys, scene.tolerances),
                     f"{scene.name}-validity-map.png",
-                    "Validity map: |mean error| of each model against the BEM over load and D; "
+                    "Validity map: |mean error| of each model against the BEM over load and "
+                    f"{scene.surface.sweep_name}; "
                     f"white contours at the tolerances {', '.join(f'{t:g}' for t in scene.tolerances)}.")
 
 

@@ -1,9 +1,12 @@
 """The runner: from a scene to a plan, from a plan to results, computing only what is asked.
 
-The plan of a surface scene is one :class:`RealizationTask` per (D, realization); when the scene
-asks for the boundary-element reference's own error, every BEM curve carries per-point error
-estimates (extras ``<quantity>_error``, :func:`bem.path.error_estimates`). A task computes,
-in order and only when needed:
+The plan of a surface scene is one :class:`RealizationTask` per (sweep value, realization): the
+swept parameter is the fractal dimension D of a WM family, the Hurst exponent H of a
+self-affine one; a measured map has one value and its tiles as realizations
+(:mod:`validation.surface_families`). When the scene asks for the boundary-element reference's
+own error, every BEM curve carries per-point error estimates (extras ``<quantity>_error``,
+:func:`bem.path.error_estimates`: the same path on half the grid). A task computes, in order
+and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
   so no surface);
@@ -37,7 +40,7 @@ from validation.models import ModelInputs
 from validation.cost import remaining_seconds, schedule
 from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
-from validation.surfaces import wm_surface
+from validation.surface_families import surface_heights, surface_identity
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
            "run_scenes", "Progress"]
@@ -88,8 +91,8 @@ def _version() -> str:
 class RealizationTask:
     """Everything one realization needs; hashable, so identical tasks run once."""
 
-    surface: SurfaceSpec          # with a single D
-    seed: int
+    surface: SurfaceSpec          # with a single sweep value
+    seed: int                     # the tile index for a measured map
     e_star: float
     loads: LoadPath
     models: tuple[str, ...]
@@ -101,11 +104,20 @@ class RealizationTask:
     slope_grid: int | None = None  # grid on which rms_slope fixes the amplitude (None: n)
 
     @property
-    def D(self) -> float:
-        return self.surface.D[0]
+    def sweep_value(self) -> float:
+        """The value of the family's swept parameter (D, H; 0 for a measured map)."""
+        return self.surface.sweep_values[0]
+
+    @property
+    def D(self) -> float | None:
+        """Fractal dimension of a WM surface (None for another family)."""
+        return self.surface.D[0] if self.surface.family == "wm" else None
 
     def describe(self) -> str:
-        return f"D={self.D:g} seed={self.seed} n={self.surface.n}"
+        s = self.surface
+        if s.family == "file":
+            return f"tile={self.seed + 1}/{s.tiles} n={s.n}"
+        return f"{s.sweep_name}={self.sweep_value:g} seed={self.seed} n={s.n}"
 
 
 @dataclass(frozen=True)
@@ -126,8 +138,9 @@ class SceneResult:
     """All results of one scene."""
 
     scene: Scene
-    realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)  # by D
-    reference_error: dict[float, RealizationResult] = field(default_factory=dict)     # by D
+    # by sweep value (D, H; 0 for a measured map): scene.surface.sweep_name says which
+    realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
+    reference_error: dict[float, RealizationResult] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
 
@@ -140,10 +153,12 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
     if scene.kind == "theory":
         return []
     tasks = []
-    for D in scene.surface.D:
-        surface = replace(scene.surface, D=(D,))
+    measured = scene.surface.family == "file"
+    for value in scene.surface.sweep_values:
+        surface = scene.surface.at(value)
         for k in range(scene.realizations):
-            tasks.append(RealizationTask(surface=surface, seed=scene.seed + k, e_star=scene.e_star,
+            seed = k if measured else scene.seed + k
+            tasks.append(RealizationTask(surface=surface, seed=seed, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=scene.bem,
                                          cache_dir=cache_dir))
@@ -172,10 +187,7 @@ def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
 
 
 def _surface_inputs(task: RealizationTask) -> dict:
-    s = task.surface
-    return dict(family=s.family, D=task.D, rms_slope=s.rms_slope, G=s.G, gamma=s.gamma, M=s.M,
-                n_max=s.n_max, L=s.L, n=s.n, seed=task.seed,
-                slope_grid=task.slope_grid or s.n)
+    return surface_identity(task.surface, task.seed, task.slope_grid)
 
 
 def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
@@ -196,14 +208,11 @@ class _Log:
 
 def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]:
     """The heights, made on first call only (when a result that needs them is not cached)."""
-    s, sampled = task.surface, []
+    sampled: list[np.ndarray] = []
 
     def heights() -> np.ndarray:
         if not sampled:
-            sampled.append(wm_surface(
-                s.n, D=task.D, G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
-                n_max=s.n_max, seed=task.seed,
-                slope_grid=task.slope_grid if s.rms_slope is not None else None))
+            sampled.append(surface_heights(task.surface, task.seed, task.slope_grid))
             log.did("surface")
         return sampled[0]
     return heights
@@ -273,7 +282,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
                          bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
                                           max_iter=task.bem.max_iter,
-                                          error_estimate=task.bem.reference_error))
+                                          # the half grid must cover the same window
+                                          error_estimate=task.bem.reference_error
+                                          and task.surface.n % 2 == 0))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
@@ -353,13 +364,13 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             out.append(SceneResult(scene=scene, theory=theory_curves(scene.theory),
                                    seconds=time.perf_counter() - started))
             continue
-        by_d: dict[float, list[RealizationResult]] = {}
+        by_value: dict[float, list[RealizationResult]] = {}
         reference: dict[float, RealizationResult] = {}
         for task in plan:
             if task.purpose == "reference-error":
-                reference[task.D] = results[task]
+                reference[task.sweep_value] = results[task]
             else:
-                by_d.setdefault(task.D, []).append(results[task])
-        out.append(SceneResult(scene=scene, realizations=by_d, reference_error=reference,
+                by_value.setdefault(task.sweep_value, []).append(results[task])
+        out.append(SceneResult(scene=scene, realizations=by_value, reference_error=reference,
                                seconds=time.perf_counter() - started))
     return out

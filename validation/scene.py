@@ -11,7 +11,11 @@ itself in ``__post_init__`` (so ``dataclasses.replace(scene, realizations=-2)`` 
 its field defaults are the defaults of the file format. A file's tables and keys map onto them::
 
     name, title, description, kind      -> Scene (kind "surface", or "theory" for Figs. 1-3)
-    [surface]  family D rms_slope G gamma M n_max L n      -> SurfaceSpec
+    [surface]  family, and the keys of the family (FAMILY_KEYS)   -> SurfaceSpec
+               wm: D rms_slope G gamma M n_max L n
+               self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
+                            window L n
+               file: path physical_size file_unit unit detrend tiles
     [realizations]  count seed          -> Scene.realizations, Scene.seed
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
@@ -22,7 +26,10 @@ its field defaults are the defaults of the file format. A file's tables and keys
     [quick]  realizations n count       -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
 
-Every key is optional except the surface's ``D`` and one of ``rms_slope``/``G``. Invalid
+Every key is optional except the surface's sweep parameter (``D`` of a WM surface, ``hurst``
+of a self-affine one) and amplitude (``rms_slope`` or ``G``; ``rms_slope`` or ``rms_height``),
+or a measured map's ``path`` (relative to the scene file's folder). A measured map's
+realizations are its tiles: a file scene has no ``[realizations]`` table. Invalid
 values raise :class:`SceneError` (a ``ValueError``) naming the key (and, from a file, the
 file).
 """
@@ -30,14 +37,15 @@ file).
 from __future__ import annotations
 
 import math
+import pathlib
 from dataclasses import MISSING, dataclass, field, fields, replace
 
 from validation import models as _models
 
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
-    "SceneError", "MODELS", "QUANTITIES", "KINDS", "load_scene", "builtin_scenes", "parse_scene",
-    "defaults",
+    "SceneError", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
+    "load_scene", "builtin_scenes", "parse_scene", "defaults",
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
@@ -93,16 +101,21 @@ def _flag(owner, key: str) -> None:
         _fail(owner, key, f"must be true or false, got {getattr(owner, key)!r}")
 
 
-def _numbers(owner, key: str, *, above: float, below: float | None = None) -> None:
-    """A non-empty tuple of finite numbers in (above, below)."""
+def _numbers(owner, key: str, *, above: float, below: float | None = None,
+             at_most: float | None = None) -> None:
+    """A non-empty tuple of finite numbers in (above, below) or (above, at_most]."""
     values = getattr(owner, key)
+    if values is None:
+        _fail(owner, key, "is required")
     values = tuple(values) if isinstance(values, (list, tuple)) else (values,)
-    bound = f"in ({above:g}, {below:g})" if below is not None else f"> {above:g}"
+    bound = (f"in ({above:g}, {below:g})" if below is not None else
+             f"in ({above:g}, {at_most:g}]" if at_most is not None else f"> {above:g}")
     if not values:
         _fail(owner, key, "must not be empty")
     for v in values:
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
-                or v <= above or (below is not None and v >= below):
+                or v <= above or (below is not None and v >= below) \
+                or (at_most is not None and v > at_most):
             _fail(owner, key, f"must hold finite numbers {bound}, got {v!r}")
     object.__setattr__(owner, key, tuple(float(v) for v in values))
 
@@ -126,38 +139,173 @@ def _choice(owner, key: str, allowed: tuple[str, ...]) -> None:
         _fail(owner, key, f"must be one of {', '.join(allowed)}; got {getattr(owner, key)!r}")
 
 
+#: Surface families and the parameter each sweeps (a list of values gives a validity map): its
+#: key in the scene file and its symbol in the report. A measured map sweeps nothing.
+SWEEPS: dict[str, tuple[str, str] | None] = {"wm": ("D", "D"), "self-affine": ("hurst", "H"),
+                                             "file": None}
+FAMILIES = tuple(SWEEPS)
+#: Keys of ``[surface]`` by family (besides ``family``).
+FAMILY_KEYS = {
+    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n"),
+    "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
+                    "window", "L", "n"),
+    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "tiles", "n"),
+}
+#: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
+_GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
+#: Smallest tile of a measured map, in pixels per side.
+MIN_TILE = 32
+
+
 @dataclass(frozen=True)
 class SurfaceSpec:
-    """A Weierstrass-Mandelbrot surface family (arguments of :func:`validation.wm_surface`;
-    docs/theory.md eqs. (11)-(12)). Give exactly one of ``rms_slope`` and ``G``."""
+    """A surface family and its parameters; ``family`` is one of :data:`FAMILIES`.
 
-    D: tuple[float, ...]
-    rms_slope: float | None = 0.1
+    ``"wm"`` (default): Weierstrass-Mandelbrot (arguments of :func:`validation.wm_surface`;
+    docs/theory.md eqs. (11)-(12)); ``D`` required (a tuple sweeps it); at most one of
+    ``rms_slope`` and ``G`` (default rms slope 0.1).
+
+    ``"self-affine"``: Gaussian self-affine (:func:`validation.self_affine_surface`); ``hurst``
+    H in (0, 1] required (a tuple sweeps it); at most one of ``rms_slope`` and ``rms_height``
+    (default rms slope 0.1); cut-off wavelengths ``long_cutoff`` (default L), ``rolloff``
+    (default long_cutoff) and ``short_cutoff`` (default 2 L/n) [length]; the L x L window is
+    cut from a periodic surface ``window`` times larger per side (default 2; 1: periodic).
+
+    ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
+    the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
+    ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
+    ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
+    :data:`MIN_TILE` pixels). ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the
+    file: an explicit value must agree. ``digest`` is the SHA-256 of the file when read.
+
+    Other families' parameters must keep their defaults.
+    """
+
+    D: tuple[float, ...] | None = None
+    rms_slope: float | None = None
     G: float | None = None
     gamma: float = 1.5
     M: int = 10
     n_max: int = 8
-    L: float = 1.0
-    n: int = 256
+    L: float | None = None
+    n: int | None = None
     family: str = "wm"
+    hurst: tuple[float, ...] | None = None
+    rms_height: float | None = None
+    long_cutoff: float | None = None
+    rolloff: float | None = None
+    short_cutoff: float | None = None
+    window: int = 2
+    path: str | None = None
+    physical_size: float | str | tuple[float, float] | None = None
+    file_unit: str | None = None
+    unit: str = "m"
+    detrend: str = "plane"
+    tiles: int = 1
 
     def __post_init__(self) -> None:
-        _choice(self, "family", ("wm",))
-        _numbers(self, "D", above=2.0, below=3.0)
-        if (self.rms_slope is None) == (self.G is None):
-            _fail(self, "rms_slope", "or 'G': give exactly one of the two")
-        _number(self, "rms_slope", above=0.0, optional=True)
-        _number(self, "G", above=0.0, optional=True)
-        _number(self, "gamma", above=1.0)
-        _integer(self, "M", 1)
-        _integer(self, "n_max", 0)
+        _choice(self, "family", FAMILIES)
+        base = {f.name: f.default for f in fields(self)}
+        derived = ("n", "L") if self.family == "file" else ()
+        for key, default in base.items():
+            if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
+                    and getattr(self, key) != default:
+                _fail(self, key, f"is not a parameter of family {self.family!r} (its keys: "
+                      f"{', '.join(FAMILY_KEYS[self.family])})")
+        if self.family == "file":
+            self._check_file()
+        else:
+            self._check_generated()
+        _integer(self, "n", 16)
+
+    def _check_generated(self) -> None:
+        amplitude = ("rms_slope", "G") if self.family == "wm" else ("rms_slope", "rms_height")
+        if all(getattr(self, key) is None for key in amplitude):
+            object.__setattr__(self, "rms_slope", _GENERATED_DEFAULTS["rms_slope"])
+        if all(getattr(self, key) is not None for key in amplitude):
+            _fail(self, amplitude[0], f"or '{amplitude[1]}': give at most one of the two")
+        for key in ("L", "n"):
+            if getattr(self, key) is None:
+                object.__setattr__(self, key, _GENERATED_DEFAULTS[key])
         _number(self, "L", above=0.0)
         _integer(self, "n", 16)
+        for key in amplitude:
+            _number(self, key, above=0.0, optional=True)
+        if self.family == "wm":
+            _numbers(self, "D", above=2.0, below=3.0)
+            _number(self, "gamma", above=1.0)
+            _integer(self, "M", 1)
+            _integer(self, "n_max", 0)
+            return
+        _numbers(self, "hurst", above=0.0, at_most=1.0)
+        for key in ("long_cutoff", "rolloff", "short_cutoff"):
+            _number(self, key, above=0.0, optional=True)
+        _integer(self, "window", 1)
+        long_cutoff = self.L if self.long_cutoff is None else self.long_cutoff
+        rolloff = long_cutoff if self.rolloff is None else self.rolloff
+        short_cutoff = 2 * self.spacing if self.short_cutoff is None else self.short_cutoff
+        if long_cutoff > self.window * self.L * (1 + 1e-12):
+            _fail(self, "long_cutoff", f"must be <= window * L = {self.window * self.L:g}")
+        if rolloff > long_cutoff * (1 + 1e-12):
+            _fail(self, "rolloff", f"must be <= long_cutoff = {long_cutoff:g}")
+        if short_cutoff < 2 * self.spacing * (1 - 1e-12) or short_cutoff >= rolloff:
+            _fail(self, "short_cutoff", f"must lie in [2 L/n, rolloff) = [{2 * self.spacing:g}, "
+                  f"{rolloff:g}), got {short_cutoff:g}")
+
+    def _check_file(self) -> None:
+        from validation.surface_families import read_map
+        from validation.topography import LENGTH_UNITS
+
+        if not isinstance(self.path, str) or not self.path:
+            _fail(self, "path", f"must name a height file, got {self.path!r}")
+        if isinstance(self.physical_size, list):
+            object.__setattr__(self, "physical_size", tuple(self.physical_size))
+        _choice(self, "unit", tuple(LENGTH_UNITS))
+        _choice(self, "detrend", ("plane", "mean", "none"))
+        _integer(self, "tiles", 1)
+        per_side = math.isqrt(self.tiles)
+        if per_side**2 != self.tiles:
+            _fail(self, "tiles", f"must be a square number (k x k tiles: 1, 4, 9, ...), "
+                  f"got {self.tiles}")
+        if not pathlib.Path(self.path).is_file():
+            _fail(self, "path", f"names no file: {self.path!r}")
+        try:
+            scan = read_map(self)
+        except (ValueError, ImportError) as error:
+            key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
+            _fail(self, key, f"does not give a readable height map: {error}")
+        side = scan.heights.shape[0] // per_side
+        if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
+            _fail(self, "tiles", f"= {self.tiles} cuts the {scan.heights.shape[0]}-pixel map "
+                  f"into tiles of {side} pixels; at least {MIN_TILE} are needed")
+        for key, value in (("n", side), ("L", side * scan.spacing)):
+            given = getattr(self, key)
+            if given is not None and not math.isclose(given, value, rel_tol=1e-9):
+                _fail(self, key, f"= {given!r} conflicts with the tile of the file "
+                      f"({value:g}); leave it out")
+            object.__setattr__(self, key, value if key == "L" else int(value))
 
     @property
     def spacing(self) -> float:
         """Grid spacing L / n [length]."""
         return self.L / self.n
+
+    @property
+    def sweep_name(self) -> str:
+        """Symbol of the swept parameter in the report ("D", "H"), "" for a measured map."""
+        sweep = SWEEPS[self.family]
+        return sweep[1] if sweep else ""
+
+    @property
+    def sweep_values(self) -> tuple[float, ...]:
+        """Values of the swept parameter; ``(0.0,)`` for a measured map (one family)."""
+        sweep = SWEEPS[self.family]
+        return getattr(self, sweep[0]) if sweep else (0.0,)
+
+    def at(self, value: float) -> "SurfaceSpec":
+        """The family at one value of its swept parameter."""
+        sweep = SWEEPS[self.family]
+        return replace(self, **{sweep[0]: (value,)}) if sweep else self
 
 
 #: Path defaults by controlled quantity (the only place they are written).
@@ -309,12 +457,19 @@ class Scene:
             _fail(self, "theory", "is required in a theory scene")
         if self.kind == "surface" and self.theory is not None:
             _fail(self, "theory", "belongs only in a scene with kind = \"theory\"")
+        family = self.surface.family if self.surface is not None else "wm"
+        if family != "wm" and self.bem.periodic:
+            _fail(self, "bem.periodic", f"must be false for a {family} surface (its window is "
+                  "not periodic)")
+        if family == "file":  # the tiles of a measured map are its realizations
+            object.__setattr__(self, "realizations", self.surface.tiles)
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""
         if self.kind == "theory":
             return self
-        surface = replace(self.surface, n=min(self.surface.n, self.quick.n))
+        surface = self.surface if self.surface.family == "file" else \
+            replace(self.surface, n=min(self.surface.n, self.quick.n))
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
         return replace(self, surface=surface, loads=loads,
                        realizations=min(self.realizations, self.quick.realizations))

@@ -14,8 +14,8 @@ import tomllib
 from importlib import resources
 from typing import Any, Iterator
 
-from validation.scene import (KINDS, BemSettings, LoadPath, QuickSettings, Scene, SceneError,
-                              SurfaceSpec, TheorySpec, defaults)
+from validation.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
+                              Scene, SceneError, SurfaceSpec, TheorySpec, defaults)
 
 __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
@@ -108,17 +108,37 @@ def _build(kind: type, reader: _Reader, kinds: dict[str, str]):
     return built
 
 
-def _surface(top: _Reader) -> SurfaceSpec:
+#: Value kind of every ``[surface]`` key (which keys a family takes: FAMILY_KEYS).
+_SURFACE_KINDS = dict(
+    D="numbers", rms_slope="number", G="number", gamma="number", M="integer", n_max="integer",
+    L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
+    rolloff="number", short_cutoff="number", window="integer", path="string",
+    physical_size="any", file_unit="string", unit="string", detrend="string", tiles="integer")
+#: Keys a family needs in a file: each entry is one key, or alternatives (one of them).
+_SURFACE_REQUIRED = {"wm": ("D", ("rms_slope", "G")),
+                     "self-affine": ("hurst", ("rms_slope", "rms_height")), "file": ("path",)}
+
+
+def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
     reader = top.sub("surface")
-    kinds = dict(family="string", D="numbers", gamma="number", M="integer", n_max="integer",
-                 L="number", n="integer")
-    if "D" not in reader.table:
-        reader.fail("D", "is required")
-    values = reader.values(kinds, defaults(SurfaceSpec))
-    values["rms_slope"] = reader.get("rms_slope", None, "number")
-    values["G"] = reader.get("G", None, "number")
+    family = reader.get("family", defaults(SurfaceSpec)["family"], "string")
+    if family not in FAMILIES:
+        reader.fail("family", f"must be one of {', '.join(FAMILIES)}; got {family!r}")
+    allowed = FAMILY_KEYS[family]
+    for key in reader.table:
+        if key != "family" and key not in allowed:
+            reader.fail(key, f"is not a key of family {family!r} (its keys: {', '.join(allowed)})")
+    for need in _SURFACE_REQUIRED[family]:
+        options = (need,) if isinstance(need, str) else need
+        if not any(key in reader.table for key in options):
+            reader.fail(options[0], ("or '" + "' or '".join(options[1:]) + "' " if
+                                     len(options) > 1 else "") + "is required")
+    values = {key: reader.get(key, None, _SURFACE_KINDS[key]) for key in allowed
+              if key in reader.table}
+    if "path" in values and folder is not None:
+        values["path"] = str(folder / values["path"])
     with _keys(reader.source, "surface."):
-        surface = SurfaceSpec(**values)
+        surface = SurfaceSpec(family=family, **values)
     reader.finish()
     return surface
 
@@ -130,9 +150,12 @@ def _loads(top: _Reader) -> LoadPath:
     return _build(LoadPath, reader, kinds)
 
 
-def _surface_parts(top: _Reader, base: dict) -> dict:
+def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dict:
     """Scene fields of a surface scene, table by table."""
-    parts = dict(surface=_surface(top), loads=_loads(top))
+    parts = dict(surface=_surface(top, folder), loads=_loads(top))
+    if parts["surface"].family == "file" and "realizations" in top.table:
+        top.fail("realizations", "does not belong in a scene of a measured map: its "
+                 "realizations are its tiles (surface.tiles)")
     tables = dict(realizations=dict(count="integer", seed="integer"),
                   material=dict(e_star="number"), models=dict(use="strings", m="number"),
                   quantities=dict(use="strings"))
@@ -161,8 +184,12 @@ def _theory_parts(top: _Reader, data: dict) -> dict:
                 quantities=("load", "separation", "stiffness"))
 
 
-def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None) -> Scene:
+def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None,
+                folder: str | pathlib.Path | None = None) -> Scene:
     """Validate a scene given as a dictionary (the parsed TOML) and build a :class:`Scene`.
+
+    A measured map's ``surface.path`` is taken relative to ``folder`` (the scene file's
+    folder; default: the working directory).
 
     Raises
     ------
@@ -186,7 +213,7 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     else:
         if "theory" in data:
             top.fail("theory", "belongs only in a scene with kind = \"theory\"")
-        fields.update(_surface_parts(top, base))
+        fields.update(_surface_parts(top, base, None if folder is None else pathlib.Path(folder)))
     top.finish()
     with _keys(source, mapping=_SCENE_KEYS):
         return Scene(**fields)
@@ -204,18 +231,18 @@ def load_scene(name_or_path: str | pathlib.Path) -> Scene:
     if isinstance(name_or_path, str) and name_or_path in builtin:
         resource = resources.files("validation") / "scenes" / f"{name_or_path}.toml"
         text, source = resource.read_text(encoding="utf-8"), f"built-in scene {name_or_path}"
-        stem = name_or_path
+        stem, folder = name_or_path, pathlib.Path(str(resource)).parent
     else:
         path = pathlib.Path(name_or_path)
         if not path.is_file():
             raise SceneError(f"{source}: no such scene file, and not a built-in scene "
                              f"(built-in: {', '.join(builtin)})")
-        text, stem = path.read_text(encoding="utf-8"), path.stem
+        text, stem, folder = path.read_text(encoding="utf-8"), path.stem, path.parent
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
         raise SceneError(f"{source}: not valid TOML: {error}") from None
-    return parse_scene(data, source=source, name=stem)
+    return parse_scene(data, source=source, name=stem, folder=folder)
 
 
 def builtin_scenes() -> tuple[str, ...]:

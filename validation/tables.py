@@ -17,22 +17,28 @@ __all__ = ["write_tables", "TABLES"]
 
 #: File name -> header of every table.
 TABLES = {
-    "curves.csv": ["scene", "D", "seed", "n", "model", "point", "converged", "Load", "Area",
+    "curves.csv": ["scene", "D", "H", "seed", "n", "model", "point", "converged", "Load", "Area",
                    "Separation", "Conductance", "contacts", "load_W", "area", "separation_d",
                    "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap"],
-    "errors.csv": ["scene", "D", "model", "quantity", "reference_field", "point", "Load",
+    "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source"],
-    "verdicts.csv": ["scene", "D", "model", "quantity", "point", "Load", "tolerance", "verdict"],
-    "validity.csv": ["scene", "D", "model", "quantity", "tolerance", "load_min", "load_max",
+    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict"],
+    "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
                      "area_fraction_min", "area_fraction_max", "points", "total", "holds",
                      "fails", "undecided", "reference_band_max", "unconverged",
                      "reference_field"],
-    "findings.csv": ["scene", "D", "finding", "claim", "evidence", "verdict"],
+    "findings.csv": ["scene", "D", "H", "finding", "claim", "evidence", "verdict"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
 }
+
+
+def _sweep(parameter: str, value: float) -> list:
+    """The D and H cells of a row: the swept parameter's value in its column, the other empty
+    (both empty for a measured map; its seed column is the tile index)."""
+    return [value if parameter == name else "" for name in ("D", "H")]
 
 
 def _column(values: dict, name: str, k: int) -> float:
@@ -44,7 +50,8 @@ def _curve_rows(analysis) -> list[list]:
     from validation.compare import converged_points
 
     result, rows = analysis.result, []
-    for D, realizations in sorted(result.realizations.items()):
+    for value, realizations in sorted(result.realizations.items()):
+        sweep = _sweep(result.scene.surface.sweep_name, value)
         for r in realizations:
             for model, curve in r.curves.items():
                 values = dimensionless(curve, r.sigma, result.scene.surface.L)
@@ -53,7 +60,7 @@ def _curve_rows(analysis) -> list[list]:
                 gap = np.asarray(curve.extras.get("mean_gap", np.full(curve.load.shape, np.nan)),
                                  dtype=float)
                 for k in range(curve.load.size):
-                    rows.append([result.scene.name, D, r.task.seed, r.task.surface.n, model, k,
+                    rows.append([result.scene.name, *sweep, r.task.seed, r.task.surface.n, model, k,
                                  bool(converged[k])] + [_column(values, q, k) for q in
                                  ("load", "area", "separation", "conductance", "contacts")]
                                 + [float(curve.load[k]), float(curve.area[k]),
@@ -68,19 +75,20 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
     name, out = analysis.result.scene.name, {"errors.csv": [], "verdicts.csv": [],
                                              "validity.csv": []}
     for c in analysis.comparisons:
+        sweep = _sweep(c.parameter, c.value)
         for (model, quantity), e in c.models.items():
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
             for k in range(c.load.size):
-                out["errors.csv"].append([name, c.D, model, quantity, e.reference_field, k,
+                out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
                                           e.interval.std[k], int(e.interval.count[k]), band[k],
                                           c.band_source.get(e.reference_field, "")])
-                out["verdicts.csv"] += [[name, c.D, model, quantity, k, c.load[k], t, v[k]]
+                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k]]
                                         for t, v in zip(e.tolerances, e.verdicts)]
             for index, r in enumerate(e.ranges):
                 counts = e.counts(index)
-                out["validity.csv"].append([name, c.D, model, quantity, r.tolerance, r.load_min,
+                out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
                                             r.load_max, r.area_fraction_min, r.area_fraction_max,
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
@@ -116,9 +124,10 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
         rows["curves.csv"] += _curve_rows(analysis)
         for name, more in _comparison_rows(analysis).items():
             rows[name] += more
-        rows["findings.csv"] += [[analysis.result.scene.name, D, f.key, f.claim, f.evidence,
-                                  f.verdict] for D, found in analysis.findings.items()
-                                 for f in found]
+        parameter = analysis.result.scene.surface.sweep_name if analysis.findings else ""
+        rows["findings.csv"] += [[analysis.result.scene.name, *_sweep(parameter, value), f.key,
+                                  f.claim, f.evidence, f.verdict]
+                                 for value, found in analysis.findings.items() for f in found]
         rows["theory.csv"] += _theory_rows(analysis)
     written = []
     for name, table in rows.items():

@@ -1,0 +1,206 @@
+"""Self-affine and measured-map surface families in scenes: parsing, realizations, runs, cache."""
+
+import csv
+import pathlib
+import shutil
+
+import numpy as np
+import pytest
+
+from validation.report import analyse, write_report
+from validation.runner import run_scenes
+from validation.scene import FAMILIES, SceneError, SurfaceSpec, load_scene, parse_scene
+from validation.self_affine import self_affine_surface
+from validation.surface_families import _MAKERS, surface_heights, tile
+from validation.surfaces import surface_statistics
+from validation.topography import write_gwyddion_ascii
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
+
+SELF_AFFINE = """
+[surface]
+family = "self-affine"
+hurst = [0.5, 0.8]
+rms_slope = 0.1
+n = 32
+"""
+
+FILE = """
+[surface]
+family = "file"
+path = "scan.txt"
+unit = "um"
+tiles = 4
+"""
+
+
+@pytest.fixture()
+def scan(tmp_path):
+    """A 64 x 64 Gwyddion scan of 8 µm in tmp_path/scan.txt (heights in m)."""
+    heights = self_affine_surface(64, hurst=0.8, rms_slope=0.1, L=8.0, window=128, seed=5)
+    write_gwyddion_ascii(tmp_path / "scan.txt", heights * 1e-6, 8e-6 / 64, unit="m",
+                         size_unit="µm")
+    return tmp_path / "scan.txt"
+
+
+def write(folder, text, name="scene.toml"):
+    path = folder / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def rows(path):
+    with open(path, newline="", encoding="utf-8") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_every_family_has_one_maker():
+    assert set(_MAKERS) == set(FAMILIES) == {"wm", "self-affine", "file"}
+
+
+def test_self_affine_scene_defaults_and_sweep(tmp_path):
+    surface = load_scene(write(tmp_path, SELF_AFFINE)).surface
+    assert surface.hurst == (0.5, 0.8) and surface.sweep_name == "H"
+    assert surface.sweep_values == (0.5, 0.8) and surface.at(0.8).hurst == (0.8,)
+    assert (surface.window, surface.L, surface.rms_height) == (2, 1.0, None)
+    assert SurfaceSpec(family="self-affine", hurst=(0.3,)).rms_slope == 0.1
+    assert SurfaceSpec(D=(2.3,)).sweep_name == "D"
+
+
+def test_file_scene_reads_relative_to_its_folder_and_derives_the_tiles(tmp_path, scan):
+    folder = tmp_path / "elsewhere"
+    folder.mkdir()
+    scene = load_scene(write(tmp_path, FILE))
+    assert pathlib.Path(scene.surface.path) == scan
+    assert (scene.surface.n, scene.realizations, scene.surface.sweep_values) == (32, 4, (0.0,))
+    assert scene.surface.L == pytest.approx(4.0)  # µm: half of the 8 µm scan
+    assert scene.quick_version().surface == scene.surface  # a measured map keeps its tiles
+    example = load_scene(EXAMPLES / "example-topography.toml")
+    assert (example.surface.n, example.realizations, example.surface.unit) == (64, 4, "um")
+
+
+@pytest.mark.parametrize("text, key", [
+    (SELF_AFFINE.replace("hurst = [0.5, 0.8]", "hurst = 1.5"), "surface.hurst"),
+    (SELF_AFFINE.replace("hurst = [0.5, 0.8]\n", ""), "surface.hurst"),
+    (SELF_AFFINE + "D = 2.3\n", "surface.D"),
+    (SELF_AFFINE + "rms_height = 0.01\n", "surface.rms_slope"),
+    (SELF_AFFINE.replace("rms_slope = 0.1\n", ""), "surface.rms_slope"),
+    (SELF_AFFINE + "rolloff = 2.0\n", "surface.rolloff"),
+    (SELF_AFFINE + "short_cutoff = 0.01\n", "surface.short_cutoff"),
+    (SELF_AFFINE + "window = 0\n", "surface.window"),
+    (SELF_AFFINE + "\n[bem]\nperiodic = true\n", "bem.periodic"),
+    (SELF_AFFINE.replace("self-affine", "fractal"), "surface.family"),
+    ("[surface]\nD = 2.3\nrms_slope = 0.1\nhurst = 0.5\n", "surface.hurst"),
+    (FILE.replace("tiles = 4", "tiles = 3"), "surface.tiles"),
+    (FILE.replace("tiles = 4", "tiles = 9"), "surface.tiles"),    # tiles of 21 pixels
+    (FILE + "n = 64\n", "surface.n"),
+    (FILE + "L = 8.0\n", "surface.L"),
+    (FILE + "rms_slope = 0.1\n", "surface.rms_slope"),
+    (FILE.replace("scan.txt", "missing.txt"), "surface.path"),
+    (FILE.replace('unit = "um"', 'unit = "furlong"'), "surface.unit"),
+    (FILE.replace('unit = "um"', 'detrend = "quadratic"'), "surface.detrend"),
+    (FILE + 'physical_size = "8 um"\n', "surface.physical_size"),  # the file states its size
+    (FILE + "\n[realizations]\ncount = 2\n", "realizations"),
+])
+def test_bad_surface_names_key_and_file(tmp_path, scan, text, key):
+    with pytest.raises(SceneError) as info:
+        load_scene(write(tmp_path, text, "bad-scene.toml"))
+    assert f"'{key}'" in str(info.value) and "bad-scene.toml" in str(info.value)
+
+
+def test_dataclass_rejects_another_familys_parameter(scan):
+    with pytest.raises(SceneError, match="'D'.*not a parameter of family 'file'"):
+        SurfaceSpec(family="file", path=str(scan), D=(2.3,))
+    with pytest.raises(SceneError, match="'window'"):
+        SurfaceSpec(D=(2.3,), window=4)
+
+
+def test_tiles_partition_the_map_without_overlap():
+    heights = np.arange(36.0).reshape(6, 6) ** 1.5
+    parts = [tile(heights, 9, k) for k in range(9)]
+    assert all(p.shape == (2, 2) and abs(p.mean()) < 1e-12 for p in parts)
+    rebuilt = np.block([[parts[3 * r + c] + heights[2 * r:2 * r + 2, 2 * c:2 * c + 2].mean()
+                         for c in range(3)] for r in range(3)])
+    np.testing.assert_allclose(rebuilt, heights)
+
+
+def test_self_affine_fine_sample_is_the_same_surface():
+    surface = SurfaceSpec(family="self-affine", hurst=(0.8,), rms_slope=0.1, n=32, rolloff=0.5)
+    coarse = surface_heights(surface, seed=3)
+    fine = surface_heights(SurfaceSpec(**{**surface.__dict__, "n": 64}), seed=3, slope_grid=32)
+    offset = fine[::2, ::2] - coarse
+    np.testing.assert_allclose(offset, offset.mean(), atol=1e-12 * np.ptp(coarse))
+    statistics = surface_statistics(coarse, surface.spacing, periodic=False)
+    assert statistics.rms_gradient == pytest.approx(0.1, rel=1e-9)
+    assert abs(coarse.mean()) < 1e-12
+    assert not np.allclose(coarse, surface_heights(surface, seed=4))
+
+
+def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
+    import validation.report
+
+    scene = parse_scene({"name": "sa", "surface": {"family": "self-affine", "hurst": [0.5, 0.8],
+                                                   "rms_slope": 0.1, "n": 32},
+                         "realizations": {"count": 2, "seed": 1},
+                         "loads": {"min": 1e-4, "max": 1e-2, "count": 3},
+                         "models": {"use": ["gw", "bem"]},
+                         "quantities": {"use": ["area", "load", "separation"]}}, source="test")
+    (result,) = run_scenes([scene], progress=False)
+    assert sorted(result.realizations) == [0.5, 0.8] and sorted(result.reference_error) == [0.5, 0.8]
+    assert all(r.curves["bem"].extras["converged"].all() for rs in result.realizations.values()
+               for r in rs)
+    assert all(r.task.describe().startswith("H=") for r in result.realizations[0.5])
+    labels, add = {}, validation.report._Figures.add
+
+    def remember(self, fig, name, caption):
+        labels[name] = fig.axes[0].get_ylabel()
+        add(self, fig, name, caption)
+
+    monkeypatch.setattr(validation.report._Figures, "add", remember)
+    write_report([result], tmp_path)
+    for name in ("sa-validity-map", "sa-errors-H0.5", "sa-verdicts-H0.8"):
+        assert (tmp_path / f"{name}.png").stat().st_size > 5_000
+    assert labels["sa-validity-map.png"] == "Hurst exponent H"
+    validity = rows(tmp_path / "validity.csv")
+    assert {r["H"] for r in validity} == {"0.5", "0.8"} and {r["D"] for r in validity} == {""}
+    assert [c.parameter for c in analyse(result).comparisons] == ["H", "H"]
+    text = (tmp_path / "report.md").read_text(encoding="utf-8")
+    assert "### H = 0.8" in text and "Gaussian self-affine, H = 0.5, 0.8" in text
+
+
+def computed_log(result):
+    return [e for rs in result.realizations.values() for r in rs for e in r.computed]
+
+
+def test_file_scene_end_to_end_and_cache_follows_the_content(tmp_path, scan):
+    # a closed-form, a discrete and the reference model on the tiles
+    text = FILE + ("\n[loads]\nmin = 1e-3\nmax = 1e-2\ncount = 3\n[models]\n"
+                   "use = [\"improved_gw\", \"discrete\", \"bem\"]\n"
+                   "[quantities]\nuse = [\"area\", \"load\", \"separation\"]\n")
+    scene = load_scene(write(tmp_path, text))
+    cache = str(tmp_path / "cache")
+    (result,) = run_scenes([scene], cache_dir=cache, progress=False)
+    assert [r.task.seed for r in result.realizations[0.0]] == [0, 1, 2, 3]
+    assert result.reference_error == {}  # no finer sample of a measured map
+    assert len({r.sigma for r in result.realizations[0.0]}) == 4
+    report = write_report([result], tmp_path / "report")
+    markdown = report.read_text(encoding="utf-8")
+    assert "measured map `scan.txt`" in markdown
+    assert "4 non-overlapping tile(s) of 32 × 32" in markdown
+    assert (tmp_path / "report" / "scene-errors.png").stat().st_size > 5_000
+    assert {r["seed"] for r in rows(tmp_path / "report" / "curves.csv")} == {"0", "1", "2", "3"}
+    # the same bytes under another path: every expensive result comes from the cache
+    moved = tmp_path / "moved"
+    moved.mkdir()
+    shutil.copy(scan, moved / "scan.txt")
+    (again,) = run_scenes([load_scene(write(moved, text))], cache_dir=cache, progress=False)
+    assert not [e for e in computed_log(again) if e.startswith(("bem", "summits", "discrete"))]
+    assert computed_log(again)  # (the closed-form improved GW is evaluated again)
+    # other bytes under the same path: recomputed
+    lines = scan.read_text(encoding="utf-8").splitlines()
+    lines[-1] = "\t".join(f"{float(v) * 1.5:.6e}" for v in lines[-1].split("\t"))
+    scan.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    (changed,) = run_scenes([load_scene(tmp_path / "scene.toml")], cache_dir=cache,
+                            progress=False)
+    assert sum(e.startswith("bem ") for e in computed_log(changed)) == 4
+    assert sum(e.startswith("discrete ") for e in computed_log(changed)) == 4
