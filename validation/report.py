@@ -183,7 +183,8 @@ def _findings_section(analyses: list[Analysis]) -> list[str]:
 def _holds_section(analyses: list[Analysis]) -> list[str]:
     """One table for every model: where it holds, per surface and quantity, at the largest
     tolerance (asperity models and Persson's theory side by side)."""
-    columns = [c for a in analyses for c in a.comparisons if len(a.result.scene.surface.D) == 1]
+    columns = [c for a in analyses for c in a.comparisons
+               if len(a.result.scene.surface.sweep_values) == 1]
     if not columns:
         return []
     keys = {k for c in columns for k in c.models if k[1] in MAP_QUANTITIES}
@@ -192,7 +193,7 @@ def _holds_section(analyses: list[Analysis]) -> list[str]:
     header, rows = ["model"], {m: [model_label(m)] for m in names}
     for comparison in columns:
         for quantity in quantities:
-            header.append(f"{quantity}, D = {comparison.D:g}")
+            header.append(f"{quantity}, {_at(comparison.parameter, comparison.value)}")
             for model in names:
                 entry = comparison.models.get((model, quantity))
                 if entry is None or not entry.ranges:
