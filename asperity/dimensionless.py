@@ -178,6 +178,7 @@ def interaction_curves(interaction_parameter: float, *, m: float = 1.0,
 
     c = _non_negative("interaction_parameter", interaction_parameter)
     m = _non_negative("m", m)
+    checks.supported_magnitude("interaction_parameter * m", c * m)
     h = (np.linspace(-1.0, 4.0, 201) if separation is None
          else checks.separations("separation", separation))
     model = ImprovedGreenwoodWilliamson(1.0, 1.0, 1.0, m=m * c)
