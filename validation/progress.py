@@ -32,7 +32,12 @@ class Progress:
         interactive = bool(getattr(stream, "isatty", lambda: False)())
         # tqdm's own ETA assumes units of equal cost; the caller's learnt estimate (``eta`` of
         # :meth:`advance`) is shown instead when it has one
-        self.bar = tqdm(total=total, file=stream, unit=f" {label}", dynamic_ncols=interactive,
+        # a pseudo-terminal without a size (a recorded session, some CI consoles) reports a
+        # width of 0, which would draw an empty bar: use a fixed width there
+        sized = interactive and _width(stream) > 0
+        self.bar = tqdm(total=total, file=stream, unit=f" {label}", dynamic_ncols=sized,
+                        ncols=None if sized or not interactive else 100,
+                        nrows=None if sized or not interactive else 40,
                         disable=not (interactive or always), leave=True, smoothing=0.1,
                         mininterval=0.5 if interactive else 0.0,
                         bar_format="{l_bar}{bar}| {n_fmt}/{total_fmt}{unit} [{elapsed}{postfix}]")
@@ -64,3 +69,13 @@ def _clock(seconds: float) -> str:
     minutes, secs = divmod(int(round(max(0.0, seconds))), 60)
     hours, minutes = divmod(minutes, 60)
     return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"
+
+
+def _width(stream) -> int:
+    """Columns of the terminal behind ``stream`` (0 when unknown)."""
+    import os
+
+    try:
+        return os.get_terminal_size(stream.fileno()).columns
+    except (AttributeError, OSError, ValueError):
+        return 0
