@@ -100,8 +100,6 @@ class RealizationTask:
     quantities: tuple[str, ...]
     bem: BemSettings
     cache_dir: str | None = None
-    purpose: str = "realization"  # or "reference-error" (BEM only, on a finer grid)
-    slope_grid: int | None = None  # grid on which rms_slope fixes the amplitude (None: n)
 
     @property
     def sweep_value(self) -> float:
@@ -140,7 +138,6 @@ class SceneResult:
     scene: Scene
     # by sweep value (D, H; 0 for a measured map): scene.surface.sweep_name says which
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
-    reference_error: dict[float, RealizationResult] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
 
@@ -187,7 +184,7 @@ def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
 
 
 def _surface_inputs(task: RealizationTask) -> dict:
-    return surface_identity(task.surface, task.seed, task.slope_grid)
+    return surface_identity(task.surface, task.seed)
 
 
 def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
@@ -212,7 +209,7 @@ def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]
 
     def heights() -> np.ndarray:
         if not sampled:
-            sampled.append(surface_heights(task.surface, task.seed, task.slope_grid))
+            sampled.append(surface_heights(task.surface, task.seed))
             log.did("surface")
         return sampled[0]
     return heights
@@ -365,12 +362,8 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                                    seconds=time.perf_counter() - started))
             continue
         by_value: dict[float, list[RealizationResult]] = {}
-        reference: dict[float, RealizationResult] = {}
         for task in plan:
-            if task.purpose == "reference-error":
-                reference[task.sweep_value] = results[task]
-            else:
-                by_value.setdefault(task.sweep_value, []).append(results[task])
-        out.append(SceneResult(scene=scene, realizations=by_value, reference_error=reference,
+            by_value.setdefault(task.sweep_value, []).append(results[task])
+        out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
     return out
