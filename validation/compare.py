@@ -239,16 +239,6 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
     return {name: dict(known[name]) for name in names if name in known}
 
 
-def _reference_model(names) -> str:
-    """The one registered reference model among ``names`` (a model entry's ``reference``)."""
-    found = [name for name in models.reference_names() if name in names]
-    if len(found) != 1:
-        raise ValueError(f"the results must hold exactly one reference curve (registered "
-                         f"references: {', '.join(models.reference_names())}); they hold "
-                         f"{', '.join(names)}")
-    return found[0]
-
-
 def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
                          reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
     """Compare every model with the reference over the realizations of one sweep value (D, H).
@@ -273,9 +263,10 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if not results:
         raise ValueError("no realizations to compare")
     first = results[0]
-    reference_model = reference_model or _reference_model(tuple(first.curves))
-    if reference_model not in first.curves:
-        raise ValueError(f"the results hold no {reference_model!r} reference curve")
+    reference_model = reference_model or models.reference_among(first.curves)
+    if reference_model is None or reference_model not in first.curves:
+        raise ValueError(f"the results hold no {reference_model or 'registered'} reference "
+                         f"curve (registered references: {', '.join(models.reference_names())})")
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)
@@ -284,7 +275,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
                                  for q in quantities))
     bands = {name: _band(results, name, reference_model) for name in fields}
-    models: dict[tuple[str, str], ModelComparison] = {}
+    entries: dict[tuple[str, str], ModelComparison] = {}
     for model in first.curves:
         if model == reference_model:
             continue
@@ -292,9 +283,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         errors = pairwise_errors(results, model, reference_model, quantities, own)
         for name, stack in errors.items():
             field_name = own.get(name, name)
-            models[(model, name)] = _model_comparison(
+            entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
                 area_fraction, tolerances, field_name)
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
-                      load=load, area_fraction=area_fraction, models=models,
+                      load=load, area_fraction=area_fraction, models=entries,
                       band_source={k: v[1] for k, v in bands.items()})
