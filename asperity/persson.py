@@ -54,9 +54,8 @@ from scipy import special
 
 from asperity.gw_functions import monotone_root
 from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
-from bem.checks import positive, real_number
+from bem.checks import points, positive, real_number
 from bem.curve import ContactCurve
-from bem.model import check_points
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["PERSSON_QUANTITIES", "YANG_PERSSON_GAMMA", "Persson", "separation_kernel"]
@@ -295,7 +294,7 @@ class Persson:
         Loads above ``17.7 E* h'_rms A`` (x_T > 25) give mean gap 0 and infinite stiffness: the
         gap underflows in double precision. Loads must be finite and >= 0 (``ValueError``).
         """
-        w = check_points("load", load, non_negative=True)
+        w = points("load", load, non_negative=True)
         return self._curve(w / self.nominal_area, w, None, _quantity_names(quantities))
 
     def at_separation(self, separation: ArrayLike, *,
