@@ -33,8 +33,9 @@ Residual
 ``extras["residual"]``, where a model reports it, is the dimensionless residual of that model's
 own equations at the returned point -- the number its ``tol`` is compared with:
 
-* BEM: the relative complementarity residual of the Polonsky-Keer iteration
-  (:func:`bem.solve_contact`).
+* BEM: the last relative pressure change of the (preconditioned) constrained
+  conjugate-gradient iteration, the left-hand side of its stopping rule
+  (:func:`bem.solve_contact`, ``ContactSolution.residual``).
 * Discrete model: the largest violation of displacement compatibility over the summits, relative
   to the largest interference (:mod:`asperity.discrete`), and under load control also
   ``|sum P - W| / W``.
