@@ -62,7 +62,7 @@ _SOURCE_VERSION: str | None = None
 #: line): editing them leaves every cached result valid, so they are not part of its hash.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "compare.py", "cost.py", "figures.py",
                                  "findings.py", "labels.py", "progress.py", "report.py",
-                                 "tables.py", "verdicts.py"})
+                                 "report_sections.py", "tables.py", "verdicts.py"})
 
 
 def _version() -> str:
