@@ -47,8 +47,8 @@ from asperity.gw_functions import (
     _check_distribution,
     gw_integrals,
     inverse_log_gw_integral,
-    monotone_root,
 )
+from asperity.roots import monotone_root
 
 __all__ = ["GreenwoodWilliamson", "ImprovedGreenwoodWilliamson"]
 
