@@ -208,7 +208,7 @@ def points(name: str, values: Any, *, non_negative: bool = False,
         ``non_negative``.
     """
     array = real_array(name, values, finite=False)
-    allowed = "finite or +inf (no contact)" if allow_infinity else "finite"
+    allowed = "finite or +inf" if allow_infinity else "finite"
     if np.isnan(array).any():
         raise ValueError(f"{name} must be {allowed}, got NaN")
     infinite = np.isinf(array)
