@@ -220,8 +220,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
-    summary = ErrorSummary(quantity, interval.mean, np.nan_to_num(interval.std, nan=0.0),
-                           len(results))
+    summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name)
