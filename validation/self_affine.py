@@ -24,6 +24,7 @@ import math
 
 import numpy as np
 
+from asperity.spectrum import power_spectrum_2d
 from bem.checks import positive, real_number
 from validation.surfaces import surface_statistics
 
@@ -64,19 +65,11 @@ def power_spectrum(heights: np.ndarray, spacing: float) -> tuple[np.ndarray, np.
     (shape of ``heights``), in the convention of the module docstring, so that
     ``sum(C) * (2 pi / L)^2 == mean((h - mean h)^2)`` (Parseval) for an ``n_y x n_x`` map
     with ``(2 pi / L)^2`` meaning ``(2 pi)^2 / (L_x L_y)``. No window function is applied:
-    for a non-periodic map the edges leak power to high q.
+    for a non-periodic map the edges leak power to high q. The periodogram of
+    :func:`asperity.spectrum.power_spectrum_2d` (``window="none"``), with |q| on its grid.
     """
-    heights = np.asarray(heights, dtype=float)
-    if heights.ndim != 2 or min(heights.shape) < 2:
-        raise ValueError(f"heights must be a 2-D array of at least 2 x 2, got shape {heights.shape}")
-    spacing = positive("spacing", spacing)
-    rows, columns = heights.shape
-    transform = np.fft.fft2(heights - heights.mean())
-    area = rows * columns * spacing**2
-    spectrum = np.abs(transform) ** 2 * spacing**4 / ((2.0 * np.pi) ** 2 * area)
-    q_y = 2.0 * np.pi * np.fft.fftfreq(rows, d=spacing)
-    q_x = 2.0 * np.pi * np.fft.fftfreq(columns, d=spacing)
-    return np.hypot(q_y[:, None], q_x[None, :]), spectrum
+    q_x, q_y, spectrum = power_spectrum_2d(heights, spacing, window="none")
+    return np.hypot(q_y, q_x), spectrum
 
 
 def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
