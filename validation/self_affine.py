@@ -25,7 +25,7 @@ import math
 import numpy as np
 
 from asperity.spectrum import power_spectrum_2d
-from bem.checks import positive, real_number
+from bem.checks import integer, positive, real_number
 from validation.surfaces import surface_statistics
 
 __all__ = [
@@ -35,12 +35,6 @@ __all__ = [
     "self_affine_surface",
     "spectral_rms_slope",
 ]
-
-
-def _check_grid(name: str, value: int, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def self_affine_spectrum(q: np.ndarray, *, hurst: float, long_cutoff: float, rolloff: float,
@@ -80,7 +74,7 @@ def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
     are dropped. Returns ``(q, C)``: the mean |q| of the modes in each bin [1/length] and the
     mean C over those modes [length^4].
     """
-    bins = _check_grid("bins", bins, 1)
+    bins = integer("bins", bins, minimum=1)
     q, spectrum = power_spectrum(heights, spacing)
     q_low = 2.0 * np.pi / (max(heights.shape) * spacing)
     edges = np.geomspace(q_low * (1 - 1e-9), np.pi / spacing * (1 + 1e-9), bins + 1)
@@ -160,8 +154,8 @@ def self_affine_surface(
         Naming the parameter, for values outside the ranges above, both or neither of
         ``rms_height``/``rms_slope``, or cut-offs in the wrong order.
     """
-    n = _check_grid("n", n, 4)
-    grid = n if window is None else _check_grid("window", window, n + 1)
+    n = integer("n", n, minimum=4)
+    grid = n if window is None else integer("window", window, minimum=n + 1)
     hurst = real_number("hurst", hurst, minimum=0.0, exclusive=True)
     if hurst > 1.0:
         raise ValueError(f"hurst must lie in (0, 1], got {hurst!r}")
