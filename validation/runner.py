@@ -10,13 +10,15 @@ and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
   so no surface);
-* its summits (when an asperity model is asked for, or separations in units of sigma are);
-* the BEM load path, with its stiffness solves only when conductance or stiffness is asked for;
-* the GW and improved-GW curves fitted to the summits (cheap, never cached);
-* the discrete-model load paths (with and without interaction), stiffness only when asked.
+* its summits (when a model whose registry entry ``needs_summits`` is asked for, or
+  separations in units of sigma are);
+* the reference model's path (the BEM; on a separation path the others follow its loads), then
+  every other model the scene lists, each built by its registry entry
+  (:mod:`validation.models`); stiffness solves only when conductance or stiffness is asked for.
 
-Summits, BEM and discrete load paths are cached (:mod:`validation.cache`) under keys that hash
-exactly their inputs plus the package version. Every computation is logged in
+Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
+Persson) are cached (:mod:`validation.cache`) under keys that hash exactly their inputs plus
+the package version; the GW closed forms are recomputed. Every computation is logged in
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
