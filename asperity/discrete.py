@@ -45,9 +45,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from bem.checks import points as check_points
 from bem.continuation import follow_path
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from bem.model import check_points, check_quantities, empty_curve
+from bem.model import check_quantities, empty_curve
 
 from asperity.discrete_assembly import assemble
 from asperity.discrete_path import PathSolver

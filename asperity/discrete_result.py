@@ -7,7 +7,8 @@ extras ``contact_radii`` and ``forces`` (points x asperities), ``converged``, ``
 ``residual``, ``stable``, ``overlapping_spots``, ``stiffness_converged`` (when stiffness or
 conductance is asked for) and ``holm_greenwood_conductance`` (when asked for). Non-convergence
 is warned (:class:`bem.ConvergenceWarning`), loss of uniqueness too
-(:class:`asperity.ValidityWarning`).
+(:class:`asperity.ValidityWarning`; :func:`is_stable` says whether a point is a strict energy
+minimum).
 """
 
 from __future__ import annotations
@@ -15,16 +16,17 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import scipy.linalg
 
 from bem.curve import ContactCurve
 from bem.warnings import ConvergenceWarning
 
-from asperity.complementarity import PointSolution, evaluate, is_stable, tangent
+from asperity.complementarity import PointSolution, evaluate, tangent
 from asperity.discrete_assembly import DiscreteProblem
 from asperity.summits import Summits
 
 __all__ = ["ValidityWarning", "build_curve", "neighbours", "overlapping_spots",
-           "holm_greenwood_conductance"]
+           "holm_greenwood_conductance", "is_stable"]
 
 
 class ValidityWarning(UserWarning):
@@ -144,3 +146,59 @@ def build_curve(problem: DiscreteProblem, solutions: list[PointSolution], want: 
         stiffness=stiffness if "stiffness" in want else None,
         conductance=2.0 * stiffness / problem.e_star if "conductance" in want else None,
         extras=extras)
+
+
+def is_stable(problem: DiscreteProblem, delta: np.ndarray) -> bool:
+    """Whether a converged point is a strict energy minimum (as far as can be detected).
+
+    On the loaded asperities, with s_i = sqrt(2 E* a_i) and C = S^1/2 G S^1/2 (entries
+    ``2 sqrt(a_i a_j) / (pi r_ij)``), the scaled Hessian is ``I + C``:
+
+    * positive definite for certain when diagonally dominant (every row sum of C < 1);
+    * indefinite for certain when a 2 x 2 principal block is, i.e. ``C_ij > 1`` for a pair
+      (checked over each spot's 8 nearest loaded neighbours);
+    * otherwise 20 Lanczos steps (full reorthogonalisation; start vector weighted by the
+      excess row sums, fixed pseudo-random signs) look for a negative Rayleigh quotient, which
+      proves indefiniteness. A negative eigenvalue those steps do not resolve can go
+      undetected.
+    """
+    if problem.operator is None:
+        return True                         # independent Hertz (+ uniform term): convex
+    loaded = np.flatnonzero(delta > 0)
+    if loaded.size < 2:
+        return True
+    s_half = np.sqrt(problem.contact_stiffness(delta, loaded))
+    kernel = problem.operator.linear_map(loaded, products=21)
+    row_sums = s_half * kernel(s_half)
+    if float(np.max(row_sums)) < 1.0:
+        return True
+    distance, neighbour = neighbours(problem.summits, loaded)
+    radii = np.sqrt(problem.radius[loaded] * delta[loaded])
+    coupling = 2.0 * np.sqrt(radii[:, None] * radii[neighbour]) / (np.pi * distance)
+    if float(np.max(coupling)) > 1.0:
+        return False
+    return _lanczos_minimum(lambda v: v + s_half * kernel(s_half * v), row_sums) > 0.0
+
+
+def _lanczos_minimum(apply, row_sums: np.ndarray) -> float:
+    """Smallest Ritz value of 20 Lanczos steps (see :func:`is_stable`)."""
+    size = row_sums.size
+    steps = min(20, size)
+    basis = np.empty((steps, size))
+    rng = np.random.default_rng(20080101)
+    vector = (np.maximum(row_sums - 1.0, 0.0) + 1e-3) * rng.choice((-1.0, 1.0), size)
+    vector /= np.linalg.norm(vector)
+    alpha, beta = [], []
+    for k in range(steps):
+        basis[k] = vector
+        w = apply(vector)
+        alpha.append(float(vector @ w))
+        w -= basis[:k + 1].T @ (basis[:k + 1] @ w)      # full reorthogonalisation
+        w -= basis[:k + 1].T @ (basis[:k + 1] @ w)
+        norm = float(np.linalg.norm(w))
+        if k == steps - 1 or norm <= 1e-12 * max(1.0, abs(alpha[-1])):
+            break
+        beta.append(norm)
+        vector = w / norm
+    ritz = scipy.linalg.eigvalsh_tridiagonal(np.array(alpha), np.array(beta[:len(alpha) - 1]))
+    return float(ritz.min())

@@ -39,7 +39,7 @@ from numpy.typing import ArrayLike
 from scipy.special import lambertw
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from bem.model import check_points, check_quantities
+from bem.model import check_quantities
 from bem.warnings import ConvergenceWarning
 
 from asperity.dimensionless import interaction_parameter as _interaction_parameter
@@ -47,8 +47,8 @@ from asperity.gw_functions import (
     _check_distribution,
     gw_integrals,
     inverse_log_gw_integral,
-    monotone_root,
 )
+from asperity.roots import monotone_root
 
 __all__ = ["GreenwoodWilliamson", "ImprovedGreenwoodWilliamson"]
 
@@ -68,11 +68,11 @@ def _orders(want: frozenset[str]) -> tuple[float, ...]:
 
 
 def _separations(separation: ArrayLike) -> np.ndarray:
-    return check_points("separation", separation, allow_infinity=True)   # +inf: no contact
+    return checks.points("separation", separation, allow_infinity=True)   # +inf: no contact
 
 
 def _loads(load: ArrayLike) -> np.ndarray:
-    return check_points("load", load, non_negative=True)                # 0: separation +inf
+    return checks.points("load", load, non_negative=True)                # 0: separation +inf
 
 
 def _warn_unconverged(converged: np.ndarray, what: str) -> None:

@@ -52,11 +52,11 @@ from numpy.polynomial import chebyshev, laguerre, legendre
 from numpy.typing import ArrayLike
 from scipy import special
 
-from asperity.gw_functions import monotone_root
+from asperity.roots import monotone_root
 from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
-from bem.checks import positive, real_number
+from bem.checks import points, positive, real_number
 from bem.curve import ContactCurve
-from bem.model import check_points
+from bem.model import check_quantities
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["PERSSON_QUANTITIES", "YANG_PERSSON_GAMMA", "Persson", "separation_kernel"]
@@ -133,15 +133,9 @@ def _stiffness_kernel(x: np.ndarray, gamma: float) -> np.ndarray:
 
 
 def _quantity_names(quantities: Iterable[str] | None) -> frozenset[str]:
-    if quantities is None:
-        return frozenset(PERSSON_QUANTITIES)
-    if isinstance(quantities, str):
-        quantities = (quantities,)
-    names = frozenset(quantities)
-    unknown = names - set(PERSSON_QUANTITIES) - {"contacts"}
-    if unknown:
-        raise ValueError(f"quantities must be among {PERSSON_QUANTITIES}, got {sorted(unknown)}")
-    return names
+    """The quantities asked for (all by default); "contacts" is accepted and left None."""
+    return check_quantities(PERSSON_QUANTITIES if quantities is None else quantities,
+                            PERSSON_QUANTITIES + ("contacts",))
 
 
 @dataclass(frozen=True, eq=False)
@@ -274,7 +268,7 @@ class Persson:
 
     def mean_gap(self, pressure: ArrayLike) -> np.ndarray:
         """u(p0) [length], eq. (P5); +inf at p0 = 0, 0 at p0 = +inf."""
-        p = _non_negative(pressure, "pressure", "0 gives mean gap +inf")
+        p = points("pressure", pressure, non_negative=True, allow_infinity=True)
         out = np.where(p == 0, np.inf, 0.0)
         inside = (p > 0) & (p < self._pressure_range[1])
         out[inside] = self._integrals(p[inside], gap=True, slope=False)[0]
@@ -295,7 +289,7 @@ class Persson:
         Loads above ``17.7 E* h'_rms A`` (x_T > 25) give mean gap 0 and infinite stiffness: the
         gap underflows in double precision. Loads must be finite and >= 0 (``ValueError``).
         """
-        w = check_points("load", load, non_negative=True)
+        w = points("load", load, non_negative=True)
         return self._curve(w / self.nominal_area, w, None, _quantity_names(quantities))
 
     def at_separation(self, separation: ArrayLike, *,
@@ -305,8 +299,7 @@ class Persson:
         Inverts the decreasing u(p) (P5) by Newton's method on ln u against ln p inside a
         bracket; ``extras["converged"]`` says where it met the tolerance.
         """
-        u = _non_negative(separation, "separation",
-                          "the mean gap; 0 is full contact at infinite load, +inf no load")
+        u = points("separation", separation, non_negative=True, allow_infinity=True)
         pressure, converged = self._invert(u.ravel())
         pressure = pressure.reshape(u.shape)
         if not np.all(converged):
@@ -398,14 +391,3 @@ class Persson:
             stiffness=stiffness if "stiffness" in names else None,
             conductance=conductance if "conductance" in names else None,
             extras={"mean_gap": gap, "converged": converged})
-
-
-def _non_negative(values: ArrayLike, name: str, limits: str) -> np.ndarray:
-    """``values`` as a float array, each >= 0 (+inf allowed); ValueError naming ``name``."""
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be real numbers, got {values!r}") from None
-    if np.isnan(array).any() or (array < 0).any():
-        raise ValueError(f"{name} must be >= 0 and not NaN ({limits})")
-    return array

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem.checks import frozen_array, positive
+from bem.checks import frozen_array, height_map, positive
 
 __all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
@@ -144,18 +144,6 @@ class IsotropicSpectrum:
         return np.where(inside, value, 0.0)
 
 
-def _check_heights(heights: ArrayLike, spacing: float) -> tuple[np.ndarray, float]:
-    try:
-        h = np.asarray(heights, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError("heights must be a 2-D array of real numbers") from None
-    if h.ndim != 2 or min(h.shape) < 4:
-        raise ValueError(f"heights must be a 2-D array of at least 4 x 4, got shape {h.shape}")
-    if not np.all(np.isfinite(h)):
-        raise ValueError("heights must be finite (no NaN or inf)")
-    return h, positive("spacing", spacing)
-
-
 def power_spectrum_2d(heights: ArrayLike, spacing: float, *, window: str = "hann"
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """2-D periodogram of a height map in the convention of eq. (P1).
@@ -167,7 +155,7 @@ def power_spectrum_2d(heights: ArrayLike, spacing: float, *, window: str = "hann
     ``"none"`` or ``"mirror"``, ``psd.sum() * dq_x * dq_y == mean((h - mean h)^2)`` exactly
     (Parseval).
     """
-    h, spacing = _check_heights(heights, spacing)
+    h, spacing = height_map("heights", heights, minimum=4), positive("spacing", spacing)
     if window not in WINDOWS:
         raise ValueError(f"window must be one of {WINDOWS}, got {window!r}")
     ny, nx = h.shape

@@ -32,6 +32,7 @@ __all__ = [
     "height_map",
     "integer",
     "non_negative",
+    "points",
     "positive",
     "real_array",
     "real_number",
@@ -195,18 +196,33 @@ def integer_array(name: str, values: Any, *, minimum: int | None = None) -> np.n
     return array.astype(np.intp)
 
 
-def separations(name: str, values: Any) -> np.ndarray:
-    """Separations [length] of a closed-form model: real, no NaN, no -inf (+inf means out of
-    contact)."""
+def points(name: str, values: Any, *, non_negative: bool = False,
+           allow_infinity: bool = False) -> np.ndarray:
+    """Loads or separations of a contact model as a float array of any shape (0-d for a scalar).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: not real numbers, NaN, infinite (``+inf`` is allowed only with
+        ``allow_infinity``, meaning out of contact; ``-inf`` never), or negative when
+        ``non_negative``.
+    """
     array = real_array(name, values, finite=False)
-    if np.isnan(array).any() or (array == -np.inf).any():
-        raise ValueError(f"{name} must not contain NaN or -inf (+inf means no contact)")
+    allowed = "finite or +inf" if allow_infinity else "finite"
+    if np.isnan(array).any():
+        raise ValueError(f"{name} must be {allowed}, got NaN")
+    infinite = np.isinf(array)
+    if infinite.any() and not (allow_infinity and np.all(array[infinite] > 0)):
+        raise ValueError(f"{name} must be {allowed}, got {array[infinite][0]!r}")
+    if non_negative and (array < 0).any():
+        raise ValueError(f"{name} must be >= 0, got minimum {float(array.min())!r}")
     return array
 
 
-def loads(name: str, values: Any) -> np.ndarray:
-    """Loads [force] of a closed-form model: finite, real, >= 0."""
-    return real_array(name, values, minimum=0.0)
+def separations(name: str, values: Any) -> np.ndarray:
+    """Separations [length] of a closed-form model: real, no NaN, no -inf (+inf means out of
+    contact)."""
+    return points(name, values, allow_infinity=True)
 
 
 def no_overflow(name: str, values: np.ndarray, what: str) -> np.ndarray:

@@ -33,8 +33,9 @@ Residual
 ``extras["residual"]``, where a model reports it, is the dimensionless residual of that model's
 own equations at the returned point -- the number its ``tol`` is compared with:
 
-* BEM: the relative complementarity residual of the Polonsky-Keer iteration
-  (:func:`bem.solve_contact`).
+* BEM: the last relative pressure change of the (preconditioned) constrained
+  conjugate-gradient iteration, the left-hand side of its stopping rule
+  (:func:`bem.solve_contact`, ``ContactSolution.residual``).
 * Discrete model: the largest violation of displacement compatibility over the summits, relative
   to the largest interference (:mod:`asperity.discrete`), and under load control also
   ``|sum P - W| / W``.
@@ -51,7 +52,7 @@ from typing import Any, Iterable, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem import checks
+from bem.checks import points as check_points  # loads and separations of every model
 from bem.checks import positive as _positive
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 
@@ -80,28 +81,6 @@ class ContactModel(Protocol):
                       quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """The contact at separations d [length] (any shape)."""
         ...
-
-
-def check_points(name: str, values: ArrayLike, *, non_negative: bool = False,
-                 allow_infinity: bool = False) -> np.ndarray:
-    """Loads or separations as a float array of any shape (0-d for a scalar).
-
-    Raises
-    ------
-    ValueError
-        Naming ``name``: not real numbers, NaN, infinite (``+inf`` is allowed only with
-        ``allow_infinity``; ``-inf`` never), or negative when ``non_negative``.
-    """
-    array = checks.real_array(name, values, finite=False)
-    if np.isnan(array).any():
-        raise ValueError(f"{name} must be finite numbers, not NaN")
-    infinite = np.isinf(array)
-    if infinite.any() and not (allow_infinity and np.all(array[infinite] > 0)):
-        allowed = "finite or +inf" if allow_infinity else "finite"
-        raise ValueError(f"{name} must be {allowed}, got {array[infinite][0]!r}")
-    if non_negative and (array < 0).any():
-        raise ValueError(f"{name} must be >= 0, got minimum {float(array.min())!r}")
-    return array
 
 
 def check_quantities(quantities: Iterable[str] | str,

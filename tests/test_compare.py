@@ -141,3 +141,22 @@ def test_the_registry_says_which_reference_field_a_model_is_compared_with():
     assert gw.reference_field == "separation"
     np.testing.assert_allclose(gw.summary.mean, 0.2)
     assert models.entry("persson").reference_fields == {"separation": "mean_gap"}
+
+
+def test_the_reference_is_the_registered_reference_whatever_its_name():
+    # the registry, not a model name, says which curve is the reference
+    from validation import models
+    from validation.compare import compare_realizations
+
+    results = [realization(k, LOAD, 1.1 * AREA, [3.0, 2.0, 1.0]) for k in (0, 1)]
+    for r in results:
+        r.curves["exact"] = r.curves.pop("bem")
+    with pytest.raises(ValueError, match="reference"):
+        compare_realizations(results)  # "exact" is not registered as a reference
+    models.register("exact", lambda inputs: None, label="exact", default=False, reference=True)
+    try:
+        comparison = compare_realizations(results)
+    finally:
+        models.unregister("exact")
+    np.testing.assert_allclose(comparison.models[("gw", "area")].summary.mean, 0.1)
+    assert ("exact", "area") not in comparison.models

@@ -355,7 +355,7 @@ def test_property_loads_over_15_decades(model, exponents):
 # the root finder and its convergence report
 
 def test_monotone_root_solves_and_reports():
-    from asperity.gw_functions import monotone_root
+    from asperity.roots import monotone_root
 
     targets = np.array([1e-6, 0.5, 8.0, 1e6])
 

@@ -175,17 +175,14 @@ class Comparison:
     map).
 
     ``load`` is the paper's dimensionless Load = W/(E* L^2) of the path; ``area_fraction`` the
-    reference's mean area fraction at each load; ``reference_error`` the mesh-study estimate of
-    the reference's own error per field and load (grid n against 2n on one realization:
-    relative, or in units of sigma), empty when not estimated; ``band_source`` says per
-    compared field where the reference band came from.
+    reference's mean area fraction at each load; ``band_source`` says per compared field where
+    the reference band came from (the per-point estimates, or "not estimated").
     """
 
     value: float
     load: np.ndarray
     area_fraction: np.ndarray
     models: dict[tuple[str, str], ModelComparison]
-    reference_error: dict[str, np.ndarray]
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
 
@@ -194,20 +191,12 @@ class Comparison:
         """The sweep value (the fractal dimension D of a WM family; kept for old callers)."""
         return self.value
 
-    def reference_error_max(self, quantity: str) -> float:
-        values = self.reference_error.get(quantity)
-        if values is None or not np.any(np.isfinite(values)):
-            return float("nan")
-        return float(np.nanmax(np.abs(values)))
 
-
-def _band(results, field_name: str, reference_model: str,
-          mesh_study: dict[str, np.ndarray]) -> tuple[np.ndarray, str]:
+def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, str]:
     """Reference band of one field per point, and where it came from.
 
     Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
-    over realizations of |error| in the comparison's measure. Otherwise the mesh study (grid n
-    against 2n on one realization). Otherwise zero ("not estimated").
+    over realizations of |error| in the comparison's measure. Otherwise zero ("not estimated").
     """
     curves = [r.curves[reference_model] for r in results]
     points = curves[0].load.shape
@@ -219,19 +208,7 @@ def _band(results, field_name: str, reference_model: str,
         else:
             scale = np.vstack([_field(c, field_name) for c in curves])
         return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
-    if field_name in mesh_study:
-        return np.abs(mesh_study[field_name]), "mesh study n vs 2n, one realization"
     return np.zeros(points), "not estimated"
-
-
-def _mesh_study(results, reference, reference_model: str, fields: tuple[str, ...]):
-    if reference is None:
-        return {}
-    coarse = next((r for r in results if r.task.seed == reference.task.seed), results[0])
-    fine_curve, coarse_curve = reference.curves[reference_model], coarse.curves[reference_model]
-    if not np.allclose(fine_curve.load, coarse_curve.load, rtol=1e-6, atol=0):
-        return {}
-    return curve_errors(coarse_curve, fine_curve, coarse.sigma, fields)
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
@@ -243,8 +220,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
-    summary = ErrorSummary(quantity, interval.mean, np.nan_to_num(interval.std, nan=0.0),
-                           len(results))
+    summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name)
@@ -262,20 +238,18 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
     return {name: dict(known[name]) for name in names if name in known}
 
 
-def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
-                         reference_model: str = "bem",
+def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
                          reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
-    """Compare every model with the reference over the realizations of one D.
+    """Compare every model with the reference over the realizations of one sweep value (D, H).
 
     Parameters
     ----------
     results : list of validation.runner.RealizationResult
         Realizations of one surface family; each holds a curve per model.
-    reference : RealizationResult, optional
-        The same family on a grid twice as fine (reference only): the mesh-study estimate of
-        the reference's own error, used where the curves carry no ``<field>_error`` extras.
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
+    reference_model : str, optional
+        The model compared against; default: the registered reference among the curves.
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.models.reference_fields`).
@@ -288,8 +262,10 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
     if not results:
         raise ValueError("no realizations to compare")
     first = results[0]
-    if reference_model not in first.curves:
-        raise ValueError(f"the results hold no {reference_model!r} reference curve")
+    reference_model = reference_model or models.reference_among(first.curves)
+    if reference_model is None or reference_model not in first.curves:
+        raise ValueError(f"the results hold no {reference_model or 'registered'} reference "
+                         f"curve (registered references: {', '.join(models.reference_names())})")
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)
@@ -297,9 +273,8 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
     fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
                                  for q in quantities))
-    mesh = _mesh_study(results, reference, reference_model, fields)
-    bands = {name: _band(results, name, reference_model, mesh) for name in fields}
-    models: dict[tuple[str, str], ModelComparison] = {}
+    bands = {name: _band(results, name, reference_model) for name in fields}
+    entries: dict[tuple[str, str], ModelComparison] = {}
     for model in first.curves:
         if model == reference_model:
             continue
@@ -307,9 +282,9 @@ def compare_realizations(results, reference=None, *, tolerances=(0.05, 0.2),
         errors = pairwise_errors(results, model, reference_model, quantities, own)
         for name, stack in errors.items():
             field_name = own.get(name, name)
-            models[(model, name)] = _model_comparison(
+            entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
                 area_fraction, tolerances, field_name)
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
-                      load=load, area_fraction=area_fraction, models=models,
-                      reference_error=mesh, band_source={k: v[1] for k, v in bands.items()})
+                      load=load, area_fraction=area_fraction, models=entries,
+                      band_source={k: v[1] for k, v in bands.items()})

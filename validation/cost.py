@@ -1,11 +1,13 @@
 """Expected cost of realization tasks: weights for a progress bar's ETA and for scheduling.
 
-A realization's time is dominated by the BEM load path: per load point a Polonsky-Keer solve
-of N² unknowns whose FFTs cost N² log N each; with the preconditioned, nested solver the
-iteration count barely grows with N, but the larger FFTs fall out of the processor's caches.
-Measured (WM D = 2.5, 16 loads from 1e-5 to 1e-2, tolerance 1e-8, two cores): a path takes
-1.8 s at N = 256 and 10.9 s at N = 512 (x6.1 per doubling), so cost ∝ N^BEM_EXPONENT; the
-stiffness solves add 0.3 (N = 256) to 0.6 (N = 512) of the path, STIFFNESS_SHARE on average. Summits, GW curves and the discrete model cost a fixed, small share per task.
+A realization's time is dominated by the BEM load path: per load point a constrained
+conjugate-gradient solve of N² unknowns whose FFTs cost N² log N each; with the preconditioned,
+nested solver the iteration count barely grows with N, but the larger FFTs fall out of the
+processor's caches. Measured (WM D = 2.5, 16 loads from 1e-5 to 1e-2, tolerance 1e-8, two
+cores): a path takes 1.8 s at N = 256 and 10.9 s at N = 512 (x6.1 per doubling), so cost ∝
+N^BEM_EXPONENT; the stiffness solves add 0.3 (N = 256) to 0.6 (N = 512) of the path,
+STIFFNESS_SHARE on average. Summits, GW curves and the discrete model cost a fixed, small share
+per task.
 
 An ETA from fixed weights is only as good as the exponent; :func:`remaining_seconds` instead
 learns one rate (seconds per unit of cost) per grid size from the tasks already done, and uses

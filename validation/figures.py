@@ -68,7 +68,8 @@ def show_no_data(ax, message: str) -> list:
 
 
 def plot_theory_load(ax, theory: dict, C: float):
-    """Figs. 1-2: reduced pressure p̄ against Separation for GW and improved GW."""
+    """Figs. 1-2: reduced pressure p̄ against Separation for GW and improved GW (the theory
+    scene's two models, drawn in their registered styles)."""
     curves = theory[C]
     lines = ax.semilogy(curves.separation, curves.gw_pressure, label="GW (no interaction)",
                         **MODEL_STYLES["gw"])

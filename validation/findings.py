@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from validation import models
 from validation.compare import Comparison, converged_points, pairwise_errors
 from validation.labels import model_label
 from validation.verdicts import (
@@ -43,7 +44,10 @@ REPRODUCED, CONTRADICTED, UNDECIDED = "reproduced", "contradicted", "undecided"
 NEW = "not in the paper"
 #: Largest relative area difference still "nearly unchanged" in finding (a).
 UNCHANGED_TOLERANCE = 0.10
+# The paper's findings are claims about these particular models (not about whatever a scene
+# lists), so they are named here; the exact reference comes from the registry.
 INTERACTION, NO_INTERACTION = "discrete", "discrete_no_interaction"
+IMPROVED_GW, ORIGINAL_GW = "improved_gw", "gw"
 #: How each finding is decided (Markdown, printed in the report).
 RULES = f"""Per-point decisions use the verdict rule of the report (95 % Student-t interval over
 realizations, the two models paired realization by realization, no reference band). A claim
@@ -157,9 +161,12 @@ def _cv_ratio(values: np.ndarray) -> tuple[float, float, float, np.ndarray]:
     return float(ratio), float(ratio / np.sqrt(upper_f)), float(ratio / np.sqrt(lower_f)), cv
 
 
-def scatter_shrinks(results, reference_model: str = "bem") -> Finding:
-    """Finding (c): scatter over realizations of the exact area and conductance at equal load."""
+def scatter_shrinks(results, reference_model: str | None = None) -> Finding:
+    """Finding (c): scatter over realizations of the exact area and conductance at equal load
+    (``reference_model``: default the registered reference among the curves)."""
     claim = "the scatter between realizations is large at low load and shrinks with load"
+    if results and reference_model is None:
+        reference_model = models.reference_among(results[0].curves)
     if not results or reference_model not in results[0].curves or len(results) < 2:
         return _missing("c", claim, "needs the BEM and at least two realizations")
     parts, verdicts = [], []
@@ -184,13 +191,13 @@ def scatter_shrinks(results, reference_model: str = "bem") -> Finding:
 def improved_follows_discrete(results, tolerance: float) -> Finding:
     """Finding (d): improved GW against the discrete model with interaction (original GW beside)."""
     claim = "improved GW follows the discrete model with interaction"
-    if not results or not {"improved_gw", INTERACTION} <= set(results[0].curves):
+    if not results or not {IMPROVED_GW, INTERACTION} <= set(results[0].curves):
         return _missing("d", claim, "the scene lacks improved GW or the discrete model")
     quantities = tuple(q for q in ("area", "separation", "conductance")
                        if q in results[0].task.quantities)
-    improved = pairwise_errors(results, "improved_gw", INTERACTION, quantities)
-    original = (pairwise_errors(results, "gw", INTERACTION, quantities)
-                if "gw" in results[0].curves else {})
+    improved = pairwise_errors(results, IMPROVED_GW, INTERACTION, quantities)
+    original = (pairwise_errors(results, ORIGINAL_GW, INTERACTION, quantities)
+                if ORIGINAL_GW in results[0].curves else {})
     parts, verdicts = [], []
     for quantity, stack in improved.items():
         point = classify(confidence_interval(stack), 0.0, tolerance)

@@ -21,7 +21,7 @@ import numpy as np
 from bem.model import ContactModel
 
 __all__ = ["ModelInputs", "ModelEntry", "register", "unregister", "entry", "names", "default_names", "build",
-           "labels", "styles", "reference_names", "reference_fields"]
+           "labels", "styles", "reference_names", "reference_among", "reference_fields"]
 
 
 class ModelInputs:
@@ -170,6 +170,18 @@ def default_names() -> tuple[str, ...]:
 def reference_names() -> tuple[str, ...]:
     """Names of the reference models."""
     return tuple(name for name, item in _REGISTRY.items() if item.reference)
+
+
+def reference_among(names) -> str | None:
+    """The one registered reference model among ``names`` (``None`` when there is none).
+
+    Raises ``ValueError`` when ``names`` hold several references: a comparison needs one.
+    """
+    found = [name for name in reference_names() if name in names]
+    if len(found) > 1:
+        raise ValueError(f"several reference models among the curves: {', '.join(found)}; "
+                         "a comparison needs exactly one")
+    return found[0] if found else None
 
 
 def build(name: str, inputs: ModelInputs) -> ContactModel:

@@ -10,13 +10,15 @@ and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
   so no surface);
-* its summits (when an asperity model is asked for, or separations in units of sigma are);
-* the BEM load path, with its stiffness solves only when conductance or stiffness is asked for;
-* the GW and improved-GW curves fitted to the summits (cheap, never cached);
-* the discrete-model load paths (with and without interaction), stiffness only when asked.
+* its summits (when a model whose registry entry ``needs_summits`` is asked for, or
+  separations in units of sigma are);
+* the reference model's path (the BEM; on a separation path the others follow its loads), then
+  every other model the scene lists, each built by its registry entry
+  (:mod:`validation.models`); stiffness solves only when conductance or stiffness is asked for.
 
-Summits, BEM and discrete load paths are cached (:mod:`validation.cache`) under keys that hash
-exactly their inputs plus the package version. Every computation is logged in
+Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
+Persson) are cached (:mod:`validation.cache`) under keys that hash exactly their inputs plus
+the package version; the GW closed forms are recomputed. Every computation is logged in
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
@@ -62,7 +64,7 @@ _SOURCE_VERSION: str | None = None
 #: line): editing them leaves every cached result valid, so they are not part of its hash.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "compare.py", "cost.py", "figures.py",
                                  "findings.py", "labels.py", "progress.py", "report.py",
-                                 "tables.py", "verdicts.py"})
+                                 "report_sections.py", "tables.py", "verdicts.py"})
 
 
 def _version() -> str:
@@ -100,8 +102,6 @@ class RealizationTask:
     quantities: tuple[str, ...]
     bem: BemSettings
     cache_dir: str | None = None
-    purpose: str = "realization"  # or "reference-error" (BEM only, on a finer grid)
-    slope_grid: int | None = None  # grid on which rms_slope fixes the amplitude (None: n)
 
     @property
     def sweep_value(self) -> float:
@@ -140,7 +140,6 @@ class SceneResult:
     scene: Scene
     # by sweep value (D, H; 0 for a measured map): scene.surface.sweep_name says which
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
-    reference_error: dict[float, RealizationResult] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
 
@@ -187,7 +186,7 @@ def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
 
 
 def _surface_inputs(task: RealizationTask) -> dict:
-    return surface_identity(task.surface, task.seed, task.slope_grid)
+    return surface_identity(task.surface, task.seed)
 
 
 def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
@@ -212,7 +211,7 @@ def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]
 
     def heights() -> np.ndarray:
         if not sampled:
-            sampled.append(surface_heights(task.surface, task.seed, task.slope_grid))
+            sampled.append(surface_heights(task.surface, task.seed))
             log.did("surface")
         return sampled[0]
     return heights
@@ -365,12 +364,8 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                                    seconds=time.perf_counter() - started))
             continue
         by_value: dict[float, list[RealizationResult]] = {}
-        reference: dict[float, RealizationResult] = {}
         for task in plan:
-            if task.purpose == "reference-error":
-                reference[task.sweep_value] = results[task]
-            else:
-                by_value.setdefault(task.sweep_value, []).append(results[task])
-        out.append(SceneResult(scene=scene, realizations=by_value, reference_error=reference,
+            by_value.setdefault(task.sweep_value, []).append(results[task])
+        out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
     return out

@@ -180,6 +180,7 @@ def _theory_parts(top: _Reader, data: dict) -> dict:
     theory = _build(TheorySpec, top.sub("theory"), dict(
         C="numbers", m="number", separation_min="number", separation_max="number",
         count="integer"))
+    # data, not dispatch: the theory scene computes exactly these two (validation.theory)
     return dict(theory=theory, models=("gw", "improved_gw"),
                 quantities=("load", "separation", "stiffness"))
 

@@ -24,7 +24,8 @@ import math
 
 import numpy as np
 
-from bem.checks import positive, real_number
+from asperity.spectrum import power_spectrum_2d
+from bem.checks import integer, positive, real_number
 from validation.surfaces import surface_statistics
 
 __all__ = [
@@ -34,12 +35,6 @@ __all__ = [
     "self_affine_surface",
     "spectral_rms_slope",
 ]
-
-
-def _check_grid(name: str, value: int, minimum: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 def self_affine_spectrum(q: np.ndarray, *, hurst: float, long_cutoff: float, rolloff: float,
@@ -64,19 +59,11 @@ def power_spectrum(heights: np.ndarray, spacing: float) -> tuple[np.ndarray, np.
     (shape of ``heights``), in the convention of the module docstring, so that
     ``sum(C) * (2 pi / L)^2 == mean((h - mean h)^2)`` (Parseval) for an ``n_y x n_x`` map
     with ``(2 pi / L)^2`` meaning ``(2 pi)^2 / (L_x L_y)``. No window function is applied:
-    for a non-periodic map the edges leak power to high q.
+    for a non-periodic map the edges leak power to high q. The periodogram of
+    :func:`asperity.spectrum.power_spectrum_2d` (``window="none"``), with |q| on its grid.
     """
-    heights = np.asarray(heights, dtype=float)
-    if heights.ndim != 2 or min(heights.shape) < 2:
-        raise ValueError(f"heights must be a 2-D array of at least 2 x 2, got shape {heights.shape}")
-    spacing = positive("spacing", spacing)
-    rows, columns = heights.shape
-    transform = np.fft.fft2(heights - heights.mean())
-    area = rows * columns * spacing**2
-    spectrum = np.abs(transform) ** 2 * spacing**4 / ((2.0 * np.pi) ** 2 * area)
-    q_y = 2.0 * np.pi * np.fft.fftfreq(rows, d=spacing)
-    q_x = 2.0 * np.pi * np.fft.fftfreq(columns, d=spacing)
-    return np.hypot(q_y[:, None], q_x[None, :]), spectrum
+    q_x, q_y, spectrum = power_spectrum_2d(heights, spacing, window="none")
+    return np.hypot(q_y, q_x), spectrum
 
 
 def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
@@ -87,7 +74,7 @@ def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
     are dropped. Returns ``(q, C)``: the mean |q| of the modes in each bin [1/length] and the
     mean C over those modes [length^4].
     """
-    bins = _check_grid("bins", bins, 1)
+    bins = integer("bins", bins, minimum=1)
     q, spectrum = power_spectrum(heights, spacing)
     q_low = 2.0 * np.pi / (max(heights.shape) * spacing)
     edges = np.geomspace(q_low * (1 - 1e-9), np.pi / spacing * (1 + 1e-9), bins + 1)
@@ -167,8 +154,8 @@ def self_affine_surface(
         Naming the parameter, for values outside the ranges above, both or neither of
         ``rms_height``/``rms_slope``, or cut-offs in the wrong order.
     """
-    n = _check_grid("n", n, 4)
-    grid = n if window is None else _check_grid("window", window, n + 1)
+    n = integer("n", n, minimum=4)
+    grid = n if window is None else integer("window", window, minimum=n + 1)
     hurst = real_number("hurst", hurst, minimum=0.0, exclusive=True)
     if hurst > 1.0:
         raise ValueError(f"hurst must lie in (0, 1], got {hurst!r}")

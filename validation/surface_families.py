@@ -11,8 +11,9 @@ A scene's ``[surface] family`` says how realization ``k`` of it is made:
   tiles, row by row.
 
 Every maker returns heights on the task's ``n x n`` grid of side ``L``. For WM and self-affine
-surfaces ``slope_grid`` is the grid on which ``rms_slope`` fixes the amplitude, so that the
-reference-error task on a grid twice as fine samples the *same* continuous surface.
+surfaces ``slope_grid`` is the grid on which ``rms_slope`` fixes the amplitude, so that grids of
+several sizes (a mesh-convergence study) sample the *same* continuous surface; the runner uses
+the task's own grid (the BEM's per-point error estimate subsamples the same heights).
 :func:`surface_identity` is what the cache keys hash for the surface: its parameters, or, for
 a measured map, the SHA-256 of the file's bytes (never its path) and how it is read and tiled.
 """

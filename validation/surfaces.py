@@ -132,8 +132,8 @@ def wm_surface(
     slope_grid : int, optional
         With ``rms_slope``: the grid (points per side, default ``n``) on which the rms gradient
         is measured to fix the amplitude. The measured slope depends slightly on the grid, so
-        to sample *one* continuous surface on several grids (a mesh-convergence study, the
-        reference's own error at 2n) give them all the same ``slope_grid``.
+        to sample *one* continuous surface on several grids (a mesh-convergence study, as in
+        benchmarks/bench_bem.py and bench_area.py) give them all the same ``slope_grid``.
 
     Returns
     -------

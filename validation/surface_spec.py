@@ -1,0 +1,183 @@
+"""The surface of a scene: its family (Weierstrass-Mandelbrot, self-affine, measured map), the
+family's parameters and their validation (:class:`SurfaceSpec`, the ``[surface]`` table of a
+scene file, :mod:`validation.scene`).
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+from dataclasses import dataclass, fields, replace
+
+from validation import scene_checks as check
+
+__all__ = ["SurfaceSpec", "SWEEPS", "FAMILIES", "FAMILY_KEYS", "MIN_TILE"]
+
+#: Surface families and the parameter each sweeps (a list of values gives a validity map): its
+#: key in the scene file and its symbol in the report. A measured map sweeps nothing.
+SWEEPS: dict[str, tuple[str, str] | None] = {"wm": ("D", "D"), "self-affine": ("hurst", "H"),
+                                             "file": None}
+FAMILIES = tuple(SWEEPS)
+#: Keys of ``[surface]`` by family (besides ``family``).
+FAMILY_KEYS = {
+    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n"),
+    "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
+                    "window", "L", "n"),
+    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "tiles", "n"),
+}
+#: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
+_GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
+#: Smallest tile of a measured map, in pixels per side.
+MIN_TILE = 32
+
+
+@dataclass(frozen=True)
+class SurfaceSpec:
+    """A surface family and its parameters; ``family`` is one of :data:`FAMILIES`.
+
+    ``"wm"`` (default): Weierstrass-Mandelbrot (arguments of :func:`validation.wm_surface`;
+    docs/theory.md eqs. (11)-(12)); ``D`` required (a tuple sweeps it); at most one of
+    ``rms_slope`` and ``G`` (default rms slope 0.1).
+
+    ``"self-affine"``: Gaussian self-affine (:func:`validation.self_affine_surface`); ``hurst``
+    H in (0, 1] required (a tuple sweeps it); at most one of ``rms_slope`` and ``rms_height``
+    (default rms slope 0.1); cut-off wavelengths ``long_cutoff`` (default L), ``rolloff``
+    (default long_cutoff) and ``short_cutoff`` (default 2 L/n) [length]; the L x L window is
+    cut from a periodic surface ``window`` times larger per side (default 2; 1: periodic).
+
+    ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
+    the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
+    ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
+    ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
+    :data:`MIN_TILE` pixels). ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the
+    file: an explicit value must agree. ``digest`` is the SHA-256 of the file when read.
+
+    Other families' parameters must keep their defaults.
+    """
+
+    D: tuple[float, ...] | None = None
+    rms_slope: float | None = None
+    G: float | None = None
+    gamma: float = 1.5
+    M: int = 10
+    n_max: int = 8
+    L: float | None = None
+    n: int | None = None
+    family: str = "wm"
+    hurst: tuple[float, ...] | None = None
+    rms_height: float | None = None
+    long_cutoff: float | None = None
+    rolloff: float | None = None
+    short_cutoff: float | None = None
+    window: int = 2
+    path: str | None = None
+    physical_size: float | str | tuple[float, float] | None = None
+    file_unit: str | None = None
+    unit: str = "m"
+    detrend: str = "plane"
+    tiles: int = 1
+
+    def __post_init__(self) -> None:
+        check.choice(self, "family", FAMILIES)
+        base = {f.name: f.default for f in fields(self)}
+        derived = ("n", "L") if self.family == "file" else ()
+        for key, default in base.items():
+            if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
+                    and getattr(self, key) != default:
+                check.fail(self, key, f"is not a parameter of family {self.family!r} (its keys: "
+                           f"{', '.join(FAMILY_KEYS[self.family])})")
+        if self.family == "file":
+            self._check_file()
+        else:
+            self._check_generated()
+        check.integer(self, "n", 16)
+
+    def _check_generated(self) -> None:
+        amplitude = ("rms_slope", "G") if self.family == "wm" else ("rms_slope", "rms_height")
+        if all(getattr(self, key) is None for key in amplitude):
+            object.__setattr__(self, "rms_slope", _GENERATED_DEFAULTS["rms_slope"])
+        if all(getattr(self, key) is not None for key in amplitude):
+            check.fail(self, amplitude[0], f"or '{amplitude[1]}': give at most one of the two")
+        for key in ("L", "n"):
+            if getattr(self, key) is None:
+                object.__setattr__(self, key, _GENERATED_DEFAULTS[key])
+        check.number(self, "L", above=0.0)
+        check.integer(self, "n", 16)
+        for key in amplitude:
+            check.number(self, key, above=0.0, optional=True)
+        if self.family == "wm":
+            check.numbers(self, "D", above=2.0, below=3.0)
+            check.number(self, "gamma", above=1.0)
+            check.integer(self, "M", 1)
+            check.integer(self, "n_max", 0)
+            return
+        check.numbers(self, "hurst", above=0.0, at_most=1.0)
+        for key in ("long_cutoff", "rolloff", "short_cutoff"):
+            check.number(self, key, above=0.0, optional=True)
+        check.integer(self, "window", 1)
+        long_cutoff = self.L if self.long_cutoff is None else self.long_cutoff
+        rolloff = long_cutoff if self.rolloff is None else self.rolloff
+        short_cutoff = 2 * self.spacing if self.short_cutoff is None else self.short_cutoff
+        if long_cutoff > self.window * self.L * (1 + 1e-12):
+            check.fail(self, "long_cutoff", f"must be <= window * L = {self.window * self.L:g}")
+        if rolloff > long_cutoff * (1 + 1e-12):
+            check.fail(self, "rolloff", f"must be <= long_cutoff = {long_cutoff:g}")
+        if short_cutoff < 2 * self.spacing * (1 - 1e-12) or short_cutoff >= rolloff:
+            check.fail(self, "short_cutoff", f"must lie in [2 L/n, rolloff) = "
+                       f"[{2 * self.spacing:g}, {rolloff:g}), got {short_cutoff:g}")
+
+    def _check_file(self) -> None:
+        from validation.surface_families import read_map
+        from validation.topography import LENGTH_UNITS
+
+        if not isinstance(self.path, str) or not self.path:
+            check.fail(self, "path", f"must name a height file, got {self.path!r}")
+        if isinstance(self.physical_size, list):
+            object.__setattr__(self, "physical_size", tuple(self.physical_size))
+        check.choice(self, "unit", tuple(LENGTH_UNITS))
+        check.choice(self, "detrend", ("plane", "mean", "none"))
+        check.integer(self, "tiles", 1)
+        per_side = math.isqrt(self.tiles)
+        if per_side**2 != self.tiles:
+            check.fail(self, "tiles", f"must be a square number (k x k tiles: 1, 4, 9, ...), "
+                       f"got {self.tiles}")
+        if not pathlib.Path(self.path).is_file():
+            check.fail(self, "path", f"names no file: {self.path!r}")
+        try:
+            scan = read_map(self)
+        except (ValueError, ImportError) as error:
+            key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
+            check.fail(self, key, f"does not give a readable height map: {error}")
+        side = scan.heights.shape[0] // per_side
+        if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
+            check.fail(self, "tiles", f"= {self.tiles} cuts the {scan.heights.shape[0]}-pixel map "
+                       f"into tiles of {side} pixels; at least {MIN_TILE} are needed")
+        for key, value in (("n", side), ("L", side * scan.spacing)):
+            given = getattr(self, key)
+            if given is not None and not math.isclose(given, value, rel_tol=1e-9):
+                check.fail(self, key, f"= {given!r} conflicts with the tile of the file "
+                           f"({value:g}); leave it out")
+            object.__setattr__(self, key, value if key == "L" else int(value))
+
+    @property
+    def spacing(self) -> float:
+        """Grid spacing L / n [length]."""
+        return self.L / self.n
+
+    @property
+    def sweep_name(self) -> str:
+        """Symbol of the swept parameter in the report ("D", "H"), "" for a measured map."""
+        sweep = SWEEPS[self.family]
+        return sweep[1] if sweep else ""
+
+    @property
+    def sweep_values(self) -> tuple[float, ...]:
+        """Values of the swept parameter; ``(0.0,)`` for a measured map (one family)."""
+        sweep = SWEEPS[self.family]
+        return getattr(self, sweep[0]) if sweep else (0.0,)
+
+    def at(self, value: float) -> "SurfaceSpec":
+        """The family at one value of its swept parameter."""
+        sweep = SWEEPS[self.family]
+        return replace(self, **{sweep[0]: (value,)}) if sweep else self
+
