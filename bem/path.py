@@ -58,12 +58,13 @@ class _PathStarts:
 
     Nested (the preconditioned solver): each point starts from the same load or separation
     solved on every other grid point, that coarse solve warm-started from the previous point's
-    coarse pressure. A start from the previous fine pressure scaled to the new load needed
-    more iterations than this one (534 against 471 on a 12-point path at 512 x 512): the
-    contact spots have to grow by several pixels at the finer grid, many of them entering and
-    leaving again one conjugate-gradient step at a time, while the coarse solve of the new load
-    places the spots' edges to within a coarse pixel. Without nesting (odd or small grids, the
-    plain iteration) the previous fine pressure is the start.
+    coarse pressure. A start from the previous fine pressure rescaled to the new load needed
+    more fine iterations (647 against 539 on a 12-point WM path at 1024 x 1024, 5 % more FFT
+    work with the coarse solves counted; README, "Boundary-element solver"): it overshoots the
+    approach of the plane, and the contact set then takes about 20 steps to settle, pixels
+    entering and leaving, while the coarse solve of the new load places the spots' edges to
+    within a coarse pixel. Without nesting (odd or small grids, the plain iteration) the
+    previous fine pressure is the start.
     """
 
     def __init__(self, operator: HalfSpace, z: np.ndarray, *, tol: float, max_iter: int,
