@@ -5,8 +5,9 @@ in the order of increasing load (increasing loads, or decreasing separations), e
 ``step(previous, target)`` from the previous point's answer, and returned in the caller's order.
 
 The discrete asperity model walks its paths with it (:mod:`asperity.discrete_path`);
-:func:`bem.contact_curve` still has its own copy of the same loop (sorted order, warm start
-from the previous pressure) until its rewrite can call :func:`follow_path`.
+:func:`bem.contact_curve` still has its own copy of the same loop (sorted order, each point
+started from the previous one's coarse-grid or fine pressure) until its rewrite can call
+:func:`follow_path`.
 """
 
 from __future__ import annotations

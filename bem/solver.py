@@ -240,7 +240,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     ws.preconditioned = preconditioned
     if initial is None and preconditioned:
         initial = _coarse_start(operator, z, load=load, separation=separation, tol=tol,
-                                max_iter=max_iter)
+                                max_iter=max_iter)[0]
     pixel_area = operator.spacing**2
     nominal_area = z.size * pixel_area
     highest = float(z.max())
@@ -279,28 +279,40 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area)
 
 
+def _nestable(shape: tuple[int, int]) -> bool:
+    """Whether a grid has a coarse level for the nested iteration (even, half >= 64)."""
+    rows, columns = shape
+    return rows % 2 == 0 and columns % 2 == 0 and min(rows, columns) // 2 >= _COARSEST_GRID
+
+
 def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
-                  separation: float | None, tol: float, max_iter: int) -> np.ndarray | None:
+                  separation: float | None, tol: float, max_iter: int,
+                  previous: np.ndarray | None = None, ws: _Workspace | None = None
+                  ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """Nested iteration: the pressure of the same problem on every other grid point (the same
-    continuous surface sampled at spacing 2h, solved recursively the same way), repeated on 2 x 2
-    pixels; None when the grid is odd or its half is below ``_COARSEST_GRID``."""
-    rows, columns = z.shape
-    if rows % 2 or columns % 2 or min(rows, columns) // 2 < _COARSEST_GRID:
-        return None
+    continuous surface sampled at spacing 2h), repeated on 2 x 2 pixels, and that coarse pressure.
+
+    The coarse problem starts from ``previous`` (a coarse pressure, e.g. of the previous point
+    of a load path) when given, else it is solved recursively the same way. ``ws`` is a
+    workspace of the coarse grid to reuse. (None, None) when the grid is odd, its half is below
+    ``_COARSEST_GRID`` or the coarse problem has no contact.
+    """
+    if not _nestable(z.shape):
+        return None, None
     heights = np.ascontiguousarray(z[::2, ::2])
     if operator.periodic and separation is not None and separation <= float(heights.mean()):
-        return None  # full contact on the coarse grid: no load to start from
+        return None, None  # full contact on the coarse grid: no load to start from
     coarse = operator.coarse()
     with warnings.catch_warnings():  # an unconverged start is still a start
         warnings.simplefilter("ignore", ConvergenceWarning)
         solution = _solve(coarse, heights, load=load, separation=separation,
                           tol=max(tol, _COARSE_TOLERANCE),
-                          max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=None,
-                          stiffness=False, ws=_Workspace(coarse.shape))
+                          max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=previous,
+                          stiffness=False, ws=_Workspace(coarse.shape) if ws is None else ws)
     pressure = np.asarray(solution.pressure)
     if not pressure.any():
-        return None
-    return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1)
+        return None, None
+    return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1), pressure
 
 
 def _owned(initial: np.ndarray) -> np.ndarray:

@@ -14,7 +14,8 @@ timed solves, and its build time is printed once per grid.
 
 ``--plain`` solves with the plain Polonsky-Keer iteration (``preconditioned=False``), the
 solver before preconditioning. ``--path N`` also times a 12-point load path (``contact_curve``,
-loads 1e-3 to 3e-2 geometric, warm starts) on N x N. When the optional ``tamaas`` package is
+loads 1e-3 to 3e-2 geometric; each point starts from its coarse-grid
+solve, warm-started from the previous point's) on N x N. When the optional ``tamaas`` package is
 importable, Tamaas's PolonskyKeerRey solves the same problems (N <= ``--tamaas-max``) in a
 separate process: its time, the ratio to ours and the relative differences of area and mean gap
 (Tamaas's tolerance is its own error measure, 1e-10 by default).

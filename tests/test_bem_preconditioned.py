@@ -101,3 +101,33 @@ def test_periodic_separation_near_full_contact():
                           preconditioned=False)
     assert new.area_fraction > 0.5
     assert_same_state(new, plain)
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_nested_load_path_matches_cold_single_solves(periodic):
+    # 128 x 128 has a coarse level: each point starts from the coarse solve of its own load,
+    # warm-started from the previous point's coarse pressure; the states must be those of
+    # independent cold solves of the plain iteration, in load and in separation control
+    n = 128
+    heights = surface(n)
+    operator = HalfSpace((n, n), 1.0 / n, periodic=periodic)
+    loads = np.geomspace(1e-3, 3e-2, 4)
+    curve = contact_curve(heights, 1.0 / n, loads=loads, periodic=periodic, operator=operator,
+                          quantities=("area", "stiffness"))
+    plain = [solve_contact(heights, 1.0 / n, load=load, periodic=periodic, operator=operator,
+                           stiffness=True, preconditioned=False) for load in loads]
+    assert curve.extras["converged"].all()
+    for index, single in enumerate(plain):
+        assert curve.area[index] == single.area
+        assert curve.extras["pixel_area"][index] == single.pixel_area
+        assert curve.load[index] == pytest.approx(single.load, rel=1e-6)
+        assert curve.separation[index] == pytest.approx(single.separation, rel=1e-6)
+        assert curve.extras["mean_gap"][index] == pytest.approx(single.mean_gap, rel=1e-6)
+        assert curve.stiffness[index] == pytest.approx(single.stiffness, rel=1e-6)
+    separations = curve.separation[::-1]
+    by_separation = contact_curve(heights, 1.0 / n, separations=separations, periodic=periodic,
+                                  operator=operator)
+    assert by_separation.extras["converged"].all()
+    np.testing.assert_allclose(by_separation.load, curve.load[::-1], rtol=1e-6)
+    np.testing.assert_array_equal(by_separation.extras["pixel_area"],
+                                  curve.extras["pixel_area"][::-1])
