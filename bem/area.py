@@ -1,4 +1,5 @@
-"""Real contact area from a pixel solution: estimators with a small discretisation error.
+"""Real contact area from a pixel solution: estimators with a small discretisation error
+(docs/theory.md, "8.8 Contact-area estimation and error estimates", eq. T31).
 
 Counting contact pixels (``h^2`` times their number, what most codes report) errs by about the
 contact perimeter times the pixel size: the boundary of the discrete contact set is a staircase

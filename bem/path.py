@@ -275,7 +275,8 @@ _ERROR_QUANTITIES = ("area", "separation", "contacts", "stiffness", "conductance
 
 
 def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) -> dict[str, np.ndarray]:
-    """Per-point discretisation-error estimates of a curve from the same path on half the grid.
+    """Per-point discretisation-error estimates of a curve from the same path on half the grid
+    (docs/theory.md, eq. T32).
 
     For a quantity converging as ``Q_N = Q + c h^p`` the error of the fine grid is
     ``|Q_N - Q_(N/2)| / (2^p - 1)``, which is ``|Q_N - Q_(N/2)|`` at first order (the order of
