@@ -11,8 +11,9 @@ import scipy.sparse
 import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.curve import ContactCurve
 from bem.halfspace import HalfSpace
+from bem.model import check_quantities
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _coarse_start, _nestable, _solve,
@@ -171,16 +172,10 @@ def contact_curve(
     """
     z, spacing, e_star, tol, max_iter, periodic = _check_problem(
         heights, spacing, e_star, tol, max_iter, periodic)
-    if isinstance(quantities, str):
-        quantities = (quantities,)
-    quantities = tuple(quantities)
-    unknown = [q for q in quantities if q not in CURVE_QUANTITIES]
-    if unknown:
-        raise ValueError(f"quantities must be among {CURVE_QUANTITIES}, got unknown {unknown}")
-    if area_estimator not in AREA_ESTIMATORS:
-        raise ValueError(f"area_estimator must be one of {AREA_ESTIMATORS}, got {area_estimator!r}")
-    if not isinstance(error_estimate, (bool, np.bool_)):
-        raise ValueError(f"error_estimate must be True or False, got {error_estimate!r}")
+    quantities = check_quantities(quantities)
+    area_estimator = checks.choice("area_estimator", area_estimator, AREA_ESTIMATORS)
+    error_estimate = checks.flag("error_estimate", error_estimate)
+    preconditioned = checks.flag("preconditioned", preconditioned)
     if error_estimate and (z.shape[0] < 8 or z.shape[0] % 2):
         raise ValueError(f"error_estimate needs an even grid of at least 8 x 8 (the half grid "
                          f"covers the same window), got {z.shape}")
