@@ -155,9 +155,9 @@ def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
     assert all(r.task.describe().startswith("H=") for r in result.realizations[0.5])
     labels, add = {}, validation.report._Figures.add
 
-    def remember(self, fig, name, caption):
-        labels[name] = fig.axes[0].get_ylabel()
-        add(self, fig, name, caption)
+    def remember(self, draw, name, caption, panels=1):
+        labels[name] = draw().axes[0].get_ylabel()
+        add(self, draw, name, caption, panels)
 
     monkeypatch.setattr(validation.report._Figures, "add", remember)
     write_report([result], tmp_path)

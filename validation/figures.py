@@ -1,5 +1,10 @@
 """The report's figures. matplotlib is imported lazily, with the Agg backend.
 
+The report's figures are plain :class:`matplotlib.figure.Figure` objects (no pyplot state to
+close) with a fixed layout: margins in inches, sized for the labels they hold (the verdict
+chart's from its measured row labels), instead of a layout engine, which drew every figure
+twice and measured every tick label on the way (about half the drawing time).
+
 Plot functions take an ``ax`` and return what they drew; ``*_figure`` functions return a
 figure. Every function draws whatever it has: points where a solver did not converge are left
 out and counted on the axes, and an axes without any drawable point says so instead of
@@ -12,6 +17,8 @@ Dimensionless quantities (the paper's Section 4, docs/theory.md eq. T4):
 
 from __future__ import annotations
 
+import io
+
 import numpy as np
 
 from validation.compare import Comparison, converged_points
@@ -19,7 +26,7 @@ from validation.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, comp
                                model_label)
 from validation.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
 
-__all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_load",
+__all__ = ["pyplot", "subplots", "figure", "png", "dimensionless", "show_no_data", "plot_theory_load",
            "plot_theory_stiffness", "plot_against", "plot_errors", "plot_verdicts",
            "plot_validity_map", "panels_figure", "verdict_figure", "validity_map_figure"]
 
@@ -39,7 +46,52 @@ def pyplot():
 
 
 def subplots(*args, **kwargs):
+    """pyplot's subplots with constrained layout (figures outside the report)."""
     return pyplot().subplots(*args, layout="constrained", **kwargs)
+
+
+def figure(rows: int, columns: int, figsize: tuple[float, float], *, left: float = 0.85,
+           right: float = 0.15, bottom: float = 0.6, top: float = 0.35, wspace: float = 0.85,
+           hspace: float = 0.0, colorbar: float = 0.0):
+    """A figure of ``rows x columns`` equal panels with fixed margins [inches].
+
+    Parameters
+    ----------
+    rows, columns : int
+        Panels.
+    figsize : (float, float)
+        Width and height [inches].
+    left, right, bottom, top : float
+        Margins around the panels [inches]: room for the tick labels and axis labels (left,
+        bottom) and the titles (top).
+    wspace, hspace : float
+        Gaps between panels [inches].
+    colorbar : float
+        Width [inches] kept free at the right for a colour bar axes (:func:`validity_map_figure`).
+
+    Returns
+    -------
+    (matplotlib.figure.Figure, numpy.ndarray of Axes)
+        The axes as a ``rows x columns`` array.
+    """
+    from matplotlib.figure import Figure
+
+    width, height = figsize
+    right = right + colorbar
+    panel_width = (width - left - right - (columns - 1) * wspace) / columns
+    panel_height = (height - bottom - top - (rows - 1) * hspace) / rows
+    fig = Figure(figsize=figsize)
+    axes = fig.subplots(rows, columns, squeeze=False, gridspec_kw=dict(
+        left=left / width, right=1.0 - right / width, bottom=bottom / height,
+        top=1.0 - top / height, wspace=wspace / panel_width, hspace=hspace / panel_height))
+    return fig, axes
+
+
+def png(fig, dpi: int = 100) -> bytes:
+    """The figure as PNG bytes (Agg)."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=dpi)
+    return buffer.getvalue()
 
 
 def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
@@ -219,9 +271,13 @@ def plot_verdicts(ax, comparison: Comparison, index: int):
                       for k in keys])
     cmap = ListedColormap([VERDICT_COLORS[v] for v in order])
     drawn = [ax.imshow(codes, cmap=cmap, vmin=-0.5, vmax=2.5, aspect="auto")]
-    for (row, column), code in np.ndenumerate(codes):
-        drawn.append(ax.text(column, row, SYMBOLS[order[code]], ha="center", va="center",
-                             fontsize=8))
+    # one marker collection per symbol (glyph outlines, about 6 pt high like 8-pt text): a text
+    # artist per cell cost a third of the figure's drawing
+    for code, verdict in enumerate(order):
+        rows, columns = np.nonzero(codes == code)
+        if rows.size:
+            drawn.append(ax.scatter(columns, rows, s=42, marker=f"${SYMBOLS[verdict]}$",
+                                    color="black", linewidths=0))
     ax.set_yticks(range(len(keys)), [f"{model_label(m)}: {q}" for m, q in keys], fontsize=7)
     ax.set_xticks(range(comparison.load.size),
                   [f"{v:.1g}" for v in comparison.load], rotation=90, fontsize=6)
@@ -262,14 +318,78 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
     return drawn
 
 
+#: Fixed margins of the report's panels [inches]: tick labels and axis label at the left and the
+#: bottom (symlog labels such as -10^-1 are the widest), a title's height at the top when any
+#: panel has one. Constrained layout placed the same panels 0.66-0.79 in from the left, 0.48-0.50
+#: in from the bottom and 0.73-0.84 in apart.
+_MARGINS = dict(left=0.85, right=0.1, bottom=0.55, top=0.1, wspace=0.9)
+_TITLE_HEIGHT = 0.22
+
+
+def _make_room_for_titles(fig, axes) -> None:
+    if any(ax.get_title() for ax in np.ravel(axes)):
+        height = fig.get_size_inches()[1]
+        np.ravel(axes)[0].get_gridspec().update(
+            top=1.0 - (_MARGINS["top"] + _TITLE_HEIGHT) / height)
+        for ax in np.ravel(axes):  # (the update moves the axes of pyplot's figures only)
+            ax.set_position(ax.get_subplotspec().get_position(fig))
+
+
+def _in_view(locator):
+    """``locator`` without the ticks outside the view: matplotlib makes a tick artist (two lines, a
+    grid line, two labels) for every location a locator returns, and log and symlog locators
+    return a decade or more beyond each end; those artists were a third of a figure's cost."""
+    from matplotlib.ticker import Locator
+
+    class InView(Locator):
+        def set_axis(self, axis):
+            super().set_axis(axis)
+            locator.set_axis(axis)
+
+        def __call__(self):
+            low, high = sorted(self.axis.get_view_interval())
+            ticks = np.asarray(locator())
+            slack = 1e-9 * (high - low)
+            return ticks[(ticks >= low - slack) & (ticks <= high + slack)]
+
+        def tick_values(self, vmin, vmax):
+            return locator.tick_values(vmin, vmax)
+
+    return InView()
+
+
+def _clip_ticks(axes) -> None:
+    """Keep only the ticks in view on every log or symlog axis of ``axes`` (see :func:`_in_view`)."""
+    for ax in np.ravel(axes):
+        for axis in (ax.xaxis, ax.yaxis):
+            if axis.get_scale() in ("log", "symlog"):
+                axis.set_major_locator(_in_view(axis.get_major_locator()))
+                axis.set_minor_locator(_in_view(axis.get_minor_locator()))
+
+
 def panels_figure(draw, panels: list, *, width: float = 5.0, height: float = 4.0, legend=8):
     """One row of panels, ``draw(ax, panel)`` each; legend on the first panel."""
-    fig, axes = subplots(1, len(panels), figsize=(width * len(panels), height), squeeze=False)
+    fig, axes = figure(1, len(panels), (width * len(panels), height), **_MARGINS)
     for ax, panel in zip(axes[0], panels):
         draw(ax, panel)
     if axes[0][0].get_legend_handles_labels()[0]:
         axes[0][0].legend(fontsize=legend)
+    _make_room_for_titles(fig, axes)
+    _clip_ticks(axes)
     return fig
+
+
+def _text_width(texts, fontsize: float, dpi: float = 100.0) -> float:
+    """Width [inches] of the widest of ``texts`` at ``fontsize`` drawn at ``dpi`` (Agg's text
+    metrics, which depend on the resolution through hinting)."""
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.font_manager import FontProperties
+
+    renderer = RendererAgg(1, 1, dpi)
+    font = FontProperties(size=fontsize)
+    widths = [renderer.get_text_width_height_descent(text, font, ismath=False)[0]
+              for text in texts]
+    return max(widths, default=0.0) / dpi
 
 
 def verdict_figure(comparison: Comparison):
@@ -277,7 +397,10 @@ def verdict_figure(comparison: Comparison):
     first = next((e for e in comparison.models.values() if e.verdicts), None)
     count = len(first.tolerances) if first else 1
     rows = max(1, len(comparison.models))
-    fig, axes = subplots(1, count, figsize=(4.5 * count + 1.5, 0.28 * rows + 1.6), squeeze=False)
+    labels = [f"{model_label(m)}: {q}" for (m, q), e in comparison.models.items() if e.verdicts]
+    fig, axes = figure(1, count, (4.5 * count + 1.5, 0.28 * rows + 1.6),
+                       left=_text_width(labels, 7) + 0.15, right=0.1, bottom=0.65, top=0.3,
+                       wspace=0.12)
     for index, ax in enumerate(axes[0]):
         plot_verdicts(ax, comparison, index)
     for ax in axes[0][1:]:
@@ -289,15 +412,23 @@ def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
     """|mean error| over Load and the swept parameter: rows quantities, columns models."""
     models = list(dict.fromkeys(k[0] for k in keys))
     quantities = list(dict.fromkeys(k[1] for k in keys))
-    fig, axes = subplots(len(quantities), len(models),
-                         figsize=(3.6 * len(models), 3.0 * len(quantities)), squeeze=False)
+    colorbar = 1.2  # inches at the right: gap, bar, its tick labels and label
+    fig, axes = figure(len(quantities), len(models),
+                       (3.6 * len(models), 3.0 * len(quantities)), left=0.7,
+                       right=0.1, bottom=0.55, top=0.3, wspace=0.65, hspace=0.6,
+                       colorbar=colorbar)
     meshes = [plot_validity_map(axes[i][j], comparisons, m, q, tolerances)[0]
               for i, q in enumerate(quantities) for j, m in enumerate(models)]
     for ax in axes[:-1].ravel():
         ax.set_xlabel("")
     for ax in axes[:, 1:].ravel():
         ax.set_ylabel("")
+    _clip_ticks(axes)
     mesh = next((m for m in meshes if hasattr(m, "get_cmap")), None)
     if mesh is not None:
-        fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)")
+        width, height = fig.get_size_inches()
+        bottom, top = 0.55 / height, 1.0 - 0.3 / height
+        bar = fig.add_axes(((width - colorbar + 0.25) / width, bottom, 0.2 / width, top - bottom),
+                           label="colorbar")
+        fig.colorbar(mesh, cax=bar, label="|mean error| (relative, or /σ for separation)")
     return fig

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import pathlib
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -56,59 +57,105 @@ def analyse(result: SceneResult) -> Analysis:
 
 @dataclass
 class _Figures:
-    """Saves figures into the report folder and links them from the Markdown lines."""
+    """Collects the report's figures with their Markdown lines; :meth:`render` draws them.
+
+    Each figure is a job ``draw()`` that returns a matplotlib figure: a picklable callable
+    (partials of module-level functions), so that the figures can be drawn in other processes.
+    """
 
     folder: pathlib.Path
     lines: list
+    jobs: list = field(default_factory=list)  # (file name, draw, panels) in report order
 
-    def add(self, fig, name: str, caption: str) -> None:
-        from validation.figures import pyplot
-
-        fig.savefig(self.folder / name, dpi=100)
-        pyplot().close(fig)
+    def add(self, draw, name: str, caption: str, panels: int = 1) -> None:
+        """Queue ``draw`` (``panels``: its number of axes, the cost estimate that orders the
+        parallel drawing) and its Markdown lines."""
+        self.jobs.append((name, draw, panels))
         self.lines += [f"![{caption}]({name})\n", f"*{caption}*\n"]
+
+    def render(self, executor=None) -> None:
+        """Draw every figure into the folder: here, or on ``executor`` (a
+        ``concurrent.futures`` executor; the PNG bytes come back and are written here)."""
+        from validation.figures import png
+
+        if executor is None:
+            for name, draw, _ in self.jobs:
+                (self.folder / name).write_bytes(png(draw()))
+            return
+        # the costliest figures (most panels) first, so that no worker is left with one at the end
+        order = sorted(self.jobs, key=lambda job: -job[2])
+        futures = [(name, executor.submit(_png_of, draw)) for name, draw, _ in order]
+        for name, future in futures:
+            (self.folder / name).write_bytes(future.result())
+
+
+def _png_of(draw) -> bytes:
+    """The PNG bytes of the figure ``draw()`` returns (a top-level function for process pools)."""
+    from validation.figures import png
+
+    return png(draw())
 
 
 def _file_suffix(parameter: str, value: float) -> str:
     return f"-{parameter}{value:g}" if parameter else ""
 
 
+def _against(results, x: str, models, length: float, logx: bool, ax, y: str):
+    from validation.figures import plot_against
+
+    return plot_against(ax, results, x, y, models=models, length=length, logx=logx)
+
+
+def _errors(comparison: Comparison, tolerances, ax, quantity: str):
+    from validation.figures import plot_errors
+
+    return plot_errors(ax, comparison, quantity, tolerances)
+
+
+def _theory_panel(plot: str, theory: dict, ax, C: float):
+    from validation import figures
+
+    return getattr(figures, plot)(ax, theory, C)
+
+
 def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
-    from validation.figures import panels_figure, plot_against
+    from validation.figures import panels_figure
 
     models = model_order(results[0].curves)
     L = scene.surface.L
     conductance = "conductance" in scene.quantities
     panels = ["area", "load"] + (["conductance"] if conductance else [])
-    figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "separation", y,
-                                                         models=models, length=L), panels),
+    figures.add(partial(panels_figure, partial(_against, results, "separation", models, L, False),
+                        panels),
                 f"{scene.name}-fig4-separation.png",
                 f"Area, load{' and conductance' if conductance else ''} against separation, "
                 f"{sweep_member(scene.surface.sweep_name, value)} (paper Fig. 4, BEM added; thin "
                 f"lines: realizations; dotted: the BEM against its mean gap ū/σ, the quantity "
-                f"Persson's curve is drawn against).")
-    figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "load", y, models=models,
-                                                         length=L, logx=True), panels[::2]),
+                f"Persson's curve is drawn against).", len(panels))
+    figures.add(partial(panels_figure, partial(_against, results, "load", models, L, True),
+                        panels[::2]),
                 f"{scene.name}-fig5-load.png",
                 f"Area{' and conductance' if conductance else ''} against load, "
-                f"{sweep_member(scene.surface.sweep_name, value)} (paper Fig. 5, BEM added).")
+                f"{sweep_member(scene.surface.sweep_name, value)} (paper Fig. 5, BEM added).",
+                len(panels[::2]))
 
 
 def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
-    from validation.figures import panels_figure, plot_errors, verdict_figure
+    from validation.figures import panels_figure, verdict_figure
 
     quantities = sorted({q for (_, q) in comparison.models}, key=REPORT_QUANTITIES.index)
     if not quantities:
         return
     at, suffix = (f(comparison.parameter, comparison.value) for f in (sweep_member, _file_suffix))
-    figures.add(panels_figure(lambda ax, q: plot_errors(ax, comparison, q, scene.tolerances),
-                              quantities, legend=7),
+    figures.add(partial(panels_figure, partial(_errors, comparison, scene.tolerances), quantities,
+                        legend=7),
                 f"{scene.name}-errors{suffix}.png",
                 f"Mean error of each model against the BEM at equal load, {at} "
                 f"(coloured band: 95 % interval over realizations; grey: reference band; dotted "
-                f"red: tolerances).")
-    figures.add(verdict_figure(comparison), f"{scene.name}-verdicts{suffix}.png",
-                f"Verdict per load point, {at}: ✔ holds, ✘ fails, ? undecided.")
+                f"red: tolerances).", len(quantities))
+    figures.add(partial(verdict_figure, comparison), f"{scene.name}-verdicts{suffix}.png",
+                f"Verdict per load point, {at}: ✔ holds, ✘ fails, ? undecided.",
+                len(scene.tolerances))
 
 
 def _surface_section(figures: _Figures, analysis: Analysis) -> None:
@@ -141,26 +188,30 @@ def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> No
     keys = sorted({k for c in comparisons for k in c.models if k[1] in COMPARED_QUANTITIES},
                   key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
     if keys:
-        figures.add(validity_map_figure(comparisons, keys, scene.tolerances),
+        figures.add(partial(validity_map_figure, comparisons, keys=keys,
+                            tolerances=scene.tolerances),
                     f"{scene.name}-validity-map.png",
                     "Validity map: |mean error| of each model against the BEM over load and "
                     f"{scene.surface.sweep_name}; "
-                    f"white contours at the tolerances {', '.join(f'{t:g}' for t in scene.tolerances)}.")
+                    f"white contours at the tolerances {', '.join(f'{t:g}' for t in scene.tolerances)}.",
+                    len(keys))
 
 
 def _theory_section(figures: _Figures, result: SceneResult) -> None:
-    from validation.figures import panels_figure, plot_theory_load, plot_theory_stiffness
+    from validation.figures import panels_figure
 
     theory = result.theory
     for index, C in enumerate(theory["C"]):
-        figures.add(panels_figure(lambda ax, c: plot_theory_load(ax, theory, c), [C], width=5.5),
+        figures.add(partial(panels_figure, partial(_theory_panel, "plot_theory_load", theory), [C],
+                            width=5.5),
                     f"{result.scene.name}-fig{index + 1}-C{C:g}.png",
                     f"Load against separation, GW and improved GW, C = {C:g} "
                     f"(paper Fig. {index + 1}).")
-    figures.add(panels_figure(lambda ax, c: plot_theory_stiffness(ax, theory, c),
-                              list(theory["C"]), width=5.5),
+    figures.add(partial(panels_figure, partial(_theory_panel, "plot_theory_stiffness", theory),
+                        list(theory["C"]), width=5.5),
                 f"{result.scene.name}-fig3-stiffness.png",
-                "GW stiffness dW/dd₁ and the true stiffness dW/dd with interaction (paper Fig. 3).")
+                "GW stiffness dW/dd₁ and the true stiffness dW/dd with interaction (paper Fig. 3).",
+                len(theory["C"]))
     rows = [[f"{C:g}", f"{np.min(theory[C].improved_stiffness / theory[C].effective_stiffness):.3g}",
              f"{np.max(theory[C].effective_separation - theory[C].separation):.3g}"]
             for C in theory["C"]]
@@ -169,12 +220,14 @@ def _theory_section(figures: _Figures, result: SceneResult) -> None:
 
 
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
-                 seconds: float | None = None, mode: str = "", command: str | None = None
-                 ) -> pathlib.Path:
+                 seconds: float | None = None, mode: str = "", command: str | None = None,
+                 executor=None) -> pathlib.Path:
     """Write the CSV tables, then ``report.md`` with its PNG figures, into ``folder``.
 
     ``command`` (the command line that produced the results), the package version and the run
-    time ``seconds`` head the report. Returns the path of ``report.md``.
+    time ``seconds`` head the report. The figures are drawn on ``executor`` (a
+    ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here.
+    Returns the path of ``report.md``.
     """
     from validation.tables import write_tables
 
@@ -195,6 +248,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
         _surface_section(figures, analysis)
         figures.lines += timing(analysis.result)
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
+    figures.render(executor)
     path = folder / "report.md"
     path.write_text("\n".join(figures.lines) + "\n", encoding="utf-8")
     return path
