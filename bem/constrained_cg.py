@@ -28,19 +28,14 @@ from bem.preconditioner import InverseKernel
 _REFRESH_INTERVAL = 50
 
 
-
 class _Workspace:
     """Preallocated arrays of one grid, reused by every iteration (and along a load path)."""
 
     def __init__(self, shape: tuple[int, int]) -> None:
         self.shape = shape
         self._u: np.ndarray | None = None
-        self.g = np.empty(shape)
-        self._g_contact: np.ndarray | None = None  # plain iteration only
-        self._t: np.ndarray | None = None  # plain iteration only
-        self.work = np.empty(shape)
-        self.contact_weight = np.empty(shape)
-        self.contact = np.empty(shape, dtype=bool)
+        self.g = np.empty(shape)  # u - z, the gap but for a constant
+        self.work = np.empty(shape)  # scratch of the direct sums
         self.flag = np.empty(shape, dtype=bool)
         self._inverse_kernel: InverseKernel | None = None
         self.preconditioned = True  # whether the last solve used the preconditioner
@@ -57,28 +52,15 @@ class _Workspace:
         u, self._u = self.u, None
         return u
 
-    @property
-    def g_contact(self) -> np.ndarray:
-        """The gap on the contact set (the preconditioned iteration keeps it in the
-        preconditioner's input instead)."""
-        if self._g_contact is None:
-            self._g_contact = np.empty(self.shape)
-        return self._g_contact
-
-    @property
-    def t(self) -> np.ndarray:
-        """The search direction saved around a full product (the preconditioned iteration
-        saves it in the preconditioner's output instead)."""
-        if self._t is None:
-            self._t = np.empty(self.shape)
-        return self._t
-
     def inverse_kernel(self, operator: HalfSpace) -> InverseKernel:
         """The preconditioner of ``operator``'s grid, built on first use."""
         if self._inverse_kernel is None:
             self._inverse_kernel = InverseKernel(operator.shape, operator.spacing,
                                                  e_star=operator.e_star, threads=operator.threads)
         return self._inverse_kernel
+
+
+_DOT_SUBSCRIPTS = {1: "i,i->", 2: "ij,ij->"}
 
 
 @dataclass
@@ -91,13 +73,68 @@ class _Outcome:
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> float:
-    """Inner product of two arrays of one shape without BLAS.
+    """Inner product of two arrays of one shape without BLAS (``@`` on vectors is BLAS).
 
     OpenBLAS worker threads keep spinning after a call and then compete with the FFT threads
     for the cores (a 60x slowdown of the next FFT measured here on 2 cores), so the iteration
     uses numpy's own reductions.
     """
-    return float(np.einsum("ij,ij->", a, b))
+    return float(np.einsum(_DOT_SUBSCRIPTS[a.ndim], a, b))
+
+
+class _Scatter:
+    """Values on a set of grid points written into a work buffer that is zero elsewhere (an FFT
+    input), clearing only the points written the time before.
+
+    ``flat`` is the buffer as a flat array whose rows are ``row_stride`` apart (the zero-padded
+    input of the non-periodic operator has twice as many columns as the grid).
+    """
+
+    def __init__(self, flat: np.ndarray, row_stride: int, columns: int) -> None:
+        self.flat, self.row_stride, self.columns = flat, row_stride, columns
+        self._written: np.ndarray | None = None  # None: unknown contents, clear everything
+
+    def positions(self, indices: np.ndarray) -> np.ndarray:
+        """Buffer positions of flat grid indices."""
+        if self.row_stride == self.columns:
+            return indices
+        rows, columns = np.divmod(indices, self.columns)
+        rows *= self.row_stride
+        rows += columns
+        return rows
+
+    def write(self, positions: np.ndarray, values: np.ndarray | float) -> None:
+        if self._written is None:
+            self.flat.fill(0.0)
+        elif self._written is not positions:
+            self.flat[self._written] = 0.0
+        self.flat[positions] = values
+        self._written = positions
+
+    def forget(self) -> None:
+        """Someone else wrote the buffer: clear all of it next time."""
+        self._written = None
+
+
+class _ContactSet:
+    """The contact set C as flat grid indices with its positions in the FFT buffers, and the
+    fields that live on it (compressed: one value per contact pixel)."""
+
+    def __init__(self, indices: np.ndarray, operator_in: _Scatter, operator_out: _Scatter,
+                 preconditioner_in: _Scatter | None) -> None:
+        self.operator_in, self.operator_out = operator_in, operator_out
+        self.preconditioner_in = preconditioner_in
+        self.set(indices)
+
+    def set(self, indices: np.ndarray) -> None:
+        self.indices = indices
+        self.size = int(indices.size)
+        self.at_operator_in = self.operator_in.positions(indices)
+        self.at_operator_out = (self.at_operator_in if self.operator_out.row_stride
+                                == self.operator_in.row_stride
+                                else self.operator_out.positions(indices))
+        self.at_preconditioner = (None if self.preconditioner_in is None
+                                  else self.preconditioner_in.positions(indices))
 
 
 def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total: float | None,
@@ -112,88 +149,93 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     ``tau_e = tau (gc . P M gc) / (gc . gc)``, the step length expressed per unit gap as in the
     plain iteration, where ``tau_e = tau``.
 
-    Implementation notes (each full-grid pass costs about a tenth of an FFT pair, so they are
-    counted): the search direction t and its displacement r = K t live in the operator's FFT
-    buffers (no copies around the product); t is saved around the occasional full product of p
-    only when the next iteration needs it. In load control the sum of t follows the recurrence
-    t <- beta t + gc (gc, or its preconditioned version, sums to zero) and is summed afresh only after a step that clipped
-    pixels (t is then masked); sum p after the step follows from it and the few changed pixels
-    when they are known.
+    Implementation notes: the pressure, the gap on C, the search direction t, its
+    preconditioned version and the product r = K t on C are kept compressed, one value per
+    contact pixel (C is a few per cent of the grid on most of a load path), and written into or
+    read from the FFT buffers at C's positions only (:class:`_Scatter`). Full-grid passes are
+    left only where the whole grid matters: the gap ``u - z`` and its sign (pixels entering C),
+    and the update of u. The iteration is the same as on full arrays.
     """
     load_control = total is not None
-    u, g, work = ws.u, ws.g, ws.work
-    if preconditioner is None:
-        gc, saved_t = ws.g_contact, ws.t
-    else:  # the preconditioner's output is free once the direction is made
-        gc, s_pre = preconditioner.input_block, preconditioner.output_block
-        saved_t = s_pre
-    weight, contact, flag = ws.contact_weight, ws.contact, ws.flag
-    t, r = operator._direction_buffers()
-    flat_p, flat_g = p.reshape(-1), g.reshape(-1)
+    u, g, flag = ws.u, ws.g, ws.flag
+    columns = z.shape[1]
+    flat_g, flat_flag, flat_p = g.reshape(-1), flag.reshape(-1), p.reshape(-1)
+    op_in_flat, op_out_flat, op_stride = operator._flat_direction_buffers()
+    operator_in = _Scatter(op_in_flat, op_stride, columns)
+    operator_out = _Scatter(op_out_flat, op_stride, columns)
+    preconditioner_in = None
+    if preconditioner is not None:
+        preconditioner_in = _Scatter(preconditioner.input_block.reshape(-1), columns, columns)
+        preconditioner_out = preconditioner.output_block.reshape(-1)
     direct_limit = operator.direct_source_limit
     if direct_limit:
         operator.influence  # noqa: B018 - build the influence coefficients once, up front
-    operator._apply(p, u)
+    contact = _ContactSet(np.flatnonzero(flat_p > 0.0), operator_in, operator_out,
+                          preconditioner_in)
+    pressure = flat_p[contact.indices]
+
+    def product(values: np.ndarray) -> np.ndarray:
+        """K applied to ``values`` on C: the full-grid displacement (the operator's output)."""
+        operator_in.write(contact.at_operator_in, values)
+        operator._transform_direction()
+        return operator._direction_buffers()[1]
+
+    def refresh() -> None:
+        """u = K p exactly."""
+        u[...] = product(pressure)
+
+    def start_from(full: np.ndarray) -> np.ndarray:
+        contact.set(np.flatnonzero(full.reshape(-1) > 0.0))
+        return full.reshape(-1)[contact.indices]
+
+    refresh()
     reset = True        # next direction is the steepest descent one (beta = 0)
-    shrunk = True       # the last step removed pixels from the contact set
     g_norm_old = 1.0
     residual = math.inf
     since_refresh = 0
     tau_fallback = None
+    direction = np.zeros(0)
     t_sum = 0.0
-    flat_contact, flat_weight = contact.reshape(-1), weight.reshape(-1)
-    stale = True        # contact / weight / n_contact must be recomputed from p
-    n_contact = 0
     restarted = False   # separation control restarted after losing every contact
     for iteration in range(1, max_iter + 1):
-        # contact set: recomputed after bulk changes, else kept up to date pixel by pixel
-        if stale:
-            np.greater(p, 0.0, out=contact)
-            n_contact = int(np.count_nonzero(contact))
-            np.copyto(weight, contact)
-            stale = False
-        # gap at the current state: g = u - z + d, d given or the mean of z - u on the contacts
+        indices = contact.indices
+        # gap at the current state: g = u - z + d, d given or the mean of z - u on the contacts;
+        # g itself holds u - z, and ``shift`` is what the gap adds to it
         np.subtract(u, z, out=g)
-        if load_control:
-            g -= _dot(g, weight) / n_contact
-        else:
-            g += separation
-        np.multiply(g, weight, out=gc)
+        gc = flat_g[indices]
+        shift = -float(gc.mean()) if load_control else separation
+        gc += shift
         if preconditioner is None:
             g_norm = _dot(gc, gc)
             descent = gc
         else:
             g_square = _dot(gc, gc)
+            preconditioner_in.write(contact.at_preconditioner, gc)
             preconditioner.execute()
-            descent = s_pre
-            descent *= weight
+            descent = preconditioner_out[contact.at_preconditioner]
             if load_control:
-                np.multiply(weight, float(descent.sum()) / n_contact, out=work)
-                descent -= work
+                descent -= descent.mean()
             g_norm = _dot(gc, descent)
-        # conjugate search direction on the contact set
-        # t_sum = sum of t (zero outside the contact set); gc sums to zero in load control
+        # conjugate search direction on the contact set (t is zero on pixels that just entered
+        # and was dropped on those that left)
         if reset or g_norm_old == 0.0:
-            np.copyto(t, descent)
-            t_sum = 0.0
+            direction = descent.copy()
+            t_sum = 0.0  # (the descent sums to zero in load control)
         else:
-            beta = g_norm / g_norm_old
-            if shrunk:
-                np.multiply(t, weight, out=t)
-            t *= beta
-            t += descent
-            if load_control:
-                t_sum = float(t.sum()) if shrunk else beta * t_sum
+            direction *= g_norm / g_norm_old
+            direction += descent
+            t_sum = float(direction.sum()) if load_control else 0.0
         g_norm_old = g_norm
-        slope = _dot(gc, t)
+        slope = _dot(gc, direction)
         if slope < 0.0:  # not a descent direction (a kept direction after entering pixels)
-            np.copyto(t, descent)
+            direction = descent.copy()
             t_sum = 0.0
             slope = g_norm
-        operator._transform_direction()  # r = K t
-        rt = _dot(r, t)
-        if t_sum != 0.0:
-            rt -= _dot(r, weight) / n_contact * t_sum
+        r = product(direction)  # r = K t
+        r_contact = op_out_flat[contact.at_operator_out]
+        rt = _dot(r_contact, direction)
+        if load_control and t_sum != 0.0:
+            rt -= float(r_contact.sum()) / contact.size * t_sum
         if rt > 0.0 and math.isfinite(rt):
             tau = slope / rt
             # pressure per unit overlap for entering pixels: tau itself without preconditioner
@@ -204,94 +246,75 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             if tau_fallback is None:
                 tau_fallback = 1.0 / operator.self_influence
             tau = tau_enter = tau_fallback
-        step = gc  # the contact gap is not needed any more: reuse its buffer for tau t
-        np.multiply(t, tau, out=step)
-        p -= step
-        # project on p >= 0 (boolean masks and counts are the cheap passes; ufuncs with
-        # where= and float count_nonzero are 10-50x slower than a plain pass)
-        np.less(p, 0.0, out=flag)
-        clipped = int(np.count_nonzero(flag))
+        step = direction * tau
+        pressure -= step
+        # project on p >= 0: pixels with negative pressure leave C
+        negative = pressure < 0.0
+        clipped = int(np.count_nonzero(negative))
         sources = []  # (flat indices, values) of p_new / scale - (p_old - tau t), if few
-        change = 0.0  # their sum
         if clipped:
             if clipped <= direct_limit:
-                clipping = np.flatnonzero(flag)
-                values = -flat_p[clipping]
-                flat_p[clipping] = 0.0
-                flat_contact[clipping] = False
-                flat_weight[clipping] = 0.0
-                n_contact -= clipped
-                sources.append((clipping, values))
-                change += float(values.sum())
-            else:
-                np.maximum(p, 0.0, out=p)
-                stale = True
-        # points outside the contact set that overlap enter it: p = 0 and g < 0
-        np.less(g, 0.0, out=flag)
-        if stale:
-            np.logical_and(flag, p == 0.0, out=flag)
-        else:
-            np.greater(flag, contact, out=flag)  # g < 0 and not in contact
+                sources.append((indices[negative], -pressure[negative]))
+            kept = ~negative
+            indices, pressure, direction = indices[kept], pressure[kept], direction[kept]
+            step = step[kept]
+        # points outside the contact set that overlap enter it: g < 0 off C
+        np.less(g, -shift, out=flag)
+        flat_flag[indices] = False
         entered = int(np.count_nonzero(flag))
         if entered:
             entering = np.flatnonzero(flag)
-            values = -tau_enter * flat_g[entering]
-            flat_p[entering] = values
-            flat_contact[entering] = True
-            flat_weight[entering] = 1.0
-            n_contact += entered
+            values = -tau_enter * (flat_g[entering] + shift)
             sources.append((entering, values))
-            change += float(values.sum())
+            indices = np.concatenate((indices, entering))
+            pressure = np.concatenate((pressure, values))
+            direction = np.concatenate((direction, np.zeros(entered)))
+        if clipped or entered:
+            contact.set(indices)
         scale = 1.0
         if load_control:
-            if clipped <= direct_limit:
-                current = total - tau * t_sum + change
-            else:
-                current = float(p.sum())
+            current = float(pressure.sum())
             if current <= 0.0:  # everything was clipped: restart from a uniform pressure
                 p.fill(total / p.size)
-                operator._apply(p, u)
-                reset = shrunk = stale = True
+                pressure = start_from(p)
+                refresh()
+                reset = True
                 continue
             scale = total / current
-            p *= scale
-        elif (n_contact == 0) if not stale else not p.any():
+            pressure *= scale
+        elif contact.size == 0:
             # Separation control and the step clipped every pixel. The caller enters this loop
             # only when some point overlaps the plane (d < max z), so an empty contact set is an
             # overshoot (from a poor initial pressure, say), never the answer: restart once from
             # the interference start, and report failure if it happens again.
             if restarted:
-                operator._apply(p, u)
-                return _Outcome(p, False, iteration, math.inf,
+                refresh()
+                return _Outcome(_scattered(p, contact, pressure), False, iteration, math.inf,
                                 "lost every contact although the plane overlaps the surface")
             restarted = True
-            np.copyto(p, _separation_start(operator, z, separation, ws))
-            operator._apply(p, u)
-            reset = shrunk = stale = True
+            pressure = start_from(_separation_start(operator, z, separation, ws))
+            operator_in.forget()  # (the start's product wrote the whole operator input)
+            refresh()
+            reset = True
             continue
         # Polonsky-Keer restart from steepest descent when pixels enter; the preconditioned
         # iteration keeps its direction (t is zero on the entering pixels): restarting made it
         # fix the boundary of the contact set one oscillating pixel per iteration, in a number of
         # iterations growing with n (measured; a non-descent direction still restarts, above)
-        reset, shrunk = entered > 0 and preconditioner is None, clipped > 0
+        reset = entered > 0 and preconditioner is None
         # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
         # made by the projection and the entering points: by direct sums when they are few,
         # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
         since_refresh += 1
         if (clipped > direct_limit or clipped + entered > direct_limit
                 or since_refresh >= _REFRESH_INTERVAL):
-            if not reset:
-                np.copyto(saved_t, t)
-            operator._apply(p, u)  # overwrites the FFT buffers t and r
-            if not reset:
-                np.copyto(t, saved_t)
+            refresh()
             since_refresh = 0
-            stale = True  # resynchronise the contact set with p > 0
         else:
             np.multiply(r, tau, out=r)
             u -= r
-            for indices, values in sources:
-                operator._add_sources(indices, values, u, work)
+            for source_indices, values in sources:
+                operator._add_sources(source_indices, values, u, ws.work)
             if scale != 1.0:
                 u *= scale
         if clipped or entered:
@@ -299,23 +322,28 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         # stopping rule: relative pressure change; with an unchanged contact set the new
         # pressure is scale (p_old - tau t), so p - p_old = (1 - 1/scale) p - tau t
         if scale != 1.0:
-            np.multiply(p, 1.0 - 1.0 / scale, out=work)
-            np.subtract(work, step, out=work)
-            np.abs(work, out=work)
-            residual = float(work.sum()) / total
+            change = pressure * (1.0 - 1.0 / scale)
+            change -= step
+            residual = float(np.abs(change).sum()) / total
         else:
-            np.abs(step, out=work)
-            total_now = float(p.sum())
-            residual = float(work.sum()) / total_now
+            residual = float(np.abs(step).sum()) / float(pressure.sum())
         if residual <= tol:
             if since_refresh:
-                operator._apply(p, u)
-            return _Outcome(p, True, iteration, residual, "converged")
-    operator._apply(p, u)
+                refresh()
+            return _Outcome(_scattered(p, contact, pressure), True, iteration, residual,
+                            "converged")
+    refresh()
     change = (f"relative pressure change {residual:.3g} > tol = {tol:.3g}"
               if math.isfinite(residual) else "the contact set changed at every iteration")
-    return _Outcome(p, False, max_iter, residual,
+    return _Outcome(_scattered(p, contact, pressure), False, max_iter, residual,
                     f"not converged after {max_iter} iterations ({change})")
+
+
+def _scattered(p: np.ndarray, contact: _ContactSet, pressure: np.ndarray) -> np.ndarray:
+    """``p`` (full grid) holding ``pressure`` on C and zero elsewhere."""
+    p.fill(0.0)
+    p.reshape(-1)[contact.indices] = pressure
+    return p
 
 
 def _separation_start(operator: HalfSpace, z: np.ndarray, separation: float,

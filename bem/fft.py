@@ -104,6 +104,9 @@ class RealFFT2:
         complex128 work array of ``spectrum_shape = (rows, columns // 2 + 1)``.
     output_buffer : numpy.ndarray
         float64 work array of ``shape``, output of :meth:`execute_inverse`.
+    input_flat, output_flat, row_stride
+        The input and output buffers as flat arrays, rows ``row_stride`` elements apart
+        (``columns`` here), for reading and writing scattered points.
 
     Notes
     -----
@@ -135,6 +138,9 @@ class RealFFT2:
         # the names shared with PaddedRealFFT2, so a convolution can use either
         self.input_block = self.real_buffer
         self.output_block = self.output_buffer
+        self.input_flat = self.real_buffer.reshape(-1)
+        self.output_flat = self.output_buffer.reshape(-1)
+        self.row_stride = shape[1]
 
     # -- in-place transforms between the owned buffers -------------------------------------
 
@@ -210,6 +216,9 @@ class PaddedRealFFT2:
     output_block : numpy.ndarray
         float64 view of shape ``shape``: ``size`` times the first block of the inverse, after
         :meth:`execute_inverse` (unnormalised, like :meth:`RealFFT2.execute_inverse`).
+    input_flat, output_flat, row_stride
+        The arrays holding the two blocks as flat arrays, block rows ``row_stride = 2 columns``
+        elements apart (the padding of the input is zero, and must stay so).
     size : int
         Number of points of the padded grid, ``4 rows columns``.
     """
@@ -249,6 +258,9 @@ class PaddedRealFFT2:
             array.fill(0.0)
         self.input_block = self._rows_in[:, :columns]
         self.output_block = self._rows_out[:, :columns]
+        self.input_flat = self._rows_in.reshape(-1)
+        self.output_flat = self._rows_out.reshape(-1)
+        self.row_stride = 2 * columns
 
     def execute_forward(self) -> None:
         """``spectrum_buffer = rfft2(input_block zero-padded to 2 x shape)`` (unnormalised)."""

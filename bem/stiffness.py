@@ -12,15 +12,14 @@ import warnings
 
 import numpy as np
 
-from bem.constrained_cg import _dot, _Workspace
+from bem.constrained_cg import _dot, _Scatter
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
 from bem.warnings import ConvergenceWarning
 
 
 def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter: int,
-               ws: _Workspace, preconditioner: InverseKernel | None = None
-               ) -> tuple[float, bool, int]:
+               preconditioner: InverseKernel | None = None) -> tuple[float, bool, int]:
     """Solve ``K_CC q = 1`` on the contact set C by (preconditioned) conjugate gradients;
     ``S = h^2 sum q``.
 
@@ -28,6 +27,12 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     positive definite on C; :mod:`bem.preconditioner`), which keeps the iteration count nearly
     independent of the grid. Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
     (S, converged, iterations).
+
+    The fields live on C only (one value per contact pixel), written into and read from the
+    FFT buffers of the operator and the preconditioner at C's positions: no full-grid pass but
+    the transforms. Starting from the previous load point's q, from the secant of the pressures
+    of two points or from the pressure itself needed as many iterations as the uniform start
+    (WM paths at 256^2, D = 2.05): the error that remains is at the contact edges.
     """
     n_contact = int(np.count_nonzero(contact))
     if n_contact == 0:
@@ -37,45 +42,59 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
                       "infinite (no load can push the plane further)", ConvergenceWarning,
                       stacklevel=4)
         return math.inf, True, 0
-    # the workspace of the contact solve, free once it has ended, and the operator's FFT
-    # buffers (direction in, product out) hold every array
-    weight, q, residual = ws.contact_weight, ws.g, ws.work
-    direction, product = operator._direction_buffers()
-    np.copyto(weight, contact)
-    np.multiply(weight, 1.0 / operator.self_influence, out=q)
-    np.copyto(direction, q)
-    operator._transform_direction()
-    np.multiply(product, weight, out=residual)
-    np.subtract(weight, residual, out=residual)
-    target = (tol**2) * n_contact
+    # compressed fields on C (one value per contact pixel), scattered into and gathered from
+    # the FFT buffers at C's positions only
+    indices = np.flatnonzero(contact)
+    columns = contact.shape[1]
+    op_in_flat, op_out_flat, op_stride = operator._flat_direction_buffers()
+    operator_in = _Scatter(op_in_flat, op_stride, columns)
+    at_in = operator_in.positions(indices)
+    at_out = at_in if op_stride == columns else _Scatter(op_out_flat, op_stride,
+                                                         columns).positions(indices)
+    if preconditioner is not None:
+        preconditioner_in = _Scatter(preconditioner.input_block.reshape(-1), columns, columns)
+        preconditioner_out = preconditioner.output_block.reshape(-1)
+
+    def product(values: np.ndarray) -> np.ndarray:
+        operator_in.write(at_in, values)
+        operator._transform_direction()
+        return op_out_flat[at_out]
 
     def precondition(source: np.ndarray) -> np.ndarray:
         if preconditioner is None:
             return source
-        preconditioner.input_block[...] = source
+        preconditioner_in.write(indices, source)
         preconditioner.execute()
-        np.multiply(preconditioner.output_block, weight, out=preconditioner.output_block)
-        return preconditioner.output_block
+        return preconditioner_out[indices]
 
-    np.copyto(direction, precondition(residual))
+    # start: uniform on C, scaled to minimise the energy q.Kq/2 - q.1 along it (no extra
+    # product: K q is needed for the residual anyway; about 10 % fewer iterations than the
+    # unscaled 1 / K(0) measured on WM load paths)
+    q = np.full(n_contact, 1.0 / operator.self_influence)
+    kq = product(q)
+    curvature = _dot(q, kq)
+    if curvature > 0.0:
+        scaling = float(q.sum()) / curvature
+        q *= scaling
+        kq *= scaling
+    residual = 1.0 - kq
+    target = (tol**2) * n_contact
+    direction = precondition(residual).copy()
     rz = _dot(residual, direction)
     iterations = 0
     converged = _dot(residual, residual) <= target
     while not converged and iterations < max_iter:
         iterations += 1
-        operator._transform_direction()
-        np.multiply(product, weight, out=product)
-        step = rz / _dot(direction, product)
-        direction *= step  # q += step direction and residual -= step K direction, in place
-        q += direction
-        product *= step
-        residual -= product
+        kd = product(direction)
+        step = rz / _dot(direction, kd)
+        q += step * direction
+        residual -= step * kd
         converged = _dot(residual, residual) <= target
         if converged:
             break
         preconditioned = precondition(residual)
         rz_new = _dot(residual, preconditioned)
-        direction *= rz_new / (rz * step)
+        direction *= rz_new / rz
         direction += preconditioned
         rz = rz_new
     return float(q.sum()) * operator.spacing**2, converged, iterations
