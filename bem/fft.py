@@ -24,6 +24,8 @@ import os
 import numpy as np
 import scipy.fft
 
+from bem.wisdom import load_wisdom, save_wisdom
+
 try:  # pyFFTW is optional at run time
     import pyfftw
 except ImportError:  # pragma: no cover - exercised by a subprocess test
@@ -92,8 +94,9 @@ class RealFFT2:
         Threads (pyFFTW) or workers (scipy); default: :func:`default_threads`.
     planner_effort : str
         pyFFTW planner effort, e.g. "FFTW_MEASURE" (default) or "FFTW_ESTIMATE". Planning with
-        FFTW_MEASURE takes 0.3-1.3 s for 256^2 to 2048^2 here (once per shape and process: FFTW
-        keeps the wisdom) and overwrites the work buffers.
+        FFTW_MEASURE takes 0.3-1.3 s for 256^2 to 2048^2 here (once per shape and machine: FFTW
+        keeps the wisdom for the process, :mod:`bem.wisdom` in a file for the next ones) and
+        overwrites the work buffers.
 
     Attributes
     ----------
@@ -125,6 +128,7 @@ class RealFFT2:
         self.spectrum_buffer = _empty(self.spectrum_shape, np.complex128)
         self.output_buffer = _empty(shape, np.float64)
         if self.backend == "pyfftw":
+            load_wisdom()
             # Plans bind the two buffers; FFTW_MEASURE scribbles on them while planning.
             self._plan_forward = pyfftw.FFTW(
                 self.real_buffer, self.spectrum_buffer, axes=(0, 1), direction="FFTW_FORWARD",
@@ -132,6 +136,8 @@ class RealFFT2:
             self._plan_inverse = pyfftw.FFTW(
                 self.spectrum_buffer, self.output_buffer, axes=(0, 1), direction="FFTW_BACKWARD",
                 flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=self.threads)
+            if planner_effort != "FFTW_ESTIMATE":
+                save_wisdom()
         self.real_buffer.fill(0.0)
         self.spectrum_buffer.fill(0.0)
         self.output_buffer.fill(0.0)
@@ -241,6 +247,7 @@ class PaddedRealFFT2:
             # place over the whole spectrum (in-place column transforms planned faster than
             # out-of-place ones here); inverse in the reverse order, rows only for kept rows.
             flags = (planner_effort,)
+            load_wisdom()
             self._plan_rows = pyfftw.FFTW(
                 self._rows_in, self.spectrum_buffer[:rows], axes=(1,), direction="FFTW_FORWARD",
                 flags=flags, threads=self.threads)
@@ -254,6 +261,8 @@ class PaddedRealFFT2:
                 self.spectrum_buffer[:rows], self._rows_out, axes=(1,),
                 direction="FFTW_BACKWARD", flags=flags + ("FFTW_DESTROY_INPUT",),
                 threads=self.threads)
+            if planner_effort != "FFTW_ESTIMATE":
+                save_wisdom()
         for array in (self._rows_in, self.spectrum_buffer, self._rows_out):
             array.fill(0.0)
         self.input_block = self._rows_in[:, :columns]

@@ -92,9 +92,10 @@ class HalfSpace:
         to 1024^2 here under a load of 5 on 2 cores, against 0.06-21 ms on one thread.
     planner_effort : str, optional
         pyFFTW planner effort; default "FFTW_MEASURE" for convolution grids of 1024 x 1024
-        points or more (planning 0.5-1.5 s once per grid size and process, FFTW keeps the
-        wisdom; up to 2x faster transforms measured here) and "FFTW_ESTIMATE" below, where
-        measuring planned no faster transforms.
+        points or more (planning 0.5-1.5 s once per grid size and machine: FFTW keeps the
+        wisdom for the process, :mod:`bem.wisdom` in a file for the next ones; up to 2x faster
+        transforms measured here) and "FFTW_ESTIMATE" below, where measuring planned no faster
+        transforms.
 
     Attributes
     ----------

@@ -15,6 +15,7 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
+from bem.wisdom import WISDOM_VARIABLE
 from validation.cache import check_directory, default_cache_dir
 from validation.scene import SceneError, builtin_scenes, load_scene
 
@@ -84,6 +85,9 @@ def _report(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
+    # FFTW wisdom is kept with the cache (bem.wisdom), for this process and the workers
+    wisdom = os.environ.get(WISDOM_VARIABLE)
+    os.environ[WISDOM_VARIABLE] = cache_dir or ""
     executor, close = _executor(args)
     start = time.perf_counter()
     try:
@@ -95,6 +99,10 @@ def _report(args: argparse.Namespace) -> int:
                             executor=executor)
     finally:
         close()
+        if wisdom is None:
+            os.environ.pop(WISDOM_VARIABLE, None)
+        else:
+            os.environ[WISDOM_VARIABLE] = wisdom
     drawn = time.perf_counter() - start - seconds
     print(f"report written to {path} ({seconds:.1f} s computing, {drawn:.1f} s writing)")
     return 0
