@@ -66,19 +66,28 @@ class _PathStarts:
     entering and leaving, while the coarse solve of the new load places the spots' edges to
     within a coarse pixel. Without nesting (odd or small grids, the plain iteration) the
     previous fine pressure is the start.
+
+    ``coarse_pressures`` (index -> pressure on every other grid point) are coarse solutions
+    already at hand, those of the path's error estimate, which solves the same half-grid problems
+    to the path's tolerance: they replace the coarse solves.
     """
 
     def __init__(self, operator: HalfSpace, z: np.ndarray, *, tol: float, max_iter: int,
-                 nested: bool) -> None:
+                 nested: bool, coarse_pressures: dict[int, np.ndarray] | None = None) -> None:
         self._operator, self._z, self._tol, self._max_iter = operator, z, tol, max_iter
         self._nested = nested
+        self._coarse_pressures = coarse_pressures or {}
         self._coarse_workspace = None
         self._coarse_pressure = None  # the previous point's coarse pressure
         self._pressure = None  # the previous point's pressure
 
-    def start(self, *, load: float | None, separation: float | None) -> np.ndarray | None:
-        """The start pressure of the next point (None: the solver's own cold start)."""
+    def start(self, index: int, *, load: float | None, separation: float | None
+              ) -> np.ndarray | None:
+        """The start pressure of point ``index`` (None: the solver's own cold start)."""
         operator = self._operator
+        coarse = self._coarse_pressures.pop(index, None)
+        if self._nested and _nestable(operator.shape) and coarse is not None and coarse.any():
+            return np.repeat(np.repeat(coarse, 2, axis=0), 2, axis=1)
         if self._nested and _nestable(operator.shape):
             if self._coarse_workspace is None:
                 self._coarse_workspace = _Workspace(operator.coarse().shape)
@@ -151,7 +160,10 @@ def contact_curve(
     error_estimate : bool
         Also estimate each point's discretisation error (:func:`error_estimates`): the same
         heights sampled every second point (``heights[::2, ::2]``, spacing 2h, same window) are
-        solved at the same loads or separations, about 1/8 of the cost of the path itself.
+        solved at the same loads or separations, first: their solutions are then the fine
+        points' nested starts, which the path would otherwise solve again to a looser tolerance
+        (16-point path at 512^2: the fine iterations unchanged, 3472 FFT pairs of all sizes
+        against 4544 when the estimate came after the path).
 
     Returns
     -------
@@ -203,14 +215,29 @@ def contact_curve(
     converged = np.empty(size, dtype=bool)
     contacts = np.empty(size) if want_contacts else None
     stiffness = np.empty(size) if want_stiffness else None
+    coarse, coarse_pressures = None, {}
+    if error_estimate:
+        # The half grid first: its solutions are the nested starts of the fine points, which
+        # would otherwise solve the same problems again to a looser tolerance (the error
+        # estimate is the same path on every other grid point, with the fine operator's own
+        # coarse level as its operator).
+        keep = preconditioned and _nestable(z.shape)
+        coarse = contact_curve(
+            z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
+            tol=tol, max_iter=max_iter, area_estimator=area_estimator,
+            preconditioned=preconditioned, operator=operator.coarse() if keep else None,
+            callback=(lambda i, solution: coarse_pressures.__setitem__(i, solution.pressure))
+            if keep else None,
+            **({"loads": targets} if loads is not None else {"separations": targets}))
     workspace = _Workspace(z.shape)
-    starts = _PathStarts(operator, z, tol=tol, max_iter=int(max_iter), nested=preconditioned)
+    starts = _PathStarts(operator, z, tol=tol, max_iter=int(max_iter), nested=preconditioned,
+                         coarse_pressures=coarse_pressures)
     for index in order:
         target = float(targets[index])
         problem = {"load": target if loads is not None else None,
                    "separation": target if separations is not None else None}
         solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
-                          initial=starts.start(**problem), stiffness=want_stiffness,
+                          initial=starts.start(int(index), **problem), stiffness=want_stiffness,
                           ws=workspace, preconditioned=preconditioned)
         starts.solved(solution)
         separation[index] = solution.separation
@@ -247,10 +274,6 @@ def contact_curve(
     )
     if not error_estimate:
         return curve
-    coarse = contact_curve(
-        z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
-        tol=tol, max_iter=max_iter, area_estimator=area_estimator, preconditioned=preconditioned,
-        **({"loads": targets} if loads is not None else {"separations": targets}))
     extras.update(error_estimates(curve, coarse, spacing))
     extras["converged"] = converged & coarse.extras["converged"]
     return replace(curve, extras=extras)
