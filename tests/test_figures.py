@@ -29,7 +29,7 @@ def results():
 def queued_figures(results, tmp_path, monkeypatch):
     jobs = []
     monkeypatch.setattr(validation.report._Figures, "render",
-                        lambda self, executor=None: jobs.extend(self.jobs))
+                        lambda self, executor=None, cache_dir=None: jobs.extend(self.jobs))
     validation.report.write_report(results, tmp_path)
     return jobs
 
@@ -80,3 +80,31 @@ def test_verdict_margin_fits_the_longest_row_label():
     short, long = _text_width(["GW: area"], 7), _text_width(["GW: area", "x" * 60], 7)
     assert 0.2 < short < long and long == pytest.approx(_text_width(["x" * 60], 7))
     assert np.isclose(_text_width([], 7), 0.0)
+
+
+def test_a_figure_drawn_before_from_the_same_data_comes_from_the_cache(results, tmp_path,
+                                                                     monkeypatch):
+    import dataclasses
+
+    import validation.figures
+
+    cache = tmp_path / "cache"
+    validation.report.write_report(results, tmp_path / "first", cache_dir=cache)
+    drawn = []
+    png = validation.figures.png
+    monkeypatch.setattr(validation.figures, "png", lambda fig: drawn.append(fig) or png(fig))
+    validation.report.write_report(results, tmp_path / "second", cache_dir=cache)
+    assert not drawn  # every figure from the cache, byte for byte
+    for path in (tmp_path / "first").glob("*.png"):
+        assert path.read_bytes() == (tmp_path / "second" / path.name).read_bytes()
+    # one realization's BEM area changed: the figures that draw it are drawn again, no other
+    sweep, theory = results
+    first = sweep.realizations[2.2][0]
+    bem = first.curves["bem"]
+    changed = dataclasses.replace(first, curves={**first.curves, "bem": dataclasses.replace(
+        bem, area=bem.area * 1.01)})
+    moved = dataclasses.replace(sweep, realizations={
+        **sweep.realizations, 2.2: [changed] + sweep.realizations[2.2][1:]})
+    validation.report.write_report([moved, theory], tmp_path / "third", cache_dir=cache)
+    redrawn = len(drawn)
+    assert 0 < redrawn < len(list((tmp_path / "first").glob("*.png")))

@@ -94,9 +94,9 @@ def _report(args: argparse.Namespace) -> int:
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=not args.quiet)
         seconds = time.perf_counter() - start
         command = "python -m validation " + shlex.join(args.argv)
-        # the figures are drawn on the same workers
+        # the figures are drawn on the same workers (or read from the cache)
         path = write_report(results, args.out, seconds=seconds, mode=mode, command=command,
-                            executor=executor)
+                            executor=executor, cache_dir=cache_dir)
     finally:
         close()
         if wisdom is None:

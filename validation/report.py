@@ -9,13 +9,16 @@ imported lazily), placed here.
 
 from __future__ import annotations
 
+import hashlib
 import pathlib
-from dataclasses import dataclass, field
+import pickle
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 import numpy as np
 
 from validation import models
+from validation.cache import Cache, cache_key
 from validation.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
 from validation.figures import dimensionless
 from validation.findings import Finding, check_findings
@@ -73,20 +76,55 @@ class _Figures:
         self.jobs.append((name, draw, panels))
         self.lines += [f"![{caption}]({name})\n", f"*{caption}*\n"]
 
-    def render(self, executor=None) -> None:
+    def render(self, executor=None, cache_dir=None) -> None:
         """Draw every figure into the folder: here, or on ``executor`` (a
-        ``concurrent.futures`` executor; the PNG bytes come back and are written here)."""
-        from validation.figures import png
+        ``concurrent.futures`` executor; the PNG bytes come back and are written here).
 
-        if executor is None:
-            for name, draw, _ in self.jobs:
-                (self.folder / name).write_bytes(png(draw()))
-            return
-        # the costliest figures (most panels) first, so that no worker is left with one at the end
-        order = sorted(self.jobs, key=lambda job: -job[2])
-        futures = [(name, executor.submit(_png_of, draw)) for name, draw, _ in order]
-        for name, future in futures:
-            (self.folder / name).write_bytes(future.result())
+        With ``cache_dir``, a figure drawn before from the same job (the pickled ``draw`` with
+        all the data it draws), file name, code and matplotlib version is read from the cache.
+        """
+        cache = Cache(cache_dir)
+        keys = {name: _figure_key(name, draw) for name, draw, _ in self.jobs} if cache.enabled \
+            else {}
+        todo = []
+        for job in self.jobs:
+            stored = cache.load(keys[job[0]]) if keys.get(job[0]) else None
+            if stored is not None and "png" in stored:
+                (self.folder / job[0]).write_bytes(stored["png"].tobytes())
+            else:
+                todo.append(job)
+        for name, data in _drawn(todo, executor):
+            (self.folder / name).write_bytes(data)
+            if keys.get(name):
+                cache.store(keys[name], {"png": np.frombuffer(data, dtype=np.uint8)})
+
+
+def _drawn(jobs: list, executor):
+    """(file name, PNG bytes) of every job, drawn here or on ``executor``."""
+    from validation.figures import png
+
+    if executor is None:
+        for name, draw, _ in jobs:
+            yield name, png(draw())
+        return
+    # the costliest figures (most panels) first, so that no worker is left with one at the end
+    order = sorted(jobs, key=lambda job: -job[2])
+    futures = [(name, executor.submit(_png_of, draw)) for name, draw, _ in order]
+    for name, future in futures:
+        yield name, future.result()
+
+
+def _figure_key(name: str, draw) -> str | None:
+    """Cache key of a figure job, None when it cannot be pickled (it is then drawn anyway)."""
+    from importlib.metadata import version
+
+    from validation.runner import _version
+
+    try:
+        job = hashlib.sha256(pickle.dumps(draw, protocol=5)).hexdigest()
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return None
+    return cache_key("figure", _version(), name=name, job=job, matplotlib=version("matplotlib"))
 
 
 def _png_of(draw) -> bytes:
@@ -122,6 +160,8 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
     from validation.figures import panels_figure
 
     models = model_order(results[0].curves)
+    # what a run computed and how long it took is not drawn: left out of the figure's cache key
+    results = [replace(r, computed=(), seconds={}) for r in results]
     L = scene.surface.L
     conductance = "conductance" in scene.quantities
     panels = ["area", "load"] + (["conductance"] if conductance else [])
@@ -221,13 +261,14 @@ def _theory_section(figures: _Figures, result: SceneResult) -> None:
 
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
-                 executor=None) -> pathlib.Path:
+                 executor=None, cache_dir: str | pathlib.Path | None = None) -> pathlib.Path:
     """Write the CSV tables, then ``report.md`` with its PNG figures, into ``folder``.
 
     ``command`` (the command line that produced the results), the package version and the run
     time ``seconds`` head the report. The figures are drawn on ``executor`` (a
-    ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here.
-    Returns the path of ``report.md``.
+    ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here;
+    figures drawn before from the same data are read from ``cache_dir`` when given. Returns the
+    path of ``report.md``.
     """
     from validation.tables import write_tables
 
@@ -248,7 +289,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
         _surface_section(figures, analysis)
         figures.lines += timing(analysis.result)
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
-    figures.render(executor)
+    figures.render(executor, cache_dir)
     path = folder / "report.md"
     path.write_text("\n".join(figures.lines) + "\n", encoding="utf-8")
     return path
