@@ -151,10 +151,12 @@ class HalfSpace:
         self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
         # (_add_sources, 2 passes over the grid each) than by one FFT product: a product costs
-        # ~ M log2 M for M convolution points; measured ratios here were 0.3-0.8 of
-        # log2(M) M / (rows columns), hence the factor 0.4.
+        # ~ M log2 M for M convolution points; measured break-even counts, with the products
+        # planned by FFTW_MEASURE and one thread, were 0.15-0.24 of log2(M) M / (rows columns)
+        # (10.6 / 15.8 / 18.9 sources non-periodic at 256^2 / 512^2 / 1024^2, 4.0 / 4.8
+        # periodic at 512^2 / 1024^2), hence the factor 0.2.
         size = self.convolution_shape[0] * self.convolution_shape[1]
-        self.direct_source_limit = int(0.4 * math.log2(max(size, 2)) * size / (ny * nx))
+        self.direct_source_limit = int(0.2 * math.log2(max(size, 2)) * size / (ny * nx))
 
     # -- construction --------------------------------------------------------------------------
 
