@@ -1,7 +1,7 @@
-"""Bad-input catalogue: every public entry point of :mod:`validation.bad_input`'s table, every
+"""Bad-input catalogue: every public entry point of :mod:`validation.campaigns.bad_input`'s table, every
 scalar and array parameter, against hypothesis-drawn bad values.
 
-A new entry point is covered by adding one row to ``validation/_bad_input_table.py``. The rules
+A new entry point is covered by adding one row to ``validation/campaigns/_bad_input_table.py``. The rules
 (bem.checks): a value that is never valid gets a ``ValueError``/``TypeError`` naming the
 parameter; an extreme but finite value gets a finite result or such an error; valid variants
 (read-only arrays, nested lists, numpy scalars) are accepted.
@@ -17,7 +17,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bem import checks
-from validation.bad_input import GOOD, bad_arrays, classify, entry_points, run_campaign
+from validation.campaigns.bad_input import GOOD, bad_arrays, classify, entry_points, run_campaign
 
 ENTRIES = entry_points()
 SCALARS = [(entry, name, domain) for entry in ENTRIES for name, domain in entry.scalars.items()]

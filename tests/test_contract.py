@@ -1,6 +1,6 @@
 """The contact-model contract (bem.model), checked for every registered model.
 
-A model registered in :mod:`validation.models` is picked up here automatically. The BEM runs on
+A model registered in :mod:`validation.run.models` is picked up here automatically. The BEM runs on
 a 32 x 32 grid; the asperity models use the summits of the same surface.
 """
 
@@ -13,8 +13,8 @@ import pytest
 import bem
 from bem.curve import CURVE_QUANTITIES
 from bem.model import ALWAYS_FILLED
-from validation import models
-from validation.surfaces import wm_surface
+from validation.run import models
+from validation.surfaces.wm import wm_surface
 
 N = 32
 E_STAR = 2.0
@@ -197,7 +197,7 @@ def test_a_registered_model_is_one_call_and_must_satisfy_the_contract(surface):
 
 
 def test_the_old_fixed_model_list_warns():
-    from validation import runner
+    from validation.run import runner
 
     with pytest.warns(DeprecationWarning, match="registry|needs_summits"):
         names = runner.ASPERITY_MODELS

@@ -7,13 +7,13 @@ import shutil
 import numpy as np
 import pytest
 
-from validation.report import analyse, write_report
-from validation.runner import run_scenes
-from validation.scene import FAMILIES, SceneError, SurfaceSpec, load_scene, parse_scene
-from validation.self_affine import self_affine_surface
-from validation.surface_families import _MAKERS, surface_heights, tile
-from validation.surfaces import surface_statistics
-from validation.topography import write_gwyddion_ascii
+from validation.report.write import analyse, write_report
+from validation.run.runner import run_scenes
+from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec, load_scene, parse_scene
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.families import _MAKERS, surface_heights, tile
+from validation.surfaces.wm import surface_statistics
+from validation.surfaces.topography import write_gwyddion_ascii
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
 
@@ -137,7 +137,7 @@ def test_self_affine_fine_sample_is_the_same_surface():
 
 
 def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
-    import validation.report
+    import validation.report.write
 
     scene = parse_scene({"name": "sa", "surface": {"family": "self-affine", "hurst": [0.5, 0.8],
                                                    "rms_slope": 0.1, "n": 32},
@@ -153,13 +153,13 @@ def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
     assert all(r.curves["bem"].extras["converged"].all() for rs in result.realizations.values()
                for r in rs)
     assert all(r.task.describe().startswith("H=") for r in result.realizations[0.5])
-    labels, add = {}, validation.report._Figures.add
+    labels, add = {}, validation.report.write._Figures.add
 
     def remember(self, fig, name, caption):
         labels[name] = fig.axes[0].get_ylabel()
         add(self, fig, name, caption)
 
-    monkeypatch.setattr(validation.report._Figures, "add", remember)
+    monkeypatch.setattr(validation.report.write._Figures, "add", remember)
     write_report([result], tmp_path)
     for name in ("sa-validity-map", "sa-errors-H0.5", "sa-verdicts-H0.8"):
         assert (tmp_path / f"{name}.png").stat().st_size > 5_000

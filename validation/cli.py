@@ -15,8 +15,8 @@ import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
 
-from validation.cache import check_directory, default_cache_dir
-from validation.scene import SceneError, builtin_scenes, load_scene
+from validation.run.cache import check_directory, default_cache_dir
+from validation.scenes.scene import SceneError, builtin_scenes, load_scene
 
 #: Scenes of the default report, in report order.
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")
@@ -57,8 +57,8 @@ def _load_scene(name: str):
 
 
 def _report(args: argparse.Namespace) -> int:
-    from validation.report import write_report
-    from validation.runner import run_scenes
+    from validation.report.write import write_report
+    from validation.run.runner import run_scenes
 
     names = args.scenes or list(DEFAULT_SCENES)
     scenes = [_load_scene(name) for name in names]
@@ -125,14 +125,14 @@ def _show(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from validation.bench import run_bench
+    from validation.campaigns.bench import run_bench
 
     run_bench(args.out, quick=args.quick)
     return 0
 
 
 def _stress(args: argparse.Namespace) -> int:
-    from validation.stress import run_stress
+    from validation.campaigns.stress import run_stress
 
     records = run_stress(args.out, quick=args.quick)
     failures = [r for r in records if r.status == "FAIL"]

@@ -205,6 +205,6 @@ def run_campaign(entries=None) -> list[tuple[str, str, str, str, str]]:
 
 def entry_points() -> tuple[EntryPoint, ...]:
     """The table: one row per public entry point."""
-    from validation._bad_input_table import table
+    from validation.campaigns._bad_input_table import table
 
     return table()

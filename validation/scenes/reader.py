@@ -1,4 +1,4 @@
-"""Scene files: TOML tables and keys onto the scene dataclasses of :mod:`validation.scene`.
+"""Scene files: TOML tables and keys onto the scene dataclasses of :mod:`validation.scenes.scene`.
 
 The reader checks only what TOML can get wrong (types, unknown keys, a table where a value
 belongs); the value rules and the defaults are those of the dataclasses, whose errors are
@@ -14,7 +14,7 @@ import tomllib
 from importlib import resources
 from typing import Any, Iterator
 
-from validation.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
+from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
                               Scene, SceneError, SurfaceSpec, TheorySpec, defaults)
 
 __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
@@ -180,7 +180,7 @@ def _theory_parts(top: _Reader, data: dict) -> dict:
     theory = _build(TheorySpec, top.sub("theory"), dict(
         C="numbers", m="number", separation_min="number", separation_max="number",
         count="integer"))
-    # data, not dispatch: the theory scene computes exactly these two (validation.theory)
+    # data, not dispatch: the theory scene computes exactly these two (validation.run.theory)
     return dict(theory=theory, models=("gw", "improved_gw"),
                 quantities=("load", "separation", "stiffness"))
 

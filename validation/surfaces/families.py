@@ -27,9 +27,9 @@ from typing import Callable
 
 import numpy as np
 
-from validation.self_affine import self_affine_surface
-from validation.surfaces import surface_statistics, wm_surface
-from validation.topography import Topography, read_topography
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.wm import surface_statistics, wm_surface
+from validation.surfaces.topography import Topography, read_topography
 
 __all__ = ["surface_heights", "surface_identity", "read_map", "tile", "file_digest"]
 
@@ -106,7 +106,7 @@ _MAKERS: dict[str, Callable] = {"wm": _wm, "self-affine": _self_affine, "file": 
 
 def surface_heights(surface, seed: int, slope_grid: int | None = None) -> np.ndarray:
     """Heights [length] of realization ``seed`` (a tile index for a measured map) of a
-    :class:`validation.scene.SurfaceSpec` with one sweep value, on its ``n x n`` grid."""
+    :class:`validation.scenes.scene.SurfaceSpec` with one sweep value, on its ``n x n`` grid."""
     return _MAKERS[surface.family](surface, surface.n, seed, slope_grid or surface.n)
 
 

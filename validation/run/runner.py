@@ -3,7 +3,7 @@
 The plan of a surface scene is one :class:`RealizationTask` per (sweep value, realization): the
 swept parameter is the fractal dimension D of a WM family, the Hurst exponent H of a
 self-affine one; a measured map has one value and its tiles as realizations
-(:mod:`validation.surface_families`). When the scene asks for the boundary-element reference's
+(:mod:`validation.surfaces.families`). When the scene asks for the boundary-element reference's
 own error, every BEM curve carries per-point error estimates (extras ``<quantity>_error``,
 :func:`bem.path.error_estimates`: the same path on half the grid). A task computes, in order
 and only when needed:
@@ -14,10 +14,10 @@ and only when needed:
   separations in units of sigma are);
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
-  (:mod:`validation.models`); stiffness solves only when conductance or stiffness is asked for.
+  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked for.
 
 Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
-Persson) are cached (:mod:`validation.cache`) under keys that hash exactly their inputs plus
+Persson) are cached (:mod:`validation.run.cache`) under keys that hash exactly their inputs plus
 the package version; the GW closed forms are recomputed. Every computation is logged in
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
@@ -36,13 +36,13 @@ from typing import Callable, Iterable
 import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from validation import models
-from validation.cache import Cache, cache_key
-from validation.models import ModelInputs
-from validation.cost import remaining_seconds, schedule
-from validation.progress import Progress
-from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
-from validation.surface_families import surface_heights, surface_identity
+from validation.run import models
+from validation.run.cache import Cache, cache_key
+from validation.run.models import ModelInputs
+from validation.run.cost import remaining_seconds, schedule
+from validation.run.progress import Progress
+from validation.scenes.scene import BemSettings, LoadPath, Scene, SurfaceSpec
+from validation.surfaces.families import surface_heights, surface_identity
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
            "run_scenes", "Progress"]
@@ -52,8 +52,8 @@ def __getattr__(name: str):
     if name == "ASPERITY_MODELS":
         import warnings
 
-        warnings.warn("validation.runner.ASPERITY_MODELS is deprecated: use "
-                      "validation.models.entry(name).needs_summits", DeprecationWarning,
+        warnings.warn("validation.run.runner.ASPERITY_MODELS is deprecated: use "
+                      "validation.run.models.entry(name).needs_summits", DeprecationWarning,
                       stacklevel=2)
         return tuple(n for n in models.names() if models.entry(n).needs_summits)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -62,9 +62,11 @@ def __getattr__(name: str):
 _SOURCE_VERSION: str | None = None
 #: Modules that only read results (comparison, verdicts, findings, figures, tables, command
 #: line): editing them leaves every cached result valid, so they are not part of its hash.
-REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "compare.py", "cost.py", "figures.py",
-                                 "findings.py", "labels.py", "progress.py", "report.py",
-                                 "report_sections.py", "tables.py", "verdicts.py"})
+#: Paths relative to the ``validation`` folder.
+REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/compare.py", "run/cost.py",
+                                 "report/figures.py", "judge/findings.py", "report/labels.py",
+                                 "run/progress.py", "report/write.py", "report/sections.py",
+                                 "report/tables.py", "judge/verdicts.py"})
 
 
 def _version() -> str:
@@ -78,12 +80,13 @@ def _version() -> str:
         from validation import __version__
 
         digest = hashlib.sha256()
-        root = pathlib.Path(__file__).resolve().parents[1]
+        root = pathlib.Path(__file__).resolve().parents[2]
         for package in ("asperity", "bem", "validation"):
-            for path in sorted((root / package).glob("*.py")):
-                if package == "validation" and path.name in REPORT_ONLY_MODULES:
+            for path in sorted((root / package).rglob("*.py")):
+                name = path.relative_to(root / package).as_posix()
+                if package == "validation" and name in REPORT_ONLY_MODULES:
                     continue
-                digest.update(path.name.encode())
+                digest.update(name.encode())
                 digest.update(path.read_bytes())
         _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
     return _SOURCE_VERSION
@@ -305,7 +308,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
 def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Progress | None
                ) -> dict[RealizationTask, RealizationResult]:
     """Run the tasks (in the given order) in this process or over ``executor``; the bar shows
-    an ETA learnt from the tasks already done (:func:`validation.cost.remaining_seconds`)."""
+    an ETA learnt from the tasks already done (:func:`validation.run.cost.remaining_seconds`)."""
     started = time.perf_counter()
     workers = 1 if executor is None else max(1, int(getattr(executor, "_max_workers", 1)))
     results: dict[RealizationTask, RealizationResult] = {}
@@ -344,7 +347,7 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     progress : bool
         Draw a progress bar on ``stream`` (stderr by default).
     """
-    from validation.theory import theory_curves
+    from validation.run.theory import theory_curves
 
     scenes = list(scenes)
     names = [scene.name for scene in scenes]

@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from validation import models as _models
+from validation.run import models as _models
 
 __all__ = ["BenchRow", "run_bench", "pareto_front", "observed_order"]
 
@@ -137,7 +137,7 @@ def observed_order(grids, errors) -> list[float]:
 def _bench_surface(D: float, config: BenchConfig, log) -> list[BenchRow]:
     import asperity
     import bem
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
 
     loads = np.logspace(-4, -2, config.load_count)  # E* = L = 1: W = Load
     wanted = ("area", "load", "separation", "conductance")
@@ -191,7 +191,7 @@ def _memory(config: BenchConfig, log) -> list[tuple[str, int, float, float]]:
     """Peak numpy memory of a BEM solve per grid and of the discrete model per asperity count."""
     import asperity
     import bem
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
 
     out = []
     for n in config.memory_grids:
@@ -314,8 +314,8 @@ def _tolerance_only(row: BenchRow, config: BenchConfig) -> bool:
 
 
 def _figure(rows: list[BenchRow], path: pathlib.Path, config: BenchConfig) -> None:
-    from validation.figures import pyplot, subplots
-    from validation.labels import MODEL_LABELS, MODEL_STYLES
+    from validation.report.figures import pyplot, subplots
+    from validation.report.labels import MODEL_LABELS, MODEL_STYLES
 
     plt = pyplot()
     Ds = sorted({r.D for r in rows})

@@ -26,7 +26,7 @@ import numpy as np
 
 from asperity.spectrum import power_spectrum_2d
 from bem.checks import integer, positive, real_number
-from validation.surfaces import surface_statistics
+from validation.surfaces.wm import surface_statistics
 
 __all__ = [
     "power_spectrum",

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from validation import models
-from validation.compare import Comparison, converged_points, pairwise_errors
-from validation.labels import model_label
-from validation.verdicts import (
+from validation.run import models
+from validation.judge.compare import Comparison, converged_points, pairwise_errors
+from validation.report.labels import model_label
+from validation.judge.verdicts import (
     FAILS,
     HOLDS,
     classify,

@@ -1,6 +1,6 @@
 """The surface of a scene: its family (Weierstrass-Mandelbrot, self-affine, measured map), the
 family's parameters and their validation (:class:`SurfaceSpec`, the ``[surface]`` table of a
-scene file, :mod:`validation.scene`).
+scene file, :mod:`validation.scenes.scene`).
 """
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import math
 import pathlib
 from dataclasses import dataclass, fields, replace
 
-from validation import scene_checks as check
+from validation.scenes import checks as check
 
 __all__ = ["SurfaceSpec", "SWEEPS", "FAMILIES", "FAMILY_KEYS", "MIN_TILE"]
 
@@ -127,8 +127,8 @@ class SurfaceSpec:
                        f"[{2 * self.spacing:g}, {rolloff:g}), got {short_cutoff:g}")
 
     def _check_file(self) -> None:
-        from validation.surface_families import read_map
-        from validation.topography import LENGTH_UNITS
+        from validation.surfaces.families import read_map
+        from validation.surfaces.topography import LENGTH_UNITS
 
         if not isinstance(self.path, str) or not self.path:
             check.fail(self, "path", f"must name a height file, got {self.path!r}")

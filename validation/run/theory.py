@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from validation.scene import TheorySpec
+from validation.scenes.scene import TheorySpec
 
 __all__ = ["theory_curves"]
 

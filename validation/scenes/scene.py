@@ -3,13 +3,13 @@
 A scene names a surface family and its parameters, realizations, material, a load path, the
 models and quantities to compute, the boundary-element settings and the error tolerances at
 which a model is said to hold. Scenes are data: the built-in ones are TOML files shipped in
-``validation/scenes/``, and any user file path works the same way (:mod:`validation.scene_file`
+``validation/scenes/``, and any user file path works the same way (:mod:`validation.scenes.reader`
 reads them).
 
-The dataclasses below, with :class:`SurfaceSpec` (:mod:`validation.surface_spec`), are the
+The dataclasses below, with :class:`SurfaceSpec` (:mod:`validation.surfaces.spec`), are the
 single source of the rules and the defaults: each validates itself in ``__post_init__`` (so
 ``dataclasses.replace(scene, realizations=-2)`` raises too; the field checks are in
-:mod:`validation.scene_checks`) and its field defaults are the defaults of the file format. A
+:mod:`validation.scenes.checks`) and its field defaults are the defaults of the file format. A
 file's tables and keys map onto them::
 
     name, title, description, kind      -> Scene (kind "surface", or "theory" for Figs. 1-3)
@@ -41,10 +41,10 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, dataclass, field, fields, replace
 
-from validation import models as _models
-from validation import scene_checks as check
-from validation.scene_checks import SceneError
-from validation.surface_spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
+from validation.run import models as _models
+from validation.scenes import checks as check
+from validation.scenes.checks import SceneError
+from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
 
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
@@ -53,7 +53,7 @@ __all__ = [
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
-#: :func:`validation.models.names`).
+#: :func:`validation.run.models.names`).
 MODELS = _models.default_names()
 #: Quantities a scene may ask for.
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
@@ -239,21 +239,21 @@ def defaults(kind: type) -> dict:
 
 
 def parse_scene(*args, **kwargs) -> Scene:
-    """Validate a scene given as a dictionary (:func:`validation.scene_file.parse_scene`)."""
-    from validation.scene_file import parse_scene as parse
+    """Validate a scene given as a dictionary (:func:`validation.scenes.reader.parse_scene`)."""
+    from validation.scenes.reader import parse_scene as parse
 
     return parse(*args, **kwargs)
 
 
 def load_scene(*args, **kwargs) -> Scene:
-    """Load a built-in scene by name, or a scene file (:func:`validation.scene_file.load_scene`)."""
-    from validation.scene_file import load_scene as load
+    """Load a built-in scene by name, or a scene file (:func:`validation.scenes.reader.load_scene`)."""
+    from validation.scenes.reader import load_scene as load
 
     return load(*args, **kwargs)
 
 
 def builtin_scenes() -> tuple[str, ...]:
     """Names of the scenes shipped with the package, sorted."""
-    from validation.scene_file import builtin_scenes as names
+    from validation.scenes.reader import builtin_scenes as names
 
     return names()

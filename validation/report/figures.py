@@ -14,17 +14,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from validation.compare import Comparison, converged_points
-from validation.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, compared_label,
+from validation.judge.compare import Comparison, converged_points
+from validation.report.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, compared_label,
                                model_label)
-from validation.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
+from validation.judge.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
 
 __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_load",
            "plot_theory_stiffness", "plot_against", "plot_errors", "plot_verdicts",
            "plot_validity_map", "panels_figure", "verdict_figure", "validity_map_figure"]
 
 VERDICT_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
-#: Axis label of each swept surface parameter (validation.scene.SWEEPS).
+#: Axis label of each swept surface parameter (validation.scenes.scene.SWEEPS).
 SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H"}
 
 
@@ -143,7 +143,7 @@ def plot_against(ax, results, x: str, y: str, *, models, length: float, logx=Fal
 def _reference_mean_gap(ax, results, models, y: str, length: float, logy: bool) -> list:
     """The reference's mean gap ū/σ beside its separation d/σ (dotted): the quantity Persson's
     theory is compared with."""
-    from validation import models as registry
+    from validation.run import models as registry
 
     drawn = []
     for model in models:

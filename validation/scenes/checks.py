@@ -1,5 +1,5 @@
-"""Field checks shared by the scene dataclasses (:mod:`validation.scene`,
-:mod:`validation.surface_spec`): each reads one field of a frozen dataclass in its
+"""Field checks shared by the scene dataclasses (:mod:`validation.scenes.scene`,
+:mod:`validation.surfaces.spec`): each reads one field of a frozen dataclass in its
 ``__post_init__``, normalises it in place (floats, tuples) and raises :class:`SceneError` naming
 the key and what is allowed.
 """

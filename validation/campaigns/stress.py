@@ -81,7 +81,7 @@ def _curve_outcome(curve, *, note: str = "", monotone_in_load: bool = True) -> _
 
 
 def _wm(n, D=2.5, seed=0):
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
     return wm_surface(n, D=D, rms_slope=0.1, seed=seed)
 
 
@@ -89,7 +89,7 @@ def stress_cases(quick: bool) -> list[tuple[str, str, Callable[[], _Outcome]]]:
     """(group, case, run) triples of the campaign."""
     import asperity
     import bem
-    from validation.surfaces import surface_statistics, wm_surface
+    from validation.surfaces.wm import surface_statistics, wm_surface
 
     cases = []
     grid_sizes = (16, 32, 64, 128) if quick else (16, 64, 256, 1024, 2048)

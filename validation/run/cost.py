@@ -27,7 +27,7 @@ from __future__ import annotations
 
 from typing import Iterable
 
-from validation import models
+from validation.run import models
 
 __all__ = ["BEM_EXPONENT", "STIFFNESS_SHARE", "task_cost", "schedule", "remaining_seconds"]
 
@@ -51,7 +51,7 @@ def task_cost(task, computed: Iterable[str] | None = None) -> float:
 
     Parameters
     ----------
-    task : validation.runner.RealizationTask
+    task : validation.run.runner.RealizationTask
     computed : iterable of str, optional
         The finished result's ``computed`` log: only what was actually computed is counted
         (a task answered from the cache costs 0). Default: everything the task may compute.
@@ -91,7 +91,7 @@ def remaining_seconds(done, pending, workers: int = 1, elapsed: float | None = N
     Parameters
     ----------
     done : iterable of (task, result)
-        Finished tasks with their :class:`~validation.runner.RealizationResult`
+        Finished tasks with their :class:`~validation.run.runner.RealizationResult`
         (``result.seconds``: compute time per model; ``result.computed``: what was computed).
     pending : iterable of task
         Tasks not finished yet.

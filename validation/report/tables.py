@@ -10,8 +10,8 @@ import pathlib
 
 import numpy as np
 
-from validation.figures import dimensionless
-from validation.verdicts import FAILS, HOLDS, UNDECIDED
+from validation.report.figures import dimensionless
+from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
 
 __all__ = ["write_tables", "TABLES"]
 
@@ -47,7 +47,7 @@ def _column(values: dict, name: str, k: int) -> float:
 
 
 def _curve_rows(analysis) -> list[list]:
-    from validation.compare import converged_points
+    from validation.judge.compare import converged_points
 
     result, rows = analysis.result, []
     for value, realizations in sorted(result.realizations.items()):

@@ -1,4 +1,4 @@
-"""The entry-point table of the bad-input campaign (:mod:`validation.bad_input`).
+"""The entry-point table of the bad-input campaign (:mod:`validation.campaigns.bad_input`).
 
 Each row is a valid call of one public function or constructor on small inputs (an 8 x 8 WM
 surface, a few summits), fast enough to be called hundreds of times in the test suite.
@@ -10,7 +10,7 @@ import functools
 
 import numpy as np
 
-from validation.bad_input import EntryPoint
+from validation.campaigns.bad_input import EntryPoint
 
 _N = 8
 _SPACING = 1.0 / _N
@@ -18,7 +18,7 @@ _SPACING = 1.0 / _N
 
 @functools.lru_cache(maxsize=1)
 def _surface() -> np.ndarray:
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
 
     heights = wm_surface(_N, D=2.3, rms_slope=0.1, seed=1)
     heights.setflags(write=False)

@@ -1,4 +1,4 @@
-"""The Markdown text of the validity report (:mod:`validation.report`): the header with the
+"""The Markdown text of the validity report (:mod:`validation.report.write`): the header with the
 provenance and conventions of the run, the where-each-theory-holds table, the findings, the
 verdict tables, the surface sentence and the timings. Pure text: no figures, no files."""
 
@@ -11,14 +11,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from validation.compare import ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, Comparison
-from validation.labels import compared_label, model_label, model_order, model_rank
-from validation.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
+from validation.judge.compare import ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, Comparison
+from validation.report.labels import compared_label, model_label, model_order, model_rank
+from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                  verdict_strip)
 
 if TYPE_CHECKING:  # the report imports this module
-    from validation.report import Analysis
-    from validation.runner import SceneResult
+    from validation.report.write import Analysis
+    from validation.run.runner import SceneResult
 
 __all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_section",
            "findings_section", "verdict_table", "surface_text", "timing"]
@@ -49,7 +49,7 @@ def _git_commit() -> str:
     """The source tree's git commit (with "+changes" when it has uncommitted edits), or ""."""
     import subprocess
 
-    root = pathlib.Path(__file__).resolve().parents[1]
+    root = pathlib.Path(__file__).resolve().parents[2]
     try:
         commit = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
                                 capture_output=True, text=True, timeout=10, check=True).stdout
@@ -63,7 +63,7 @@ def _git_commit() -> str:
 
 def header(seconds, mode, command) -> list[str]:
     import bem.fft
-    from validation.runner import _version
+    from validation.run.runner import _version
 
     commit = _git_commit()
     run = [f"Command: `{command}`" if command else "",
@@ -140,7 +140,7 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
 
 
 def findings_section(analyses: list[Analysis]) -> list[str]:
-    from validation import findings as module
+    from validation.judge import findings as module
 
     chosen = [a for a in analyses
               if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
@@ -218,7 +218,7 @@ def surface_text(scene, count: int) -> str:
                   f"{'periodic' if s.window == 1 else f'window of a periodic surface {s.window} L wide'}, "
                   f"grid {s.n} × {s.n}, {count} realization(s)")
     else:
-        from validation.surface_families import file_digest, read_map
+        from validation.surfaces.families import file_digest, read_map
 
         scan = read_map(s)
         side = scan.heights.shape[0]

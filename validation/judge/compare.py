@@ -7,12 +7,12 @@ Error measures (at equal total load W, realization by realization):
   deviation of the summit heights of that realization (the paper's unit of separation).
 
 A model may be compared with a different field of the reference than its own quantity's name:
-its registry entry says which (``validation.models.entry(name).reference_fields``; Persson's
+its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
 separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
 At each load point the errors over realizations give a mean, a 95 % Student-t confidence
 interval and, with the reference's own error band, a verdict (holds / fails / undecided;
-:mod:`validation.verdicts`). The validity range at a tolerance is the longest run of "holds".
+:mod:`validation.judge.verdicts`). The validity range at a tolerance is the longest run of "holds".
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ import numpy as np
 
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from validation import models
-from validation.verdicts import (
+from validation.run import models
+from validation.judge.verdicts import (
     HOLDS,
     ErrorInterval,
     ValidityRange,
@@ -244,7 +244,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
 
     Parameters
     ----------
-    results : list of validation.runner.RealizationResult
+    results : list of validation.run.runner.RealizationResult
         Realizations of one surface family; each holds a curve per model.
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
@@ -252,7 +252,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         The model compared against; default: the registered reference among the curves.
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
-        (:func:`validation.models.reference_fields`).
+        (:func:`validation.run.models.reference_fields`).
 
     Notes
     -----

@@ -1,9 +1,9 @@
 """The validity report: Markdown, PNG figures and CSV tables in one folder.
 
-``write_report`` compares every surface scene with its reference (:mod:`validation.compare`),
-checks the paper's findings (:mod:`validation.findings`), writes the CSV tables first (so the
+``write_report`` compares every surface scene with its reference (:mod:`validation.judge.compare`),
+checks the paper's findings (:mod:`validation.judge.findings`), writes the CSV tables first (so the
 numbers survive whatever the figures do), then ``report.md``: its text from
-:mod:`validation.report_sections`, its figures from :mod:`validation.figures` (matplotlib
+:mod:`validation.report.sections`, its figures from :mod:`validation.report.figures` (matplotlib
 imported lazily), placed here.
 """
 
@@ -14,15 +14,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from validation import models
-from validation.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
-from validation.figures import dimensionless
-from validation.findings import Finding, check_findings
-from validation.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
-from validation.report_sections import (REPORT_QUANTITIES, findings_section, header,
+from validation.run import models
+from validation.judge.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
+from validation.report.figures import dimensionless
+from validation.judge.findings import Finding, check_findings
+from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
+from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,
                                         timing, verdict_table)
-from validation.runner import SceneResult
+from validation.run.runner import SceneResult
 
 __all__ = ["write_report", "analyse", "Analysis", "md_table", "dimensionless", "MODEL_LABELS",
            "QUANTITY_LABELS"]
@@ -62,7 +62,7 @@ class _Figures:
     lines: list
 
     def add(self, fig, name: str, caption: str) -> None:
-        from validation.figures import pyplot
+        from validation.report.figures import pyplot
 
         fig.savefig(self.folder / name, dpi=100)
         pyplot().close(fig)
@@ -74,7 +74,7 @@ def _file_suffix(parameter: str, value: float) -> str:
 
 
 def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
-    from validation.figures import panels_figure, plot_against
+    from validation.report.figures import panels_figure, plot_against
 
     models = model_order(results[0].curves)
     L = scene.surface.L
@@ -95,7 +95,7 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
 
 
 def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
-    from validation.figures import panels_figure, plot_errors, verdict_figure
+    from validation.report.figures import panels_figure, plot_errors, verdict_figure
 
     quantities = sorted({q for (_, q) in comparison.models}, key=REPORT_QUANTITIES.index)
     if not quantities:
@@ -136,7 +136,7 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
 
 
 def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> None:
-    from validation.figures import validity_map_figure
+    from validation.report.figures import validity_map_figure
 
     keys = sorted({k for c in comparisons for k in c.models if k[1] in COMPARED_QUANTITIES},
                   key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
@@ -149,7 +149,7 @@ def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> No
 
 
 def _theory_section(figures: _Figures, result: SceneResult) -> None:
-    from validation.figures import panels_figure, plot_theory_load, plot_theory_stiffness
+    from validation.report.figures import panels_figure, plot_theory_load, plot_theory_stiffness
 
     theory = result.theory
     for index, C in enumerate(theory["C"]):
@@ -176,7 +176,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     ``command`` (the command line that produced the results), the package version and the run
     time ``seconds`` head the report. Returns the path of ``report.md``.
     """
-    from validation.tables import write_tables
+    from validation.report.tables import write_tables
 
     folder = pathlib.Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
