@@ -50,18 +50,34 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass, field, fields
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 
 from bem.checks import frozen_array as _frozen_array
 from bem.checks import positive as _positive
 
-__all__ = ["ContactCurve", "CURVE_QUANTITIES"]
+__all__ = ["ContactCurve", "CURVE_QUANTITIES", "check_quantities"]
 
 #: The quantities a contact curve may carry, in the order they are tabulated.
 CURVE_QUANTITIES = ("separation", "load", "area", "contacts", "stiffness", "conductance",
                     "mean_pressure")
+
+
+def check_quantities(quantities: Iterable[str] | str,
+                     allowed: tuple[str, ...] = CURVE_QUANTITIES) -> frozenset[str]:
+    """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
+    if isinstance(quantities, str):
+        quantities = (quantities,)
+    try:
+        want = frozenset(quantities)
+    except TypeError:
+        raise ValueError(f"quantities must be strings among {allowed}, got {quantities!r}") \
+            from None
+    unknown = sorted(str(q) for q in want - set(allowed))
+    if unknown:
+        raise ValueError(f"quantities must be among {allowed}, got unknown {unknown}")
+    return want
 
 
 @dataclass(frozen=True, eq=False)

@@ -54,7 +54,7 @@ from numpy.typing import ArrayLike
 
 from bem.checks import points as check_points  # loads and separations of every model
 from bem.checks import positive as _positive
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.curve import CURVE_QUANTITIES, ContactCurve, check_quantities
 
 __all__ = ["ContactModel", "BoundaryElementModel", "check_points", "check_quantities",
            "empty_curve"]
@@ -81,22 +81,6 @@ class ContactModel(Protocol):
                       quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """The contact at separations d [length] (any shape)."""
         ...
-
-
-def check_quantities(quantities: Iterable[str] | str,
-                     allowed: tuple[str, ...] = CURVE_QUANTITIES) -> frozenset[str]:
-    """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
-    if isinstance(quantities, str):
-        quantities = (quantities,)
-    try:
-        want = frozenset(quantities)
-    except TypeError:
-        raise ValueError(f"quantities must be strings among {allowed}, got {quantities!r}") \
-            from None
-    unknown = sorted(str(q) for q in want - set(allowed))
-    if unknown:
-        raise ValueError(f"quantities must be among {allowed}, got unknown {unknown}")
-    return want
 
 
 def empty_curve(nominal_area: float, e_star: float, quantities: Iterable[str],

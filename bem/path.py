@@ -11,9 +11,8 @@ import scipy.sparse
 import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
-from bem.curve import ContactCurve
+from bem.curve import ContactCurve, check_quantities
 from bem.halfspace import HalfSpace
-from bem.model import check_quantities
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _coarse_start, _nestable, _solve,

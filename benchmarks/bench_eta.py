@@ -16,7 +16,7 @@ from dataclasses import replace
 
 from validation.run.cost import remaining_seconds, schedule, task_cost
 from validation.run.runner import plan_scene, run_realization
-from validation.scenes.scene import load_scene
+from validation.scenes.reader import load_scene
 
 
 def main(n: int = 128) -> None:

@@ -7,7 +7,7 @@ import pytest
 
 from validation.run.cost import BEM_EXPONENT, remaining_seconds, schedule, task_cost
 from validation.run.runner import plan_scene
-from validation.scenes.scene import load_scene
+from validation.scenes.reader import load_scene
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 
 from validation.run.runner import plan_scene, run_scenes
-from validation.scenes.scene import load_scene, parse_scene
+from validation.scenes.reader import load_scene, parse_scene
 
 TINY = {
     "name": "tiny",

@@ -3,7 +3,8 @@
 
 import pytest
 
-from validation.scenes.scene import SceneError, builtin_scenes, load_scene, parse_scene
+from validation.scenes.scene import SceneError
+from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
 
 
 def test_every_builtin_scene_loads():

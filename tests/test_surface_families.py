@@ -7,9 +7,11 @@ import shutil
 import numpy as np
 import pytest
 
-from validation.report.write import analyse, write_report
+from validation.report.write import write_report
+from validation.judge.analysis import analyse
 from validation.run.runner import run_scenes
-from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec, load_scene, parse_scene
+from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec
+from validation.scenes.reader import load_scene, parse_scene
 from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import _MAKERS, surface_heights, tile
 from validation.surfaces.wm import surface_statistics

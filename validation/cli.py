@@ -16,7 +16,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 
 from validation.run.cache import check_directory, default_cache_dir
-from validation.scenes.scene import SceneError, builtin_scenes, load_scene
+from validation.scenes.scene import SceneError
+from validation.scenes.reader import builtin_scenes, load_scene
 
 #: Scenes of the default report, in report order.
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")

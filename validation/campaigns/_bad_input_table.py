@@ -7,10 +7,31 @@ surface, a few summits), fast enough to be called hundreds of times in the test 
 from __future__ import annotations
 
 import functools
+from dataclasses import dataclass, field
+from typing import Any, Callable
 
 import numpy as np
 
-from validation.campaigns.bad_input import EntryPoint
+__all__ = ["EntryPoint", "table"]
+
+
+@dataclass(frozen=True)
+class EntryPoint:
+    """One public callable and a valid call of it.
+
+    ``call(**arguments())`` must succeed. ``scalars`` maps a parameter to its domain:
+    ``"real"``, ``"positive"``, ``"non_negative"`` or ``"integer"``, plus the word
+    ``"optional"`` when ``None`` is a valid value. ``arrays`` maps an array parameter to ``""``
+    or to words among ``"optional"`` (None is valid) and ``"inf"`` (+inf entries are valid,
+    e.g. a separation out of contact).
+    """
+
+    name: str
+    call: Callable[..., Any]
+    arguments: Callable[[], dict]
+    scalars: dict = field(default_factory=dict)
+    arrays: dict = field(default_factory=dict)
+
 
 _N = 8
 _SPACING = 1.0 / _N

@@ -3,7 +3,8 @@ complex numbers, empty and mis-shaped arrays, and read-only arrays.
 
 ``python benchmarks/bad_input_campaign.py`` prints the count of each outcome class; the test
 catalogue ``tests/test_bad_input.py`` draws from the same table with hypothesis. A new public
-entry point is covered by adding one :class:`EntryPoint` row to :func:`entry_points`.
+entry point is covered by adding one :class:`~validation.campaigns._bad_input_table.EntryPoint`
+row to :func:`~validation.campaigns._bad_input_table.table`.
 
 Outcome classes (``GOOD`` are acceptable):
 
@@ -22,10 +23,11 @@ import dataclasses
 import math
 import signal
 import warnings
-from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
+
+from validation.campaigns._bad_input_table import EntryPoint, table
 
 __all__ = ["EntryPoint", "entry_points", "BAD_SCALARS", "bad_arrays", "classify", "run_campaign",
            "GOOD", "OUTCOMES"]
@@ -33,24 +35,6 @@ __all__ = ["EntryPoint", "entry_points", "BAD_SCALARS", "bad_arrays", "classify"
 OUTCOMES = ("clear error", "plausible result", "unclear error", "other exception",
             "non-finite result", "accepted bad input", "rejected valid input", "hang")
 GOOD = ("clear error", "plausible result")
-
-
-@dataclass(frozen=True)
-class EntryPoint:
-    """One public callable and a valid call of it.
-
-    ``call(**arguments())`` must succeed. ``scalars`` maps a parameter to its domain:
-    ``"real"``, ``"positive"``, ``"non_negative"`` or ``"integer"``, plus the word
-    ``"optional"`` when ``None`` is a valid value. ``arrays`` maps an array parameter to ``""``
-    or to words among ``"optional"`` (None is valid) and ``"inf"`` (+inf entries are valid,
-    e.g. a separation out of contact).
-    """
-
-    name: str
-    call: Callable[..., Any]
-    arguments: Callable[[], dict]
-    scalars: dict = field(default_factory=dict)
-    arrays: dict = field(default_factory=dict)
 
 
 # value, label, never valid for any domain?
@@ -205,6 +189,4 @@ def run_campaign(entries=None) -> list[tuple[str, str, str, str, str]]:
 
 def entry_points() -> tuple[EntryPoint, ...]:
     """The table: one row per public entry point."""
-    from validation.campaigns._bad_input_table import table
-
     return table()

@@ -17,7 +17,7 @@ from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict
                                  verdict_strip)
 
 if TYPE_CHECKING:  # the report imports this module
-    from validation.report.write import Analysis
+    from validation.judge.analysis import Analysis
     from validation.run.runner import SceneResult
 
 __all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_section",

@@ -15,39 +15,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from validation.run import models
-from validation.judge.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
+from validation.judge.analysis import Analysis, analyse
+from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
-from validation.judge.findings import Finding, check_findings
 from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
 from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,
                                         timing, verdict_table)
 from validation.run.runner import SceneResult
 
-__all__ = ["write_report", "analyse", "Analysis", "md_table", "dimensionless", "MODEL_LABELS",
+__all__ = ["write_report", "md_table", "dimensionless", "MODEL_LABELS",
            "QUANTITY_LABELS"]
-
-@dataclass(frozen=True)
-class Analysis:
-    """One scene's results with its comparisons and findings, by sweep value (D, H)."""
-
-    result: SceneResult
-    comparisons: list[Comparison] = field(default_factory=list)
-    findings: dict[float, list[Finding]] = field(default_factory=dict)
-
-
-def analyse(result: SceneResult) -> Analysis:
-    """Compare every sweep value (D, H) of a surface scene with the reference (the BEM) and
-    check the paper's findings; a scene without a reference model gets no comparison."""
-    scene = result.scene
-    if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
-        return Analysis(result)
-    comparisons, findings = [], {}
-    for value, realizations in sorted(result.realizations.items()):
-        comparison = compare_realizations(realizations, tolerances=scene.tolerances)
-        comparisons.append(comparison)
-        findings[value] = check_findings(realizations, comparison, scene.tolerances)
-    return Analysis(result, comparisons, findings)
 
 
 # --------------------------------------------------------------------------------------------

@@ -63,10 +63,10 @@ _SOURCE_VERSION: str | None = None
 #: Modules that only read results (comparison, verdicts, findings, figures, tables, command
 #: line): editing them leaves every cached result valid, so they are not part of its hash.
 #: Paths relative to the ``validation`` folder.
-REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/compare.py", "run/cost.py",
-                                 "report/figures.py", "judge/findings.py", "report/labels.py",
-                                 "run/progress.py", "report/write.py", "report/sections.py",
-                                 "report/tables.py", "judge/verdicts.py"})
+REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
+                                 "run/cost.py", "report/figures.py", "judge/findings.py",
+                                 "report/labels.py", "run/progress.py", "report/write.py",
+                                 "report/sections.py", "report/tables.py", "judge/verdicts.py"})
 
 
 def _version() -> str:
@@ -77,7 +77,7 @@ def _version() -> str:
         import hashlib
         import pathlib
 
-        from validation import __version__
+        from validation._version import __version__
 
         digest = hashlib.sha256()
         root = pathlib.Path(__file__).resolve().parents[2]

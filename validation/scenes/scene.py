@@ -49,7 +49,7 @@ from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, Su
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
     "SceneError", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
-    "MIN_TILE", "load_scene", "builtin_scenes", "parse_scene", "defaults",
+    "MIN_TILE", "defaults",
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
@@ -236,24 +236,3 @@ def defaults(kind: type) -> dict:
         elif f.default is not MISSING:
             out[f.name] = f.default
     return out
-
-
-def parse_scene(*args, **kwargs) -> Scene:
-    """Validate a scene given as a dictionary (:func:`validation.scenes.reader.parse_scene`)."""
-    from validation.scenes.reader import parse_scene as parse
-
-    return parse(*args, **kwargs)
-
-
-def load_scene(*args, **kwargs) -> Scene:
-    """Load a built-in scene by name, or a scene file (:func:`validation.scenes.reader.load_scene`)."""
-    from validation.scenes.reader import load_scene as load
-
-    return load(*args, **kwargs)
-
-
-def builtin_scenes() -> tuple[str, ...]:
-    """Names of the scenes shipped with the package, sorted."""
-    from validation.scenes.reader import builtin_scenes as names
-
-    return names()
