@@ -179,7 +179,7 @@ def radial_power_spectrum(heights: ArrayLike, spacing: float, *, window: str = "
 
     Rings of width ``dq = 2 pi / L`` (L the longer side) centred on ``k dq``, k = 1, 2, ...,
     up to the Nyquist wavevector ``pi / spacing``; each ring's value is the mean periodogram
-    over its wavevectors, placed at their mean |q|, scaled so that the ring's power equals
+    over its wavevectors, placed at their mean ``|q|``, scaled so that the ring's power equals
     ``2 pi q dq C`` (the lattice count of a ring differs from its area). Empty rings are
     skipped.
     """

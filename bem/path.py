@@ -255,7 +255,7 @@ def contact_curve(
     return replace(curve, extras=extras)
 
 
-#: Safety factor f of :func:`error_estimates` on |Q_N - Q_(N/2)| (README, "Accuracy of the
+#: Safety factor f of :func:`error_estimates` on ``|Q_N - Q_(N/2)|`` (README, "Accuracy of the
 #: reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
 #: error of area, stiffness, separation and mean gap against converged values in the mesh study
 #: of benchmarks/bench_area.py (WM, D = 2.05-2.95, N = 256 and 512).

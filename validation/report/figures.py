@@ -232,7 +232,7 @@ def plot_verdicts(ax, comparison: Comparison, index: int):
 
 
 def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: str, tolerances):
-    """|mean error| of one model in the plane of Load and the swept parameter (D, H), with the
+    """``|mean error|`` of one model in the plane of Load and the swept parameter (D, H), with the
     tolerance contours."""
     from matplotlib.colors import LogNorm
 
@@ -286,7 +286,7 @@ def verdict_figure(comparison: Comparison):
 
 
 def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
-    """|mean error| over Load and the swept parameter: rows quantities, columns models."""
+    """``|mean error|`` over Load and the swept parameter: rows quantities, columns models."""
     models = list(dict.fromkeys(k[0] for k in keys))
     quantities = list(dict.fromkeys(k[1] for k in keys))
     fig, axes = subplots(len(quantities), len(models),

@@ -10,11 +10,10 @@ imported lazily), placed here.
 from __future__ import annotations
 
 import pathlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
-from validation.run import models
 from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless

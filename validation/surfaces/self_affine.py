@@ -60,7 +60,7 @@ def power_spectrum(heights: np.ndarray, spacing: float) -> tuple[np.ndarray, np.
     ``sum(C) * (2 pi / L)^2 == mean((h - mean h)^2)`` (Parseval) for an ``n_y x n_x`` map
     with ``(2 pi / L)^2`` meaning ``(2 pi)^2 / (L_x L_y)``. No window function is applied:
     for a non-periodic map the edges leak power to high q. The periodogram of
-    :func:`asperity.spectrum.power_spectrum_2d` (``window="none"``), with |q| on its grid.
+    :func:`asperity.spectrum.power_spectrum_2d` (``window="none"``), with ``|q|`` on its grid.
     """
     q_x, q_y, spectrum = power_spectrum_2d(heights, spacing, window="none")
     return np.hypot(q_y, q_x), spectrum
@@ -71,7 +71,7 @@ def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
     """Radially averaged C(q) of :func:`power_spectrum` in logarithmic bins.
 
     Bins span ``2 pi / L`` (the lowest wavevector) to ``pi / spacing`` (Nyquist); empty bins
-    are dropped. Returns ``(q, C)``: the mean |q| of the modes in each bin [1/length] and the
+    are dropped. Returns ``(q, C)``: the mean ``|q|`` of the modes in each bin [1/length] and the
     mean C over those modes [length^4].
     """
     bins = integer("bins", bins, minimum=1)
