@@ -27,15 +27,14 @@ _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
 
 
 def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
-    """Number of connected contact spots of a boolean contact map.
+    """Number of connected contact spots of a 2-D contact map (booleans, or numbers 0 and 1).
 
     Pixels that share an edge belong to one spot (4-connectivity, ``scipy.ndimage.label``);
     pixels touching only at a corner do not. With ``periodic`` a spot that crosses the edge of
     the grid is counted once: spots touching across opposite edges are merged.
     """
-    contact = np.asarray(contact, dtype=bool)
-    if contact.ndim != 2:
-        raise ValueError(f"contact must be a 2-D boolean array, got {contact.ndim} dimension(s)")
+    contact = checks.boolean_map("contact", contact)
+    periodic = checks.flag("periodic", periodic)
     labels, count = scipy.ndimage.label(contact, structure=_FOUR_CONNECTED)
     if not periodic or count < 2:
         return int(count)

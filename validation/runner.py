@@ -35,6 +35,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
+from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation import models
 from validation.cache import Cache, cache_key
@@ -346,7 +347,13 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     """
     from validation.theory import theory_curves
 
-    scenes = list(scenes)
+    scenes = list(checks.instances("scenes", scenes, Scene))
+    checks.flag("progress", progress)
+    if cache_dir is not None:
+        checks.file_path("cache_dir", cache_dir)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
+                                    f"submit method) or None, got {type(executor).__name__}")
     names = [scene.name for scene in scenes]
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:

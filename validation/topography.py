@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem.checks import frozen_array, positive
+from bem.checks import choice, file_path, frozen_array, optional_integer, positive
 
 __all__ = ["LENGTH_UNITS", "Topography", "read_topography", "write_gwyddion_ascii"]
 
@@ -270,15 +270,15 @@ def read_topography(
     ImportError
         An instrument format without the ``[topography]`` extra installed.
     """
-    path = pathlib.Path(path)
+    path = file_path("path", path)
     if not path.is_file():
         raise ValueError(f"path must be an existing file, got {str(path)!r}")
     for name, value, allowed in (("detrend", detrend, ("plane", "mean", None)),
                                  ("fill", fill, (None, "mean", "interpolate")),
                                  ("square", square, ("crop", "keep")),
                                  ("reader", reader, ("auto", "builtin", "surfacetopography"))):
-        if value not in allowed:
-            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+        choice(name, value, allowed)
+    optional_integer("channel", channel, minimum=0)
     out_factor = _unit_factor("height_unit", height_unit)
     if file_unit is not None:
         _unit_factor("file_unit", file_unit)
