@@ -224,7 +224,9 @@ def surface_text(scene, count: int) -> str:
         side = scan.heights.shape[0]
         family = (f"measured map `{pathlib.Path(s.path).name}` (SHA-256 "
                   f"{file_digest(s.path)[:12]}…), {side} × {side} pixels of "
-                  f"{scan.spacing:.4g} {s.unit}, detrend {s.detrend}; realizations: {s.tiles} "
+                  f"{scan.spacing:.4g} {s.unit}"
+                  f"{'' if s.resample == 'none' else f' (resampled to the {s.resample} spacing)'}"
+                  f", detrend {s.detrend}; realizations: {s.tiles} "
                   f"non-overlapping tile(s) of {s.n} × {s.n} pixels, L = {s.L:.4g} {s.unit}; "
                   f"lengths in {s.unit}")
     return (f"Surface: {family}; E* = {scene.e_star:g}; BEM "

@@ -47,9 +47,9 @@ def file_digest(path: str) -> str:
 
 @functools.lru_cache(maxsize=8)
 def _read(path: str, digest: str, physical_size, unit: str, detrend: str | None,
-          file_unit: str | None) -> Topography:
+          file_unit: str | None, resample: str | None = None) -> Topography:
     return read_topography(path, physical_size=physical_size, height_unit=unit, detrend=detrend,
-                           file_unit=file_unit)
+                           file_unit=file_unit, resample=resample)
 
 
 def read_map(surface) -> Topography:
@@ -57,7 +57,8 @@ def read_map(surface) -> Topography:
     (heights and spacing in ``surface.unit``), read once per process and per file content."""
     s = surface
     return _read(s.path, file_digest(s.path), s.physical_size, s.unit,
-                 None if s.detrend == "none" else s.detrend, s.file_unit)
+                 None if s.detrend == "none" else s.detrend, s.file_unit,
+                 None if s.resample == "none" else s.resample)
 
 
 def tile(heights: np.ndarray, tiles: int, index: int) -> np.ndarray:
@@ -121,6 +122,9 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
                     rms_height=s.rms_height, long_cutoff=s.long_cutoff, rolloff=s.rolloff,
                     short_cutoff=s.short_cutoff, window=s.window, L=s.L, n=s.n, seed=seed,
                     slope_grid=grid)
-    return dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
-                file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles, tile=seed,
-                n=s.n)
+    identity = dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
+                    file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles,
+                    tile=seed, n=s.n)
+    if s.resample != "none":          # absent by default: the cache keys of square maps stay
+        identity["resample"] = s.resample
+    return identity

@@ -23,7 +23,7 @@ FAMILY_KEYS = {
     "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n"),
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
                     "window", "L", "n"),
-    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "tiles", "n"),
+    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "tiles", "n"),
 }
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
@@ -48,6 +48,8 @@ class SurfaceSpec:
     ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
     the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
     ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
+    ``resample`` ("none", or "finer"/"coarser": non-square pixels onto square ones of the finer
+    or coarser spacing, :func:`validation.read_topography`),
     ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
     :data:`MIN_TILE` pixels). ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the
     file: an explicit value must agree. ``digest`` is the SHA-256 of the file when read.
@@ -75,6 +77,7 @@ class SurfaceSpec:
     file_unit: str | None = None
     unit: str = "m"
     detrend: str = "plane"
+    resample: str = "none"
     tiles: int = 1
 
     def __post_init__(self) -> None:
@@ -136,6 +139,7 @@ class SurfaceSpec:
             object.__setattr__(self, "physical_size", tuple(self.physical_size))
         check.choice(self, "unit", tuple(LENGTH_UNITS))
         check.choice(self, "detrend", ("plane", "mean", "none"))
+        check.choice(self, "resample", ("none", "finer", "coarser"))
         check.integer(self, "tiles", 1)
         per_side = math.isqrt(self.tiles)
         if per_side**2 != self.tiles:
@@ -146,7 +150,8 @@ class SurfaceSpec:
         try:
             scan = read_map(self)
         except (ValueError, ImportError) as error:
-            key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
+            key = next((k for k in ("physical_size", "file_unit", "resample")
+                        if k in str(error)), "path")
             check.fail(self, key, f"does not give a readable height map: {error}")
         side = scan.heights.shape[0] // per_side
         if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
