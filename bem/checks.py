@@ -390,9 +390,10 @@ def contact_number(name: str, value: Any, *, minimum: float | None = None,
 
 
 def contact_heights(name: str, values: Any, *, minimum: int) -> np.ndarray:
-    """A square, finite, real height map of at least ``minimum`` x ``minimum`` points whose
-    largest magnitude lies in the supported range (a fresh float64 copy)."""
-    z = np.array(height_map(name, values, minimum=minimum, square=True), dtype=float, copy=True)
+    """A finite, real height map of at least ``minimum`` x ``minimum`` points (N x M: square
+    pixels, any number of rows and columns) whose largest magnitude lies in the supported range
+    (a fresh float64 copy)."""
+    z = np.array(height_map(name, values, minimum=minimum), dtype=float, copy=True)
     supported_magnitude(f"max |{name}|", float(np.max(np.abs(z))))
     return z
 
