@@ -117,7 +117,7 @@ class RealizationTask:
     def describe(self) -> str:
         s = self.surface
         if s.family == "file":
-            return f"tile={self.seed + 1}/{s.tiles} n={s.n}"
+            return f"tile={self.seed + 1}/{s.tiles} grid={'x'.join(map(str, s.grid))}"
         return f"{s.sweep_name}={self.sweep_value:g} seed={self.seed} n={s.n}"
 
 
@@ -276,7 +276,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     quantities = ("area", "load", "separation", "contacts") + (
         ("stiffness", "conductance") if _needs_stiffness(task.quantities) else ())
     values = np.array(task.loads.values())
-    nominal_area = task.surface.L**2
+    nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
     loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None
     inputs = ModelInputs(spacing=task.surface.spacing, nominal_area=nominal_area,
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
@@ -284,7 +284,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                                           max_iter=task.bem.max_iter,
                                           # the half grid must cover the same window
                                           error_estimate=task.bem.reference_error
-                                          and task.surface.n % 2 == 0))
+                                          and not any(side % 2 for side in task.surface.grid)))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
