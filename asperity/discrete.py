@@ -42,9 +42,9 @@ follows by Barber's analogy, ``C rho = 2 S / E*``.
 
 from __future__ import annotations
 
-import numpy as np
 from numpy.typing import ArrayLike
 
+from bem import checks
 from bem.checks import points as check_points
 from bem.continuation import follow_path
 from bem.curve import CURVE_QUANTITIES, ContactCurve
@@ -99,12 +99,9 @@ class DiscreteAsperityModel:
     def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
                  m: float | None = None, tol: float = 1e-10, max_iter: int = 50,
                  method: str = "auto") -> None:
-        tol = float(tol)
-        if not (0 < tol < 1):
-            raise ValueError(f"tol must lie in (0, 1), got {tol!r}")
-        if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) \
-                or max_iter < 1:
-            raise ValueError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+        tol = checks.real_number("tol", tol, minimum=0.0, exclusive=True, maximum=1.0,
+                                 exclusive_maximum=True)
+        max_iter = checks.integer("max_iter", max_iter, minimum=1)
         self.problem = assemble(summits, e_star=e_star, interaction=interaction, m=m,
                                 method=method)
         self.summits = summits

@@ -34,7 +34,6 @@ from typing import Iterable
 import numpy as np
 
 from bem import checks
-from bem.checks import positive as _positive_parameter
 from numpy.typing import ArrayLike
 from scipy.special import lambertw
 
@@ -96,9 +95,13 @@ class _SummitHeightTheory:
     distribution: str = "gaussian"
 
     def __post_init__(self) -> None:
+        # magnitudes in the supported range (checks.SUPPORTED_MAGNITUDE), so that products
+        # such as W_ref = eta A E* R^(1/2) sigma^(3/2) neither overflow nor underflow
         for name in ("density", "radius", "sigma", "e_star", "area"):
-            object.__setattr__(self, name, _positive_parameter(name, getattr(self, name)))
-        mean = checks.real_number("mean", self.mean)
+            object.__setattr__(self, name, checks.contact_number(name, getattr(self, name),
+                                                                 minimum=0.0, exclusive=True))
+        largest = checks.SUPPORTED_MAGNITUDE[1]     # an offset: any small value is fine
+        mean = checks.real_number("mean", self.mean, minimum=-largest, maximum=largest)
         object.__setattr__(self, "mean", mean)
         _check_distribution(self.distribution)
 
@@ -182,6 +185,13 @@ class GreenwoodWilliamson(_SummitHeightTheory):
         Nominal contact area A = L^2 [length^2].
     distribution : {"gaussian", "exponential"}, keyword-only
         Summit-height law (see :func:`asperity.gw_integral`).
+
+    Raises
+    ------
+    ValueError
+        density, radius, sigma, e_star or area not > 0, or of a magnitude outside
+        1e-30..1e30 (:data:`bem.checks.SUPPORTED_MAGNITUDE`), where ``W_ref = eta A E* R^(1/2)
+        sigma^(3/2)`` could overflow or underflow (rescale the units); ``|mean| > 1e30``.
 
     Examples
     --------

@@ -114,7 +114,13 @@ def separation_kernel(x: ArrayLike, gamma: float = YANG_PERSSON_GAMMA) -> np.nda
 
     ``(gamma/2) E1(x^2) + 3 (1 - gamma) J(x)``; +inf at x = 0. Relative accuracy ~1e-13.
     """
-    x = np.asarray(x, dtype=float)
+    return _separation_kernel(points("x", x, non_negative=True, allow_infinity=True),
+                              real_number("gamma", gamma, minimum=0.0, exclusive=True,
+                                          maximum=1.0))
+
+
+def _separation_kernel(x: np.ndarray, gamma: float) -> np.ndarray:
+    """:func:`separation_kernel` of checked arguments (x >= 0 as a float array)."""
     flat = x.ravel()
     with np.errstate(divide="ignore", over="ignore"):
         e1 = special.exp1(flat**2)
@@ -260,7 +266,7 @@ class Persson:
             x = c[row] / tau
             if gap:
                 u[start:start + chunk] = np.bincount(
-                    row, weight * separation_kernel(x, self.gamma), minlength=p.size)
+                    row, weight * _separation_kernel(x, self.gamma), minlength=p.size)
             if slope:
                 du[start:start + chunk] = np.bincount(
                     row, weight * _stiffness_kernel(x, self.gamma), minlength=p.size) / p

@@ -32,7 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem.checks import frozen_array, height_map, positive
+from bem.checks import (choice, frozen_array, height_map, positive, real_number,
+                        supported_magnitude)
 
 __all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
@@ -104,7 +105,7 @@ class IsotropicSpectrum:
 
     def moment(self, order: int) -> float:
         """integral_{q_L}^{q_1} q^order C(q) dq [length^(3 - order)]."""
-        return float(np.sum(self._piece_moments(order)))
+        return float(np.sum(self._piece_moments(real_number("order", order))))
 
     def cumulative_fourth_moment(self) -> np.ndarray:
         """m(q_k) = integral_{q_L}^{q_k} q^3 C dq at every sample (m(q_L) = 0) [length^0]."""
@@ -155,9 +156,10 @@ def power_spectrum_2d(heights: ArrayLike, spacing: float, *, window: str = "hann
     ``"none"`` or ``"mirror"``, ``psd.sum() * dq_x * dq_y == mean((h - mean h)^2)`` exactly
     (Parseval).
     """
-    h, spacing = height_map("heights", heights, minimum=4), positive("spacing", spacing)
-    if window not in WINDOWS:
-        raise ValueError(f"window must be one of {WINDOWS}, got {window!r}")
+    h = height_map("heights", heights, minimum=4)
+    spacing = supported_magnitude("spacing", positive("spacing", spacing))
+    supported_magnitude("max |heights|", float(np.max(np.abs(h))))
+    choice("window", window, WINDOWS)
     ny, nx = h.shape
     z = h - h.mean()
     if window == "mirror":

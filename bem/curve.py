@@ -54,6 +54,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from bem.checks import InputTypeError
 from bem.checks import frozen_array as _frozen_array
 from bem.checks import positive as _positive
 
@@ -182,14 +183,22 @@ class ContactCurve:
         """Real contact area over nominal area, A_real / A [-]."""
         return self.area / self.nominal_area
 
+    def _computed(self) -> list[str]:
+        fields_ = [n for n in CURVE_QUANTITIES if getattr(self, n, None) is not None]
+        return fields_ + ["area_fraction", *self.extras]
+
     def quantity(self, name: str) -> np.ndarray:
         """Return a field or an extra by name; raise ``ValueError`` if it was not computed."""
+        if not isinstance(name, str):
+            raise InputTypeError(f"name must be a quantity name (a str), got "
+                                 f"{type(name).__name__} {name!r}")
         if name in self.extras:
             return self.extras[name]
         readable = name in CURVE_QUANTITIES or name == "area_fraction"
         value = getattr(self, name) if readable else None
         if value is None:
-            raise ValueError(f"quantity {name!r} was not computed for this curve")
+            raise ValueError(f"quantity {name!r} was not computed for this curve (name must be "
+                             f"a computed field or an extra: {', '.join(self._computed())})")
         return value
 
 

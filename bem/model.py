@@ -102,7 +102,7 @@ class BoundaryElementModel:
     Parameters
     ----------
     heights : array_like
-        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.contact_curve`).
+        Heights z[j, i] [length] on an N x M grid (as in :func:`bem.contact_curve`).
     spacing : float
         Grid step h [length].
     **options

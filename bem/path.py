@@ -26,15 +26,14 @@ _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
 
 
 def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
-    """Number of connected contact spots of a boolean contact map.
+    """Number of connected contact spots of a 2-D contact map (booleans, or numbers 0 and 1).
 
     Pixels that share an edge belong to one spot (4-connectivity, ``scipy.ndimage.label``);
     pixels touching only at a corner do not. With ``periodic`` a spot that crosses the edge of
     the grid is counted once: spots touching across opposite edges are merged.
     """
-    contact = np.asarray(contact, dtype=bool)
-    if contact.ndim != 2:
-        raise ValueError(f"contact must be a 2-D boolean array, got {contact.ndim} dimension(s)")
+    contact = checks.boolean_map("contact", contact)
+    periodic = checks.flag("periodic", periodic)
     labels, count = scipy.ndimage.label(contact, structure=_FOUR_CONNECTED)
     if not periodic or count < 2:
         return int(count)
@@ -125,9 +124,9 @@ def contact_curve(
     Parameters
     ----------
     heights : array_like
-        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.solve_contact`).
+        Heights z[j, i] [length] on an N x M grid (as in :func:`bem.solve_contact`).
     spacing : float
-        Grid step h [length]; nominal area ``(n h)^2``.
+        Grid step h [length]; nominal area ``N M h^2``.
     loads : array_like, optional
         Total forces W >= 0 [force] (load control).
     separations : array_like, optional
@@ -175,8 +174,8 @@ def contact_curve(
     area_estimator = checks.choice("area_estimator", area_estimator, AREA_ESTIMATORS)
     error_estimate = checks.flag("error_estimate", error_estimate)
     preconditioned = checks.flag("preconditioned", preconditioned)
-    if error_estimate and (z.shape[0] < 8 or z.shape[0] % 2):
-        raise ValueError(f"error_estimate needs an even grid of at least 8 x 8 (the half grid "
+    if error_estimate and (min(z.shape) < 8 or z.shape[0] % 2 or z.shape[1] % 2):
+        raise ValueError(f"error_estimate needs an even grid, at least 8 x 8 (the half grid "
                          f"covers the same window), got {z.shape}")
     if (loads is None) == (separations is None):
         raise ValueError("give exactly one of loads (forces) and separations (lengths)")

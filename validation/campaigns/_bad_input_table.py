@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass, field
 from typing import Any, Callable
+import pathlib
 
 import numpy as np
 
@@ -20,10 +21,13 @@ class EntryPoint:
     """One public callable and a valid call of it.
 
     ``call(**arguments())`` must succeed. ``scalars`` maps a parameter to its domain:
-    ``"real"``, ``"positive"``, ``"non_negative"`` or ``"integer"``, plus the word
-    ``"optional"`` when ``None`` is a valid value. ``arrays`` maps an array parameter to ``""``
-    or to words among ``"optional"`` (None is valid) and ``"inf"`` (+inf entries are valid,
-    e.g. a separation out of contact).
+    ``"real"``, ``"positive"``, ``"non_negative"`` or ``"integer"`` (a seed is an
+    ``"integer"``), ``"choice"`` (a name such as an FFT backend) or ``"object"`` (one of the
+    project's objects, or a path): no value of :data:`validation.campaigns.bad_input.BAD_SCALARS` is valid for these two; plus
+    the word ``"optional"`` when ``None`` is a valid value. ``arrays`` maps an array parameter
+    to ``""`` or to words among ``"optional"`` (None is valid), ``"inf"`` (+inf entries are
+    valid, e.g. a separation out of contact), ``"nan"`` (NaN entries are valid, e.g. an error
+    not computed) and ``"mask"`` (booleans are valid: a contact map).
     """
 
     name: str
@@ -35,6 +39,8 @@ class EntryPoint:
 
 _N = 8
 _SPACING = 1.0 / _N
+#: The shipped example map (a Gwyddion ASCII export that states its size and unit).
+_EXAMPLE = str(pathlib.Path(__file__).resolve().parents[2] / "examples" / "example_topography.txt")
 
 
 @functools.lru_cache(maxsize=1)
@@ -60,6 +66,38 @@ def _curve():
     return GreenwoodWilliamson(**_gw()).at_load(np.array([1e-4, 1e-3]))
 
 
+@functools.lru_cache(maxsize=1)
+def _summits():
+    from asperity import find_summits
+
+    return find_summits(_surface(), _SPACING)
+
+
+def _realizations() -> list:
+    """Two duck-typed realization results (a BEM-labelled reference and a GW curve)."""
+    from types import SimpleNamespace
+
+    curve = _curve()
+    task = SimpleNamespace(seed=0, surface=SimpleNamespace(L=1.0, sweep_name="D"),
+                           quantities=("area", "separation"), sweep_value=2.3)
+    return [SimpleNamespace(task=task, curves={"bem": curve, "gw": curve}, sigma=0.01)] * 2
+
+
+def _theories(model, load=(1e-4, 1e-3), separation=(0.0, 0.01)):
+    """A GW-type theory evaluated along both paths (the parameters meet at the evaluation)."""
+    def call(**parameters):
+        theory = model(**parameters)
+        return theory.at_load(np.array(load)), theory.at_separation(np.array(separation))
+    return call
+
+
+def _range(**arguments):
+    from validation import validity_range
+
+    found = validity_range(**arguments)   # NaN bounds mean "holds nowhere", by design
+    return found.points, found.total
+
+
 def table() -> tuple[EntryPoint, ...]:
     import asperity
     import bem
@@ -74,18 +112,21 @@ def table() -> tuple[EntryPoint, ...]:
                    lambda: dict(heights=z(), spacing=_SPACING, load=hertz_load, **bem_fast),
                    scalars=dict(spacing="positive", load="non_negative", e_star="positive",
                                 tol="positive", max_iter="integer"),
-                   arrays=dict(heights="square")),
+                   arrays=dict(heights="")),
         EntryPoint("bem.solve_contact(separation)", bem.solve_contact,
                    lambda: dict(heights=z(), spacing=_SPACING, separation=float(z().max()) * 0.5,
                                 **bem_fast),
                    scalars=dict(separation="real")),
         EntryPoint("bem.contact_curve", bem.contact_curve,
                    lambda: dict(heights=z(), spacing=_SPACING, loads=[hertz_load], **bem_fast),
-                   scalars=dict(spacing="positive", e_star="positive"),
-                   arrays=dict(heights="square", loads="")),
+                   scalars=dict(spacing="positive", e_star="positive", tol="positive",
+                                max_iter="integer", area_estimator="choice"),
+                   arrays=dict(heights="", loads="")),
         EntryPoint("bem.HalfSpace", bem.HalfSpace,
                    lambda: dict(shape=(_N, _N), spacing=_SPACING),
-                   scalars=dict(spacing="positive", e_star="positive")),
+                   scalars=dict(spacing="positive", e_star="positive",
+                                threads="integer optional", backend="choice",
+                                planner_effort="choice optional")),
         EntryPoint("bem.HalfSpace.displacement",
                    lambda pressure: bem.HalfSpace((_N, _N), _SPACING).displacement(pressure),
                    lambda: dict(pressure=np.full((_N, _N), 1e-3)), arrays=dict(pressure="")),
@@ -94,7 +135,9 @@ def table() -> tuple[EntryPoint, ...]:
                                 mean_pressure=[0.0, 1.0], nominal_area=1.0, e_star=1.0),
                    scalars=dict(nominal_area="positive", e_star="positive")),
         EntryPoint("bem.count_contacts", bem.count_contacts,
-                   lambda: dict(contact=z() > 0)),
+                   lambda: dict(contact=z() > 0), arrays=dict(contact="mask")),
+        EntryPoint("ContactCurve.quantity", lambda name: _curve().quantity(name),
+                   lambda: dict(name="area"), scalars=dict(name="choice")),
         # ---------------------------------------------------------------- GW functions
         EntryPoint("asperity.gw_integral", asperity.gw_integral,
                    lambda: dict(n=1.5, h=np.array([-1.0, 0.0, 2.0])), scalars=dict(n="real"),
@@ -113,6 +156,16 @@ def table() -> tuple[EntryPoint, ...]:
         EntryPoint("GreenwoodWilliamson.at_load",
                    lambda load: asperity.GreenwoodWilliamson(**_gw()).at_load(load),
                    lambda: dict(load=np.array([1e-4, 1e-3])), arrays=dict(load="")),
+        EntryPoint("GreenwoodWilliamson curves", _theories(asperity.GreenwoodWilliamson),
+                   lambda: _gw(mean=0.0, e_star=1.0, area=1.0),
+                   scalars=dict(density="positive", radius="positive", sigma="positive",
+                                mean="real", e_star="positive", area="positive")),
+        EntryPoint("ImprovedGreenwoodWilliamson curves",
+                   _theories(asperity.ImprovedGreenwoodWilliamson),
+                   lambda: _gw(mean=0.0, e_star=1.0, area=1.0, m=1.0),
+                   scalars=dict(density="positive", radius="positive", sigma="positive",
+                                mean="real", e_star="positive", area="positive",
+                                m="non_negative")),
         EntryPoint("asperity.ImprovedGreenwoodWilliamson", asperity.ImprovedGreenwoodWilliamson,
                    lambda: _gw(m=1.0), scalars=dict(m="non_negative", sigma="positive")),
         EntryPoint("ImprovedGreenwoodWilliamson.at_separation",
@@ -149,6 +202,19 @@ def table() -> tuple[EntryPoint, ...]:
                                 separation=np.array([-1.0, 0.0, 2.0])),
                    scalars=dict(interaction_parameter="non_negative", m="non_negative"),
                    arrays=dict(separation="optional inf")),
+        EntryPoint("asperity.DiscreteAsperityModel", asperity.DiscreteAsperityModel,
+                   lambda: dict(summits=_summits(), tol=1e-8, max_iter=20, e_star=1.0),
+                   scalars=dict(tol="positive", max_iter="integer", e_star="positive",
+                                m="non_negative optional", method="choice")),
+        EntryPoint("asperity.radial_power_spectrum", asperity.radial_power_spectrum,
+                   lambda: dict(heights=z(), spacing=_SPACING, window="hann"),
+                   scalars=dict(spacing="positive", window="choice"), arrays=dict(heights="")),
+        EntryPoint("IsotropicSpectrum.moment",
+                   lambda order: asperity.radial_power_spectrum(z(), _SPACING).moment(order),
+                   lambda: dict(order=2), scalars=dict(order="real")),
+        EntryPoint("asperity.separation_kernel", asperity.separation_kernel,
+                   lambda: dict(x=np.array([0.1, 1.0, 3.0]), gamma=0.42),
+                   scalars=dict(gamma="positive"), arrays=dict(x="inf")),
         EntryPoint("asperity.find_summits", asperity.find_summits,
                    lambda: dict(heights=z(), spacing=_SPACING),
                    scalars=dict(spacing="positive"), arrays=dict(heights="")),
@@ -165,7 +231,8 @@ def table() -> tuple[EntryPoint, ...]:
         EntryPoint("asperity.PointForceInteraction", asperity.PointForceInteraction,
                    lambda: dict(**_points(), e_star=1.0, spacing=1.0, row=np.array([0, 0, 1]),
                                 column=np.array([0, 1, 2])),
-                   scalars=dict(e_star="positive", spacing="positive optional", threads="integer"),
+                   scalars=dict(e_star="positive", spacing="positive optional", threads="integer",
+                                method="choice", fft_backend="choice"),
                    arrays=dict(x="", y="")),
         EntryPoint("PointForceInteraction.displacement",
                    lambda forces: asperity.PointForceInteraction(**_points()).displacement(
@@ -175,7 +242,13 @@ def table() -> tuple[EntryPoint, ...]:
         EntryPoint("validation.wm_surface", validation.wm_surface,
                    lambda: dict(n=_N, D=2.3, rms_slope=0.1, seed=1),
                    scalars=dict(n="integer", D="real", rms_slope="positive", L="positive",
-                                gamma="real", M="integer", n_max="integer")),
+                                gamma="real", M="integer", n_max="integer",
+                                seed="integer optional")),
+        EntryPoint("validation.self_affine_surface", validation.self_affine_surface,
+                   lambda: dict(n=_N, hurst=0.8, rms_height=1.0, seed=1),
+                   scalars=dict(n="integer", hurst="positive", rms_height="positive",
+                                L="positive", window="integer optional",
+                                seed="integer optional")),
         EntryPoint("validation.wm_surface(G)", validation.wm_surface,
                    lambda: dict(n=_N, D=2.3, G=1e-3, seed=1), scalars=dict(G="positive")),
         EntryPoint("validation.wm_amplitude", validation.wm_amplitude,
@@ -189,4 +262,27 @@ def table() -> tuple[EntryPoint, ...]:
                    lambda: dict(model=_curve(), reference=_curve(), sigma=0.01,
                                 quantities=("separation", "area")),
                    scalars=dict(sigma="positive")),
+        EntryPoint("validation.validity_range", _range,
+                   lambda: dict(loads=np.array([1.0, 2.0, 3.0]),
+                                errors=np.array([0.01, 0.5, 0.02]), tolerance=0.1,
+                                area_fraction=np.array([0.01, 0.02, 0.03])),
+                   scalars=dict(tolerance="positive"),
+                   arrays=dict(loads="", errors="nan inf", area_fraction="optional")),
+        EntryPoint("validation.compare_realizations", validation.compare_realizations,
+                   lambda: dict(results=_realizations(), tolerances=(0.05, 0.2)),
+                   scalars=dict(results="object", reference_model="choice optional"),
+                   arrays=dict(tolerances="")),
+        EntryPoint("validation.run_scenes", validation.run_scenes,
+                   lambda: dict(scenes=(), progress=False), scalars=dict(scenes="object")),
+        EntryPoint("validation.load_scene", validation.load_scene,
+                   lambda: dict(name_or_path="paper-theory"),
+                   scalars=dict(name_or_path="object")),
+        EntryPoint("validation.parse_scene", validation.parse_scene,
+                   lambda: dict(data={"kind": "theory", "theory": {"C": [5.0]}}),
+                   scalars=dict(data="object")),
+        EntryPoint("validation.read_topography", validation.read_topography,
+                   lambda: dict(path=_EXAMPLE, height_unit="um"),
+                   scalars=dict(path="object", height_unit="choice", detrend="choice optional",
+                                fill="choice optional", square="choice", reader="choice",
+                                channel="integer optional")),
     )

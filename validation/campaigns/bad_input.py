@@ -1,5 +1,7 @@
-"""Bad-input campaign: every public entry point against strings, None, NaN, +-inf, 1e+-300,
-complex numbers, empty and mis-shaped arrays, and read-only arrays.
+"""Bad-input campaign: every public entry point against strings (numeric ones too), bytes,
+None, NaN, +-inf, 1e+-300, complex numbers, arrays where a number or a name is expected,
+fractional counts, wrong-type objects, arrays of objects, empty and mis-shaped arrays, and
+read-only arrays.
 
 ``python benchmarks/bad_input_campaign.py`` prints the count of each outcome class; the test
 catalogue ``tests/test_bad_input.py`` draws from the same table with hypothesis. A new public
@@ -29,8 +31,8 @@ import numpy as np
 
 from validation.campaigns._bad_input_table import EntryPoint, table
 
-__all__ = ["EntryPoint", "entry_points", "BAD_SCALARS", "bad_arrays", "classify", "run_campaign",
-           "GOOD", "OUTCOMES"]
+__all__ = ["EntryPoint", "entry_points", "BAD_SCALARS", "NAMED_DOMAINS", "bad_arrays", "classify",
+           "run_campaign", "GOOD", "OUTCOMES"]
 
 OUTCOMES = ("clear error", "plausible result", "unclear error", "other exception",
             "non-finite result", "accepted bad input", "rejected valid input", "hang")
@@ -42,15 +44,21 @@ BAD_SCALARS: tuple[tuple[Any, str, bool], ...] = (
     ("0.5", "numeric string", True), ("abc", "string", True), (None, "None", True),
     (True, "True", True), (1 + 1j, "complex", True), (complex(0.5, 0.0), "complex real", True),
     (math.nan, "NaN", True), (math.inf, "+inf", True), (-math.inf, "-inf", True),
-    ([1.0], "list", True), (1e300, "1e300", False), (-1e300, "-1e300", False),
+    ([1.0], "list", True), (np.array([1.0, 2.0]), "array", True), (b"1", "bytes", True),
+    ("1e-6", "exponent string", True), (1e300, "1e300", False), (-1e300, "-1e300", False),
     (1e-300, "1e-300", False), (-1e-300, "-1e-300", False), (0.0, "0", False),
-    (-1.0, "-1", False), (0.5, "0.5 for an integer", False),
+    (-1.0, "-1", False), (-1, "-1 (int)", False), (0.5, "0.5 for an integer", False),
+    (2.5, "2.5 for an integer", False),
 )
+#: Scalar domains where no value of BAD_SCALARS is valid (None only when "optional").
+NAMED_DOMAINS = ("choice", "object")
 
 
 def _invalid_in_domain(value: Any, domain: str) -> bool:
     if value is None and "optional" in domain:
         return False
+    if domain.startswith(NAMED_DOMAINS):
+        return True
     if not isinstance(value, float):
         return False
     if domain.startswith("positive"):
@@ -76,6 +84,7 @@ def bad_arrays(valid: np.ndarray) -> tuple[tuple[Any, str, bool | None], ...]:
         (None, "None", True), ("abc", "string", True), (with_nan, "NaN entry", True),
         (with_inf, "inf entry", True), (valid.astype(complex) + 1j, "complex", True),
         (valid.astype(str), "strings", True), (np.zeros(valid.shape, dtype=bool), "bools", True),
+        (valid.astype(object), "objects", True),
         (valid * 1e300, "x 1e300", False), (valid * 1e-300, "x 1e-300", False),
         (np.zeros((0,) * valid.ndim), "empty", False), (valid.ravel()[:3] if valid.ndim > 1
                                                         else valid[:, None], "wrong ndim", False),
@@ -160,19 +169,21 @@ def cases(entry: EntryPoint):
     valid = entry.arguments()
     for parameter, domain in entry.scalars.items():
         for value, label, never_valid in BAD_SCALARS:
-            if label == "0.5 for an integer" and not domain.startswith("integer"):
+            if label.endswith("for an integer") and not domain.startswith("integer"):
                 continue
             invalid = _invalid_in_domain(value, domain) if value is None else (
                 never_valid or _invalid_in_domain(value, domain))
             yield parameter, value, label, invalid
         # a numpy scalar of the valid value must be accepted
-        if not domain.startswith("integer") and parameter in valid:
+        if not domain.startswith(("integer",) + NAMED_DOMAINS) and parameter in valid:
             yield parameter, np.float64(valid[parameter]), "numpy float", None
     for parameter, domain in entry.arrays.items():
         for value, label, invalid in bad_arrays(valid[parameter]):
             if value is None and "optional" in domain:
                 invalid = None
-            elif label == "inf entry" and "inf" in domain:
+            elif ((label == "inf entry" and "inf" in domain)
+                  or (label == "NaN entry" and "nan" in domain)
+                  or (label == "bools" and "mask" in domain)):
                 invalid = None
             yield parameter, value, label, invalid
 

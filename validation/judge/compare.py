@@ -238,6 +238,13 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
     return {name: dict(known[name]) for name in names if name in known}
 
 
+def _is_realization(item) -> bool:
+    """Whether ``item`` looks like a :class:`validation.run.runner.RealizationResult`."""
+    curves = getattr(item, "curves", None)
+    return (hasattr(item, "task") and isinstance(curves, dict)
+            and all(isinstance(curve, ContactCurve) for curve in curves.values()))
+
+
 def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
                          reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
     """Compare every model with the reference over the realizations of one sweep value (D, H).
@@ -259,13 +266,26 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     On a separation path the loads of point k differ between realizations and ``load`` is that
     of the first realization: read such a comparison as one per separation point.
     """
+    results = checks.instances("results", results, _is_realization, described=(
+        "realization results (validation.run.runner.RealizationResult: .task and .curves)"))
+    tolerances = tuple(float(t) for t in checks.real_array(
+        "tolerances", tolerances, ndim=1, min_size=1, minimum=0.0, exclusive=True))
+    if reference_model is not None and not isinstance(reference_model, str):
+        raise checks.InputTypeError(f"reference_model must be a model name or None, got "
+                                    f"{type(reference_model).__name__} {reference_model!r}")
+    if reference_fields is not None and not isinstance(reference_fields, dict):
+        raise checks.InputTypeError(f"reference_fields must be a dict (model -> {{quantity: "
+                                    f"field}}) or None, got {type(reference_fields).__name__}")
     if not results:
-        raise ValueError("no realizations to compare")
+        raise ValueError("results holds no realizations to compare")
     first = results[0]
-    reference_model = reference_model or models.reference_among(first.curves)
+    if reference_model is None:
+        reference_model = models.reference_among(first.curves)
     if reference_model is None or reference_model not in first.curves:
-        raise ValueError(f"the results hold no {reference_model or 'registered'} reference "
-                         f"curve (registered references: {', '.join(models.reference_names())})")
+        which = "registered" if reference_model is None else repr(reference_model)
+        raise ValueError(f"the results hold no {which} reference curve (reference_model must "
+                         f"be a model of the results; registered "
+                         f"references: {', '.join(models.reference_names())})")
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)

@@ -29,6 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from bem import checks
+
 __all__ = [
     "CONFIDENCE",
     "FAILS",
@@ -224,10 +226,16 @@ def verdict_range(loads: np.ndarray, holds: np.ndarray, tolerance: float,
     area_fraction : array, shape (k,), optional
         Reference area fraction per point, to report the area range too.
     """
-    loads = np.asarray(loads, dtype=float)
+    loads = checks.real_array("loads", loads, ndim=1, finite=False)
     holds = np.asarray(holds, dtype=bool)
-    if loads.shape != holds.shape or loads.ndim != 1:
-        raise ValueError("loads and verdicts must be 1-D arrays of one length")
+    if holds.shape != loads.shape:
+        raise ValueError(f"loads and holds must be 1-D arrays of one length, got shapes "
+                         f"{loads.shape} and {holds.shape}")
+    if area_fraction is not None:
+        area_fraction = checks.real_array("area_fraction", area_fraction, finite=False)
+        if area_fraction.shape != loads.shape:
+            raise ValueError(f"area_fraction must have the length of loads {loads.shape}, got "
+                             f"shape {area_fraction.shape}")
     # run lengths from the edges of the padded indicator
     edges = np.diff(np.concatenate(([0], holds.astype(np.int8), [0])))
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
@@ -237,7 +245,6 @@ def verdict_range(loads: np.ndarray, holds: np.ndarray, tolerance: float,
     first, last = int(starts[best]), int(stops[best] - 1)
     area_min = area_max = float("nan")
     if area_fraction is not None:
-        area_fraction = np.asarray(area_fraction, dtype=float)
         area_min, area_max = float(area_fraction[first]), float(area_fraction[last])
     return ValidityRange(tolerance, first, last, float(loads[first]), float(loads[last]),
                          area_min, area_max, last - first + 1, loads.size)
@@ -250,9 +257,14 @@ def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
     The range of a single error curve without its uncertainty (NaN counts as not holding);
     reports use :func:`classify` and :func:`verdict_range` instead.
     """
-    errors = np.asarray(errors, dtype=float)
-    if not tolerance > 0:
-        raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
+    errors = checks.real_array("errors", errors, finite=False)
+    tolerance = checks.positive("tolerance", tolerance)
+    loads = checks.real_array("loads", loads, ndim=1)
+    if errors.shape != loads.shape:
+        raise ValueError(f"loads and errors must be 1-D arrays of one length, got shapes "
+                         f"{loads.shape} and {errors.shape}")
+    if area_fraction is not None:
+        area_fraction = checks.real_array("area_fraction", area_fraction, ndim=1)
     with np.errstate(invalid="ignore"):
         holds = np.abs(errors) <= tolerance
     return verdict_range(loads, holds, tolerance, area_fraction)

@@ -221,11 +221,15 @@ def surface_text(scene, count: int) -> str:
         from validation.surfaces.families import file_digest, read_map
 
         scan = read_map(s)
-        side = scan.heights.shape[0]
+        rows, columns = s.grid
         family = (f"measured map `{pathlib.Path(s.path).name}` (SHA-256 "
-                  f"{file_digest(s.path)[:12]}…), {side} × {side} pixels of "
-                  f"{scan.spacing:.4g} {s.unit}, detrend {s.detrend}; realizations: {s.tiles} "
-                  f"non-overlapping tile(s) of {s.n} × {s.n} pixels, L = {s.L:.4g} {s.unit}; "
+                  f"{file_digest(s.path)[:12]}…), {' × '.join(map(str, scan.heights.shape))}"
+                  f"{' (uncropped)' if s.square == 'keep' else ''} pixels of "
+                  f"{scan.spacing:.4g} {s.unit}"
+                  f"{'' if s.resample == 'none' else f' (resampled to the {s.resample} spacing)'}"
+                  f", detrend {s.detrend}; realizations: {s.tiles} "
+                  f"non-overlapping tile(s) of {rows} × {columns} pixels, "
+                  f"{columns * s.spacing:.4g} × {rows * s.spacing:.4g} {s.unit}; "
                   f"lengths in {s.unit}")
     return (f"Surface: {family}; E* = {scene.e_star:g}; BEM "
             f"{'periodic' if scene.bem.periodic else 'non-periodic'}, tol {scene.bem.tol:g}.\n")

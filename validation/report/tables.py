@@ -46,6 +46,12 @@ def _column(values: dict, name: str, k: int) -> float:
     return math.nan if array is None else float(array[k])
 
 
+def _grid(surface) -> int | str:
+    """The grid column: n, or "rows x columns" of a rectangular tile."""
+    rows, columns = surface.grid
+    return rows if rows == columns else f"{rows}x{columns}"
+
+
 def _curve_rows(analysis) -> list[list]:
     from validation.judge.compare import converged_points
 
@@ -60,7 +66,7 @@ def _curve_rows(analysis) -> list[list]:
                 gap = np.asarray(curve.extras.get("mean_gap", np.full(curve.load.shape, np.nan)),
                                  dtype=float)
                 for k in range(curve.load.size):
-                    rows.append([result.scene.name, *sweep, r.task.seed, r.task.surface.n, model, k,
+                    rows.append([result.scene.name, *sweep, r.task.seed, _grid(r.task.surface), model, k,
                                  bool(converged[k])] + [_column(values, q, k) for q in
                                  ("load", "area", "separation", "conductance", "contacts")]
                                 + [float(curve.load[k]), float(curve.area[k]),

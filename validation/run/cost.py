@@ -25,6 +25,7 @@ Use at the call site (the runner's executor loop)::
 
 from __future__ import annotations
 
+import math
 from typing import Iterable
 
 from validation.run import models
@@ -61,7 +62,8 @@ def task_cost(task, computed: Iterable[str] | None = None) -> float:
     cost = 0.0
     references = [m for m in task.models if m in models.names() and models.entry(m).reference]
     if references and (log is None or any(m in log for m in references)):
-        bem = points * (task.surface.n / 256.0) ** BEM_EXPONENT
+        side = math.sqrt(math.prod(task.surface.grid))    # n, or sqrt(N M) of a tile
+        bem = points * (side / 256.0) ** BEM_EXPONENT
         cost += bem * (1.0 + (STIFFNESS_SHARE if _needs_stiffness(task.quantities) else 0.0))
     others = [m for m in task.models if m in models.names() and not models.entry(m).reference]
     # what counts is work that a cache hit saves: the summits and the cached models' paths
@@ -77,9 +79,9 @@ def schedule(tasks) -> list:
     a rate is learnt for each size early), then the rest longest first (a short makespan: no
     long task is left to run alone at the end)."""
     ordered = sorted(tasks, key=task_cost, reverse=True)
-    first: dict[int, object] = {}
+    first: dict[tuple[int, int], object] = {}
     for task in ordered:
-        first.setdefault(task.surface.n, task)
+        first.setdefault(task.surface.grid, task)
     leaders = list(first.values())
     return leaders + [task for task in ordered if task not in leaders]
 
@@ -110,11 +112,11 @@ def remaining_seconds(done, pending, workers: int = 1, elapsed: float | None = N
         that N, the first one left out once there are two (it also pays one-off set-up); an N
         not seen yet uses the rate of all done tasks.
     """
-    spent: dict[int, list[tuple[float, float]]] = {}
+    spent: dict[tuple[int, int], list[tuple[float, float]]] = {}
     for task, result in done:
         cost = task_cost(task, result.computed)
         if cost > 0:
-            spent.setdefault(task.surface.n, []).append((sum(result.seconds.values()), cost))
+            spent.setdefault(task.surface.grid, []).append((sum(result.seconds.values()), cost))
     if not spent:
         return None
     timed = sum(s for pairs in spent.values() for s, _ in pairs)
@@ -124,6 +126,6 @@ def remaining_seconds(done, pending, workers: int = 1, elapsed: float | None = N
     totals = {n: (sum(s for s, _ in pairs), sum(c for _, c in pairs)) for n, pairs in spent.items()}
     overall = sum(s for s, _ in totals.values()) / sum(c for _, c in totals.values())
     rates = {n: s / c for n, (s, c) in totals.items()}
-    total = sum(task_cost(t) * rates.get(t.surface.n, overall) for t in pending)
+    total = sum(task_cost(t) * rates.get(t.surface.grid, overall) for t in pending)
     scale = elapsed * max(1, int(workers)) / timed if elapsed and timed > 0 else 1.0
     return scale * total / max(1, int(workers))

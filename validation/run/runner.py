@@ -35,6 +35,7 @@ from typing import Callable, Iterable
 
 import numpy as np
 
+from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.run import models
 from validation.run.cache import Cache, cache_key
@@ -119,7 +120,7 @@ class RealizationTask:
     def describe(self) -> str:
         s = self.surface
         if s.family == "file":
-            return f"tile={self.seed + 1}/{s.tiles} n={s.n}"
+            return f"tile={self.seed + 1}/{s.tiles} grid={'x'.join(map(str, s.grid))}"
         return f"{s.sweep_name}={self.sweep_value:g} seed={self.seed} n={s.n}"
 
 
@@ -278,7 +279,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     quantities = ("area", "load", "separation", "contacts") + (
         ("stiffness", "conductance") if _needs_stiffness(task.quantities) else ())
     values = np.array(task.loads.values())
-    nominal_area = task.surface.L**2
+    nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
     loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None
     inputs = ModelInputs(spacing=task.surface.spacing, nominal_area=nominal_area,
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
@@ -286,7 +287,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                                           max_iter=task.bem.max_iter,
                                           # the half grid must cover the same window
                                           error_estimate=task.bem.reference_error
-                                          and task.surface.n % 2 == 0))
+                                          and not any(side % 2 for side in task.surface.grid)))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
@@ -349,7 +350,13 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     """
     from validation.run.theory import theory_curves
 
-    scenes = list(scenes)
+    scenes = list(checks.instances("scenes", scenes, Scene))
+    checks.flag("progress", progress)
+    if cache_dir is not None:
+        checks.file_path("cache_dir", cache_dir)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
+                                    f"submit method) or None, got {type(executor).__name__}")
     names = [scene.name for scene in scenes]
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:

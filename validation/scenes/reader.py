@@ -14,6 +14,8 @@ import tomllib
 from importlib import resources
 from typing import Any, Iterator
 
+from bem.checks import InputTypeError, file_path
+
 from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
                               Scene, SceneError, SurfaceSpec, TheorySpec, defaults)
 
@@ -113,7 +115,8 @@ _SURFACE_KINDS = dict(
     D="numbers", rms_slope="number", G="number", gamma="number", M="integer", n_max="integer",
     L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
     rolloff="number", short_cutoff="number", window="integer", path="string",
-    physical_size="any", file_unit="string", unit="string", detrend="string", tiles="integer")
+    physical_size="any", file_unit="string", unit="string", detrend="string", resample="string",
+    square="string", tiles="integer")
 #: Keys a family needs in a file: each entry is one key, or alternatives (one of them).
 _SURFACE_REQUIRED = {"wm": ("D", ("rms_slope", "G")),
                      "self-affine": ("hurst", ("rms_slope", "rms_height")), "file": ("path",)}
@@ -197,6 +200,9 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     SceneError
         Naming the key and ``source``.
     """
+    if not isinstance(data, dict):
+        raise InputTypeError(f"data must be a dict (a parsed TOML scene), got "
+                             f"{type(data).__name__}")
     top = _Reader(data, "", source)
     base = defaults(Scene)
     scene_name = top.get("name", name or "scene", "string")
@@ -228,6 +234,8 @@ def load_scene(name_or_path: str | pathlib.Path) -> Scene:
     SceneError
         When the file does not exist, is not valid TOML, or holds an invalid scene.
     """
+    if not isinstance(name_or_path, str):
+        file_path("name_or_path", name_or_path)
     source, builtin = str(name_or_path), builtin_scenes()
     if isinstance(name_or_path, str) and name_or_path in builtin:
         resource = resources.files("validation") / "scenes" / f"{name_or_path}.toml"
@@ -237,7 +245,8 @@ def load_scene(name_or_path: str | pathlib.Path) -> Scene:
         path = pathlib.Path(name_or_path)
         if not path.is_file():
             raise SceneError(f"{source}: no such scene file, and not a built-in scene "
-                             f"(built-in: {', '.join(builtin)})")
+                             f"(name_or_path must be a scene file or one of the built-in: "
+                             f"{', '.join(builtin)})")
         text, stem, folder = path.read_text(encoding="utf-8"), path.stem, path.parent
     try:
         data = tomllib.loads(text)

@@ -7,10 +7,11 @@ A scene's ``[surface] family`` says how realization ``k`` of it is made:
   seed ``k``, cut as a non-periodic window from a periodic surface ``window`` times larger per
   side (the BEM solves non-periodic windows, as for a measured map);
 * ``"file"``: tile ``k`` of a measured height map read once by
-  :func:`validation.read_topography`; ``tiles = k^2`` cuts it into k x k non-overlapping square
-  tiles, row by row.
+  :func:`validation.read_topography`; ``tiles = k^2`` cuts it into k x k non-overlapping
+  tiles, row by row (square tiles of a cropped map, rectangular ones of a map kept whole).
 
-Every maker returns heights on the task's ``n x n`` grid of side ``L``. For WM and self-affine
+Every maker returns heights on the task's ``n x n`` grid of side ``L`` (a measured map's tiles
+may be rectangular: :attr:`validation.scenes.scene.SurfaceSpec.grid`). For WM and self-affine
 surfaces ``slope_grid`` is the grid on which ``rms_slope`` fixes the amplitude, so that grids of
 several sizes (a mesh-convergence study) sample the *same* continuous surface; the runner uses
 the task's own grid (the BEM's per-point error estimate subsamples the same heights).
@@ -47,9 +48,10 @@ def file_digest(path: str) -> str:
 
 @functools.lru_cache(maxsize=8)
 def _read(path: str, digest: str, physical_size, unit: str, detrend: str | None,
-          file_unit: str | None) -> Topography:
+          file_unit: str | None, resample: str | None = None, square: str = "crop"
+          ) -> Topography:
     return read_topography(path, physical_size=physical_size, height_unit=unit, detrend=detrend,
-                           file_unit=file_unit)
+                           file_unit=file_unit, resample=resample, square=square)
 
 
 def read_map(surface) -> Topography:
@@ -57,17 +59,19 @@ def read_map(surface) -> Topography:
     (heights and spacing in ``surface.unit``), read once per process and per file content."""
     s = surface
     return _read(s.path, file_digest(s.path), s.physical_size, s.unit,
-                 None if s.detrend == "none" else s.detrend, s.file_unit)
+                 None if s.detrend == "none" else s.detrend, s.file_unit,
+                 None if s.resample == "none" else s.resample, s.square)
 
 
 def tile(heights: np.ndarray, tiles: int, index: int) -> np.ndarray:
-    """Tile ``index`` (row by row) of the ``k x k`` non-overlapping square tiles of a square
-    map, ``tiles = k^2``; each of side ``len(heights) // k`` pixels, mean removed (the mean
-    plane of the tile, as for every surface of a scene)."""
+    """Tile ``index`` (row by row) of the ``k x k`` non-overlapping tiles of a map,
+    ``tiles = k^2``; each of ``rows // k`` x ``columns // k`` pixels (square tiles of a square
+    map), mean removed (the mean plane of the tile, as for every surface of a scene)."""
     per_side = round(tiles ** 0.5)
-    side = heights.shape[0] // per_side
+    rows, columns = (side // per_side for side in heights.shape)
     row, column = divmod(index, per_side)
-    part = np.array(heights[row * side:(row + 1) * side, column * side:(column + 1) * side])
+    part = np.array(heights[row * rows:(row + 1) * rows,
+                            column * columns:(column + 1) * columns])
     return part - part.mean()
 
 
@@ -121,6 +125,12 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
                     rms_height=s.rms_height, long_cutoff=s.long_cutoff, rolloff=s.rolloff,
                     short_cutoff=s.short_cutoff, window=s.window, L=s.L, n=s.n, seed=seed,
                     slope_grid=grid)
-    return dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
-                file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles, tile=seed,
-                n=s.n)
+    identity = dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
+                    file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles,
+                    tile=seed, n=s.n)
+    # absent by default, so that the cache keys of cropped maps on square pixels stay
+    identity.update({key: getattr(s, key) for key, default in (("resample", "none"),
+                     ("square", "crop")) if getattr(s, key) != default})
+    if s.square == "keep":
+        identity["shape"] = list(s.grid)
+    return identity

@@ -25,6 +25,7 @@ import math
 import numpy as np
 
 from asperity.spectrum import power_spectrum_2d
+from bem import checks
 from bem.checks import integer, positive, real_number
 from validation.surfaces.wm import surface_statistics
 
@@ -159,7 +160,7 @@ def self_affine_surface(
     hurst = real_number("hurst", hurst, minimum=0.0, exclusive=True)
     if hurst > 1.0:
         raise ValueError(f"hurst must lie in (0, 1], got {hurst!r}")
-    L = positive("L", L)
+    L = checks.supported_magnitude("L", positive("L", L))
     spacing = L / n
     period = grid * spacing
     if (rms_height is None) == (rms_slope is None):
@@ -179,7 +180,7 @@ def self_affine_surface(
     if short_cutoff >= rolloff:
         raise ValueError(f"short_cutoff must be < rolloff = {rolloff:g}, got {short_cutoff!r}")
 
-    rng = np.random.default_rng(seed)
+    rng = checks.random_generator("seed", seed)
     noise = np.fft.rfft2(rng.standard_normal((grid, grid)))
     q_y = 2.0 * np.pi * np.fft.fftfreq(grid, d=spacing)
     q_x = 2.0 * np.pi * np.fft.rfftfreq(grid, d=spacing)

@@ -23,7 +23,8 @@ FAMILY_KEYS = {
     "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n"),
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
                     "window", "L", "n"),
-    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "tiles", "n"),
+    "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
+             "tiles", "n"),
 }
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
@@ -48,9 +49,14 @@ class SurfaceSpec:
     ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
     the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
     ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
-    ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
-    :data:`MIN_TILE` pixels). ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the
-    file: an explicit value must agree. ``digest`` is the SHA-256 of the file when read.
+    ``resample`` ("none", or "finer"/"coarser": non-square pixels onto square ones of the finer
+    or coarser spacing, :func:`validation.read_topography`), ``square`` ("crop": a rectangular
+    map is cropped to its largest centred square; "keep": it is used whole),
+    ``tiles = k^2`` non-overlapping tiles as realizations, k x k of the map (each at least
+    :data:`MIN_TILE` pixels per side). ``shape`` (rows, columns of a tile), ``n`` (its rows)
+    and ``L`` (the square root of its area [unit]: its side when square, so that the nominal
+    area is ``L^2`` for every family) follow from the file: an explicit ``n`` or ``L`` must
+    agree.
 
     Other families' parameters must keep their defaults.
     """
@@ -75,12 +81,15 @@ class SurfaceSpec:
     file_unit: str | None = None
     unit: str = "m"
     detrend: str = "plane"
+    resample: str = "none"
+    square: str = "crop"
     tiles: int = 1
+    shape: tuple[int, int] | None = None      # derived: (rows, columns) of a measured tile
 
     def __post_init__(self) -> None:
         check.choice(self, "family", FAMILIES)
         base = {f.name: f.default for f in fields(self)}
-        derived = ("n", "L") if self.family == "file" else ()
+        derived = ("n", "L", "shape") if self.family == "file" else ()
         for key, default in base.items():
             if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
                     and getattr(self, key) != default:
@@ -136,6 +145,8 @@ class SurfaceSpec:
             object.__setattr__(self, "physical_size", tuple(self.physical_size))
         check.choice(self, "unit", tuple(LENGTH_UNITS))
         check.choice(self, "detrend", ("plane", "mean", "none"))
+        check.choice(self, "resample", ("none", "finer", "coarser"))
+        check.choice(self, "square", ("crop", "keep"))
         check.integer(self, "tiles", 1)
         per_side = math.isqrt(self.tiles)
         if per_side**2 != self.tiles:
@@ -146,13 +157,16 @@ class SurfaceSpec:
         try:
             scan = read_map(self)
         except (ValueError, ImportError) as error:
-            key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
+            key = next((k for k in ("physical_size", "file_unit", "resample")
+                        if k in str(error)), "path")
             check.fail(self, key, f"does not give a readable height map: {error}")
-        side = scan.heights.shape[0] // per_side
-        if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
-            check.fail(self, "tiles", f"= {self.tiles} cuts the {scan.heights.shape[0]}-pixel map "
-                       f"into tiles of {side} pixels; at least {MIN_TILE} are needed")
-        for key, value in (("n", side), ("L", side * scan.spacing)):
+        rows, columns = (side // per_side for side in scan.heights.shape)
+        if min(rows, columns) < MIN_TILE:
+            map_shape = " x ".join(map(str, scan.heights.shape))
+            check.fail(self, "tiles", f"= {self.tiles} cuts the {map_shape}-pixel map into tiles "
+                       f"of {rows} x {columns} pixels; at least {MIN_TILE} per side are needed")
+        object.__setattr__(self, "shape", (rows, columns))
+        for key, value in (("n", rows), ("L", math.sqrt(rows * columns) * scan.spacing)):
             given = getattr(self, key)
             if given is not None and not math.isclose(given, value, rel_tol=1e-9):
                 check.fail(self, key, f"= {given!r} conflicts with the tile of the file "
@@ -160,9 +174,15 @@ class SurfaceSpec:
             object.__setattr__(self, key, value if key == "L" else int(value))
 
     @property
+    def grid(self) -> tuple[int, int]:
+        """(rows, columns) of a realization: ``(n, n)``, or a measured tile's shape."""
+        return (self.n, self.n) if self.shape is None else self.shape
+
+    @property
     def spacing(self) -> float:
-        """Grid spacing L / n [length]."""
-        return self.L / self.n
+        """Grid spacing [length]: L / n, L / sqrt(rows columns) for a rectangular tile."""
+        rows, columns = self.grid
+        return self.L / (self.n if rows == columns else math.sqrt(rows * columns))
 
     @property
     def sweep_name(self) -> str:

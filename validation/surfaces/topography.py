@@ -25,7 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem.checks import frozen_array, positive
+from bem.checks import choice, file_path, frozen_array, optional_integer, positive
+from validation.surfaces.resample import RESAMPLE, resample_square
 
 __all__ = ["LENGTH_UNITS", "Topography", "read_topography", "write_gwyddion_ascii"]
 
@@ -223,6 +224,7 @@ def read_topography(
     file_unit: str | None = None,
     channel: int | None = None,
     reader: str = "auto",
+    resample: str | None = None,
 ) -> Topography:
     """Read a measured height map into heights [height_unit] and a grid spacing.
 
@@ -246,8 +248,8 @@ def read_topography(
         default; filled with the mean of the valid heights, or interpolated (piecewise linear
         inside the valid points' hull, nearest valid value outside) when asked.
     square : {"crop", "keep"}
-        A non-square map is cropped to its largest centred square (default; the contact
-        models take square grids), or kept rectangular.
+        A non-square map is cropped to its largest centred square (default), or kept
+        rectangular (every contact model takes N x M grids of square pixels).
     file_unit : str, optional
         Unit of the numbers in a file that states none (``.npy``, bare text); required then.
     channel : int, optional
@@ -256,6 +258,17 @@ def read_topography(
         ``.npy`` read with ``reader="surfacetopography"`` comes back transposed).
     reader : {"auto", "builtin", "surfacetopography"}
         Force the built-in reader or SurfaceTopography's.
+    resample : {None, "finer", "coarser"}
+        Pixels that are not square (dx != dy) are an error by default; with this option the
+        map is resampled onto square pixels of the finer or the coarser of the two spacings,
+        along the one axis whose spacing changes, keeping the physical size to within half a
+        new pixel (:func:`validation.surfaces.resample.resample_square`: a cubic spline at the new
+        centres, or its mean over each new pixel). Effect on the spectrum (docs/theory.md,
+        "7.6 Measured maps: non-square pixels and rectangular maps"): refining adds no
+        wavevectors beyond the old Nyquist pi/dy and attenuates those just below it (to 0.49
+        in amplitude at pi/dy); coarsening removes the band above the new Nyquist pi/h, and
+        the pixel mean damps but does not remove its folding back. Missing points are filled
+        first (``fill``); square pixels are left as they are.
 
     Returns
     -------
@@ -266,19 +279,20 @@ def read_topography(
     ------
     ValueError
         Line scans, missing data without ``fill``, missing size or unit, pixels that are not
-        square, unknown units or options, unreadable files.
+        square (without ``resample``), unknown units or options, unreadable files.
     ImportError
         An instrument format without the ``[topography]`` extra installed.
     """
-    path = pathlib.Path(path)
+    path = file_path("path", path)
     if not path.is_file():
         raise ValueError(f"path must be an existing file, got {str(path)!r}")
     for name, value, allowed in (("detrend", detrend, ("plane", "mean", None)),
                                  ("fill", fill, (None, "mean", "interpolate")),
                                  ("square", square, ("crop", "keep")),
-                                 ("reader", reader, ("auto", "builtin", "surfacetopography"))):
-        if value not in allowed:
-            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+                                 ("reader", reader, ("auto", "builtin", "surfacetopography")),
+                                 ("resample", resample, (None, *RESAMPLE))):
+        choice(name, value, allowed)
+    optional_integer("channel", channel, minimum=0)
     out_factor = _unit_factor("height_unit", height_unit)
     if file_unit is not None:
         _unit_factor("file_unit", file_unit)
@@ -301,8 +315,12 @@ def read_topography(
     rows, columns = heights.shape
     spacing, spacing_y = width / columns, height / rows
     if not math.isclose(spacing, spacing_y, rel_tol=1e-6):
-        raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = {spacing_y:g} "
-                         f"{height_unit}); resample the map first")
+        if resample is None:
+            raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = "
+                             f"{spacing_y:g} {height_unit}); pass resample='finer' or "
+                             "'coarser' to resample the map onto square pixels")
+        heights, spacing = resample_square(_clean(heights, None, fill, path), spacing,
+                                           spacing_y, resample)
     heights = _clean(_crop(heights) if square == "crop" else heights, detrend, fill, path)
     heights *= file_factor / out_factor
     return Topography(heights=frozen_array(heights), spacing=spacing,

@@ -158,8 +158,8 @@ def wm_surface(
         rms_slope = checks.supported_magnitude("rms_slope", checks.positive("rms_slope",
                                                                             rms_slope))
 
+    rng = checks.random_generator("seed", seed)
     if phases is None:
-        rng = np.random.default_rng(seed)
         phases = rng.uniform(0.0, 2.0 * np.pi, size=(M, n_max + 1))
     else:
         phases = checks.real_array("phases", phases)
