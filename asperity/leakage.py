@@ -183,7 +183,8 @@ def rigid_gaussian_aperture(separation: ArrayLike, height_rms: float, *,
     separation : array_like
         d [length] from the mean plane of the heights (any shape; +inf gives +inf).
     height_rms : float
-        Standard deviation s > 0 of the heights z ~ N(0, s^2) [length].
+        Standard deviation s >= 0 of the heights z ~ N(0, s^2) [length]; s = 0 (a flat
+        surface) gives the uniform gap max(d, 0).
     critical_area : float
         Threshold a_c of the effective medium (L2).
 
@@ -196,8 +197,10 @@ def rigid_gaussian_aperture(separation: ArrayLike, height_rms: float, *,
         Gauss-Legendre in z (256 nodes), within 1e-10 relative of adaptive quadrature.
     """
     d = points("separation", separation, allow_infinity=True)
-    s = real_number("height_rms", height_rms, minimum=0.0, exclusive=True)
+    s = real_number("height_rms", height_rms, minimum=0.0)
     k = _depolarisation(critical_area)
+    if s == 0:                                   # a flat surface: a uniform gap, or contact
+        return np.where(d > 0, d, 0.0)
     t = (d / s).ravel()
     out = np.where(np.isinf(t), np.inf, 0.0)
     bearing = special.ndtr(-t)

@@ -134,7 +134,7 @@ def test_a_density_on_a_grid_matches_its_samples():
     (lambda: effective_medium_aperture([1.0], contact_fraction=1.5), "contact_fraction"),
     (lambda: effective_medium_aperture([1.0], critical_area=1.0), "critical_area"),
     (lambda: effective_medium_aperture([]), "gaps"),
-    (lambda: rigid_gaussian_aperture(1.0, 0.0), "height_rms"),
+    (lambda: rigid_gaussian_aperture(1.0, -1e-3), "height_rms"),
     (lambda: rigid_gaussian_aperture(np.nan, 1.0), "separation"),
     (lambda: two_phase_aperture(1.0, 1.2), "area_fraction"),
 ])
@@ -167,6 +167,7 @@ def test_rigid_gaussian_gap_grows_with_the_separation_and_tends_to_it():
     deviation = rigid_gaussian_aperture(t, 1.0) / t - (1.0 - 0.5 / t**2)
     assert np.all(np.abs(deviation) < 10.0 / t**4)
     assert rigid_gaussian_aperture(np.inf, 1.0) == np.inf
+    np.testing.assert_array_equal(rigid_gaussian_aperture([-1.0, 0.0, 2.0], 0.0), [0, 0, 2.0])
     assert rigid_gaussian_aperture(2.0, 1.0).shape == ()
 
 
