@@ -39,3 +39,9 @@ from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum  # noqa: 
 
 __all__ += ["Persson", "PERSSON_QUANTITIES", "separation_kernel", "IsotropicSpectrum",
             "radial_power_spectrum"]
+
+# Nayak's summit statistics from the moments m0, m2, m4 (GW from the spectrum, McCool 1986).
+from asperity.spectral_summits import (  # noqa: E402
+    SpectralMoments, SpectralSummits, spectral_moments, spectral_summits)
+
+__all__ += ["SpectralMoments", "SpectralSummits", "spectral_moments", "spectral_summits"]
