@@ -229,13 +229,14 @@ class SpectralSummits:
 
         Gaussian summit heights of mean :attr:`mean` and standard deviation :attr:`sigma`,
         radius :attr:`radius`, density :attr:`density`, on the nominal area ``area``
-        [length^2], composite modulus ``e_star`` [pressure]. Returns an
+        [length^2], composite modulus ``e_star`` [pressure]; the heights' rms sqrt(m0) sets the
+        rigid gap of its ``leakage``. Returns an
         :class:`asperity.GreenwoodWilliamson`.
         """
         from asperity.greenwood_williamson import GreenwoodWilliamson
 
         return GreenwoodWilliamson(self.density, self.radius, self.sigma, mean=self.mean,
-                                   e_star=e_star, area=area)
+                                   e_star=e_star, area=area, height_rms=math.sqrt(self.m0))
 
     def improved_greenwood_williamson(self, area: float, m: float = 1.0, *,
                                       e_star: float = 1.0):
@@ -243,7 +244,8 @@ class SpectralSummits:
         from asperity.greenwood_williamson import ImprovedGreenwoodWilliamson
 
         return ImprovedGreenwoodWilliamson(self.density, self.radius, self.sigma,
-                                           mean=self.mean, e_star=e_star, area=area, m=m)
+                                           mean=self.mean, e_star=e_star, area=area, m=m,
+                                           height_rms=math.sqrt(self.m0))
 
 
 def spectral_summits(m0: float, m2: float, m4: float) -> SpectralSummits:
