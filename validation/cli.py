@@ -11,7 +11,9 @@ import argparse
 import os
 import pathlib
 import shlex
+import signal
 import sys
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 
@@ -22,27 +24,64 @@ from validation.scene import SceneError, builtin_scenes, load_scene
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")
 
 
+#: Exit status of a run stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
+INTERRUPTED = 130
+
+
 def _worker_init(threads: int) -> None:
     # Each worker process gets its share of the cores for its FFTs (read at every operator
     # build, so setting it here, after the worker imported numpy, still takes effect).
     os.environ["ASPERITY_FFT_THREADS"] = str(threads)
+    # Ctrl-C in a terminal reaches the whole process group: the workers leave it to the main
+    # process, which ends them (no traceback per worker, no worker dying between tasks).
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _end_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop a process pool now: queued realizations cancelled, running workers terminated
+    (a realization cut short leaves no cache entry: entries are renamed into place whole)."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in workers:
+        if process.is_alive():
+            process.terminate()
+    for process in workers:
+        process.join(timeout=5)
 
 
 def _executor(args: argparse.Namespace):
+    """The executor of ``args`` and two ways to end it: ``close()`` after a finished run and
+    ``abort()`` after an interruption (returns at once, nothing left running here)."""
     if args.scheduler:
         try:
             from dask.distributed import Client
         except ImportError:
-            raise SystemExit(
-                "--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
+            raise SystemExit("--scheduler needs dask.distributed: "
+                             "pip install 'asperity-validation[distributed]'") from None
         client = Client(args.scheduler)
-        return client.get_executor(), client.close
+        # the runner cancels the submitted futures (on the cluster too) before the abort
+        return client.get_executor(), client.close, client.close
     if args.jobs <= 1:
-        return None, lambda: None
+        return None, lambda: None, lambda: None
     cores = os.cpu_count() or 1
     pool = ProcessPoolExecutor(max_workers=args.jobs, initializer=_worker_init,
                                initargs=(max(1, cores // args.jobs),))
-    return pool, pool.shutdown
+    return pool, pool.shutdown, lambda: _end_pool(pool)
+
+
+def _interrupt_once(signum, frame) -> None:
+    """SIGINT handler: the first Ctrl-C interrupts, later ones are ignored while the run shuts
+    down (a second Ctrl-C must not interrupt the shutdown and leave workers behind)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def _interrupted(cache_dir: str | None) -> int:
+    kept = ("nothing was kept (--no-cache)" if cache_dir is None else
+            f"finished realizations are kept in the cache {cache_dir}: the same command "
+            "resumes from there")
+    print(f"\ninterrupted: {kept}", file=sys.stderr)
+    return INTERRUPTED
 
 
 def _load_scene(name: str):
@@ -84,12 +123,17 @@ def _report(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    executor, close = _executor(args)
+    executor, close, abort = _executor(args)
     start = time.perf_counter()
     try:
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=not args.quiet)
-    finally:
-        close()
+    except KeyboardInterrupt:
+        abort()
+        return _interrupted(cache_dir)
+    except BaseException:
+        abort()
+        raise
+    close()
     seconds = time.perf_counter() - start
     command = "python -m validation " + shlex.join(args.argv)
     path = write_report(results, args.out, seconds=seconds, mode=mode, command=command)
@@ -177,8 +221,18 @@ def main(argv: list[str] | None = None) -> int:
     stress.set_defaults(handler=_stress)
     args = parser.parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, _interrupt_once) if main_thread else None
     try:
-        return args.handler(args)
+        status = args.handler(args)
     except SceneError as error:
         print(f"error: {error}", file=sys.stderr)
-        return 2
+        status = 2
+    except KeyboardInterrupt:
+        print("\ninterrupted", file=sys.stderr)
+        status = INTERRUPTED
+    # After an interruption SIGINT stays ignored: a further Ctrl-C while the interpreter
+    # exits would otherwise end it with a traceback instead of the status.
+    if main_thread and status != INTERRUPTED:
+        signal.signal(signal.SIGINT, previous)
+    return status

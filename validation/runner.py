@@ -318,14 +318,23 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
                                     time.perf_counter() - started) if pending else 0.0
             bar.advance(task.describe(), eta=eta)
 
-    if executor is None:
-        for task in tasks:
-            finished(task, run_realization(task))
-    else:
-        futures: dict[Future, RealizationTask] = {executor.submit(run_realization, t): t
-                                                  for t in tasks}
-        for future in as_completed(futures):
-            finished(futures[future], future.result())
+    futures: dict[Future, RealizationTask] = {}
+    try:
+        if executor is None:
+            for task in tasks:
+                finished(task, run_realization(task))
+        else:
+            futures = {executor.submit(run_realization, t): t for t in tasks}
+            for future in as_completed(futures):
+                finished(futures[future], future.result())
+    except BaseException:
+        # interrupted (Ctrl-C) or a realization failed: nothing queued may start any more
+        for future in futures:
+            future.cancel()
+        raise
+    finally:
+        if bar:
+            bar.close()
     return results
 
 
