@@ -39,6 +39,7 @@ from validation.verdicts import (
 __all__ = [
     "ABSOLUTE_QUANTITIES",
     "COMPARED_QUANTITIES",
+    "NOT_ESTIMATED",
     "RELATIVE_QUANTITIES",
     "Comparison",
     "ErrorSummary",
@@ -56,6 +57,8 @@ __all__ = [
 RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
 #: Quantities compared by absolute error in units of sigma.
 ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
+#: Band source of a reference field without error estimates (its band is NaN).
+NOT_ESTIMATED = "not estimated"
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
 COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
@@ -196,7 +199,8 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
     """Reference band of one field per point, and where it came from.
 
     Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
-    over realizations of |error| in the comparison's measure. Otherwise zero ("not estimated").
+    over realizations of |error| in the comparison's measure. Otherwise NaN, "not estimated":
+    an unknown band is never taken as zero (every verdict against it is undecided).
     """
     curves = [r.curves[reference_model] for r in results]
     points = curves[0].load.shape
@@ -208,7 +212,7 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
         else:
             scale = np.vstack([_field(c, field_name) for c in curves])
         return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
-    return np.zeros(points), "not estimated"
+    return np.full(points, np.nan), NOT_ESTIMATED
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,

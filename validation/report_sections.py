@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from validation.compare import ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, Comparison
+from validation.compare import ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, NOT_ESTIMATED, Comparison
 from validation.labels import compared_label, model_label, model_order, model_rank
 from validation.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                  verdict_strip)
@@ -163,6 +163,17 @@ def findings_section(analyses: list[Analysis]) -> list[str]:
     return lines + [" ".join(part.split()) + "\n" for part in rules]
 
 
+def _band_cell(band: np.ndarray | None, quantity: str) -> str:
+    """The largest reference band of a row; "not estimated" where it is unknown (NaN), never a
+    number standing in for it."""
+    band = np.full(1, np.nan) if band is None else np.asarray(band, dtype=float)
+    known = np.isfinite(band)
+    if not known.any():
+        return NOT_ESTIMATED
+    text = _percent_or_sigma(float(np.max(band[known])), quantity)
+    return text if known.all() else f"{text} ({NOT_ESTIMATED} at {np.count_nonzero(~known)} of {band.size} points)"
+
+
 def _verdict_rows(comparison: Comparison) -> list[list[str]]:
     rows = []
     keys = sorted(comparison.models,
@@ -174,9 +185,7 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
             counts = entry.counts(index)
             cells += [f"`{verdict_strip(entry.verdicts[index])}`",
                       f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}", rng.describe()]
-        band = entry.band if entry.band is not None else np.array([np.nan])
-        cells.append(_percent_or_sigma(float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                       else np.nan, entry.quantity))
+        cells.append(_band_cell(entry.band, entry.quantity))
         cells.append(str(entry.unconverged) if entry.unconverged else "–")
         rows.append(cells)
     return rows

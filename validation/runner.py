@@ -281,9 +281,8 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
                          bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
                                           max_iter=task.bem.max_iter,
-                                          # the half grid must cover the same window
-                                          error_estimate=task.bem.reference_error
-                                          and task.surface.n % 2 == 0))
+                                          # an even grid: the scene checks it
+                                          error_estimate=task.bem.reference_error))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):

@@ -215,6 +215,16 @@ class Scene:
                        "window is not periodic)")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
+        elif self.kind == "surface" and self.bem.reference_error:
+            # the reference band comes from the same surface on every second grid point, which
+            # covers the same window only on an even grid (a measured map's tiles are made even)
+            for key, n in (("surface.n", self.surface.n), ("quick.n", self.quick.n)):
+                if n % 2:
+                    check.fail(self, key, f"must be even when bem.reference_error = true (the "
+                               f"BEM's error band is estimated on every second grid point, "
+                               f"which spans the same window only on an even grid); use "
+                               f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
+                               f"band: every verdict then stays undecided)")
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""

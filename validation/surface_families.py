@@ -8,7 +8,7 @@ A scene's ``[surface] family`` says how realization ``k`` of it is made:
   side (the BEM solves non-periodic windows, as for a measured map);
 * ``"file"``: tile ``k`` of a measured height map read once by
   :func:`validation.read_topography`; ``tiles = k^2`` cuts it into k x k non-overlapping square
-  tiles, row by row.
+  tiles, row by row, each of an even number of pixels per side (:func:`tile_side`).
 
 Every maker returns heights on the task's ``n x n`` grid of side ``L``. For WM and self-affine
 surfaces ``slope_grid`` is the grid on which ``rms_slope`` fixes the amplitude, so that grids of
@@ -31,7 +31,7 @@ from validation.self_affine import self_affine_surface
 from validation.surfaces import surface_statistics, wm_surface
 from validation.topography import Topography, read_topography
 
-__all__ = ["surface_heights", "surface_identity", "read_map", "tile", "file_digest"]
+__all__ = ["surface_heights", "surface_identity", "read_map", "tile", "tile_side", "file_digest"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -60,15 +60,29 @@ def read_map(surface) -> Topography:
                  None if s.detrend == "none" else s.detrend, s.file_unit)
 
 
-def tile(heights: np.ndarray, tiles: int, index: int) -> np.ndarray:
+def tile(heights: np.ndarray, tiles: int, index: int, side: int | None = None) -> np.ndarray:
     """Tile ``index`` (row by row) of the ``k x k`` non-overlapping square tiles of a square
-    map, ``tiles = k^2``; each of side ``len(heights) // k`` pixels, mean removed (the mean
+    map, ``tiles = k^2``; each of ``side`` pixels per side (default ``len(heights) // k``; a
+    scene uses :func:`tile_side`) from the top-left corner of its cell, mean removed (the mean
     plane of the tile, as for every surface of a scene)."""
     per_side = round(tiles ** 0.5)
-    side = heights.shape[0] // per_side
+    cell = heights.shape[0] // per_side
+    side = cell if side is None else side
+    if not 0 < side <= cell:
+        raise ValueError(f"side must be in [1, {cell}] for {tiles} tiles of a "
+                         f"{heights.shape[0]}-pixel map, got {side!r}")
     row, column = divmod(index, per_side)
-    part = np.array(heights[row * side:(row + 1) * side, column * side:(column + 1) * side])
+    part = np.array(heights[row * cell:row * cell + side, column * cell:column * cell + side])
     return part - part.mean()
+
+
+def tile_side(pixels: int, tiles: int) -> int:
+    """Pixels per side of the tiles of a scene: ``pixels // k`` for ``tiles = k^2``, made even
+    by dropping the last row and column of an odd cell, so that the reference's error
+    estimate (the same tile on every second pixel, :func:`bem.contact_curve`) covers the same
+    window."""
+    cell = pixels // round(tiles ** 0.5)
+    return cell - cell % 2
 
 
 def _wm(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
@@ -98,7 +112,7 @@ def _self_affine(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
 
 def _file(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
     scan = read_map(s)
-    return tile(np.asarray(scan.heights), s.tiles, seed)
+    return tile(np.asarray(scan.heights), s.tiles, seed, side=s.n)
 
 
 _MAKERS: dict[str, Callable] = {"wm": _wm, "self-affine": _self_affine, "file": _file}

@@ -49,8 +49,10 @@ class SurfaceSpec:
     the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
     ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
     ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
-    :data:`MIN_TILE` pixels). ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the
-    file: an explicit value must agree. ``digest`` is the SHA-256 of the file when read.
+    :data:`MIN_TILE` pixels, and an even number: an odd cell drops its last row and column, so
+    that the reference's error estimate on every second pixel covers the same window).
+    ``n`` (tile pixels) and ``L`` (tile side [unit]) follow from the file: an explicit value
+    must agree. ``digest`` is the SHA-256 of the file when read.
 
     Other families' parameters must keep their defaults.
     """
@@ -127,7 +129,7 @@ class SurfaceSpec:
                        f"[{2 * self.spacing:g}, {rolloff:g}), got {short_cutoff:g}")
 
     def _check_file(self) -> None:
-        from validation.surface_families import read_map
+        from validation.surface_families import read_map, tile_side
         from validation.topography import LENGTH_UNITS
 
         if not isinstance(self.path, str) or not self.path:
@@ -148,7 +150,7 @@ class SurfaceSpec:
         except (ValueError, ImportError) as error:
             key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
             check.fail(self, key, f"does not give a readable height map: {error}")
-        side = scan.heights.shape[0] // per_side
+        side = tile_side(scan.heights.shape[0], self.tiles)
         if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
             check.fail(self, "tiles", f"= {self.tiles} cuts the {scan.heights.shape[0]}-pixel map "
                        f"into tiles of {side} pixels; at least {MIN_TILE} are needed")

@@ -10,6 +10,7 @@ import pathlib
 
 import numpy as np
 
+from validation.compare import NOT_ESTIMATED
 from validation.figures import dimensionless
 from validation.verdicts import FAILS, HOLDS, UNDECIDED
 
@@ -78,11 +79,13 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
         sweep = _sweep(c.parameter, c.value)
         for (model, quantity), e in c.models.items():
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
+            # a band that could not be estimated is written as such, never as a number
+            cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
             for k in range(c.load.size):
                 out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
-                                          e.interval.std[k], int(e.interval.count[k]), band[k],
+                                          e.interval.std[k], int(e.interval.count[k]), cells[k],
                                           c.band_source.get(e.reference_field, "")])
                 out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k]]
                                         for t, v in zip(e.tolerances, e.verdicts)]
@@ -93,7 +96,7 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                            else math.nan, e.unconverged,
+                                            else NOT_ESTIMATED, e.unconverged,
                                             e.reference_field or quantity])
     return out
 

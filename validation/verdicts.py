@@ -15,9 +15,10 @@ The interval widened by the band, ``[m_k - h_k - b_k, m_k + h_k + b_k]``, decide
 
 * **holds** where it lies inside ``[-tol, tol]``, the reference resolves the question
   (``b_k <= tol / 4``, the reference-accuracy rule) and every realization converged;
-* **fails** where it lies wholly outside ``[-tol, tol]``;
+* **fails** where it lies wholly outside ``[-tol, tol]`` and the band is known;
 * **undecided** otherwise (interval straddles a bound, too few realizations, the reference
-  band is above a quarter of the tolerance, or no converged realization).
+  band is above a quarter of the tolerance or was not estimated (NaN: an unknown band is
+  never taken as zero), or no converged realization).
 
 A validity range is the longest contiguous run of points that hold.
 """
@@ -141,7 +142,7 @@ def classify(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
     interval : ErrorInterval
         Mean error and confidence half-width per point.
     band : array, shape (points,) or scalar
-        Reference band per point (>= 0; NaN means unknown and prevents "holds").
+        Reference band per point (>= 0; NaN means not estimated: the point is undecided).
     tolerance : float
         Error bound (> 0), relative or in units of sigma.
     complete : bool array, shape (points,), optional
@@ -153,11 +154,12 @@ def classify(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
     mean = np.asarray(interval.mean, dtype=float)
     band = np.broadcast_to(np.asarray(band, dtype=float), mean.shape)
     complete = np.ones(mean.shape, bool) if complete is None else np.asarray(complete, bool)
-    widened = interval.half_width + np.nan_to_num(band, nan=0.0)
+    widened = interval.half_width + band
     low, high = mean - widened, mean + widened
     with np.errstate(invalid="ignore"):
-        fails = np.isfinite(mean) & ((low > tolerance) | (high < -tolerance))
-        resolved = np.isfinite(band) & (band <= REFERENCE_ACCURACY * tolerance)
+        # NaN (unknown) means or bands make both comparisons false: undecided
+        fails = (low > tolerance) | (high < -tolerance)
+        resolved = band <= REFERENCE_ACCURACY * tolerance
         holds = (low >= -tolerance) & (high <= tolerance) & resolved & complete
     verdict = np.full(mean.shape, UNDECIDED, dtype="<U9")
     verdict[holds] = HOLDS
