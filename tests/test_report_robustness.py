@@ -122,3 +122,78 @@ def test_an_odd_grid_with_a_reference_band_is_refused_with_the_reason(tmp_path):
         load_scene(write(tmp_path, TINY.replace("n = 32", "n = 33")))
     assert load_scene(write(tmp_path, TINY.replace("n = 32", "n = 33")
                             + "[bem]\nreference_error = false\n")).surface.n == 33
+
+
+def synthetic(errors, *, band=0.0, converged=True):
+    """Realizations of a BEM curve and a GW curve whose area is off by ``errors[r]`` (relative)
+    at every one of 4 load points; the BEM's area band is ``band`` (NaN: not estimated)."""
+    from types import SimpleNamespace
+
+    from bem.curve import ContactCurve
+
+    load, area = np.logspace(-4, -2, 4), np.array([0.01, 0.03, 0.1, 0.2])
+    out = []
+    for seed, error in enumerate(errors):
+        extras = {"converged": np.full(4, converged)}
+        if np.isfinite(band):
+            extras["area_error"] = band * area
+        reference = ContactCurve(separation=[3.0, 2.0, 1.5, 1.0], load=load, area=area,
+                                 mean_pressure=load, nominal_area=1.0, e_star=1.0, extras=extras)
+        model = ContactCurve(separation=[3.0, 2.0, 1.5, 1.0], load=load, area=area * (1 + error),
+                             mean_pressure=load, nominal_area=1.0, e_star=1.0)
+        task = SimpleNamespace(seed=seed, surface=SimpleNamespace(L=1.0, sweep_name="D"),
+                               quantities=("area",), sweep_value=2.3)
+        out.append(SimpleNamespace(task=task, curves={"bem": reference, "gw": model}, sigma=1.0))
+    return out
+
+
+@pytest.mark.parametrize("errors, band, converged, cell", [
+    ([0.5, 0.52, 0.49], 0.0, True, "fails everywhere"),
+    ([0.0, 0.01, -0.01], 0.3, True, "undecided: reference band"),
+    ([0.0, 0.01, -0.01], np.nan, True, "undecided: reference band"),
+    ([0.5, 0.52, 0.49], np.nan, True, "undecided: reference band"),
+    ([0.0], 0.0, True, "undecided: too few realizations"),
+    ([0.3, -0.3, 0.1], 0.0, True, "undecided: too few realizations"),
+    ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
+    ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+])
+def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, converged, cell):
+    from validation.compare import compare_realizations
+    from validation.report_sections import holds_cell
+
+    comparison = compare_realizations(synthetic(errors, band=band, converged=converged),
+                                      tolerances=(0.2,))
+    assert holds_cell(comparison.models[("gw", "area")]).startswith(cell)
+
+
+def test_fewer_than_two_realizations_are_warned_about_at_load_time(tmp_path, measured, capsys):
+    from validation.cli import main
+    from validation.scene import SceneWarning
+
+    single = write(tmp_path, TINY.replace("count = 3\n[loads]", "count = 1\n[loads]"))
+    with pytest.warns(SceneWarning, match=r"1 realization.*every verdict will be undecided.*"
+                                          r"\[realizations\] count = 2"):
+        load_scene(single)
+    with pytest.warns(SceneWarning, match=r"surface.tiles = 4"):
+        load_scene(write(measured, MEASURED.format(name="one", tiles=1), "one.toml"))
+    # the command line says it once, before computing, as a plain line
+    assert main(["report", str(single), "--out", str(tmp_path / "out"), "--no-cache",
+                 "--jobs", "1", "--quiet"]) == 0
+    err = capsys.readouterr().err
+    assert err.count("warning: scene 'tiny'") == 1 and "Traceback" not in err
+
+
+SWEEP = TINY.replace("D = 2.4", "D = [2.2, 2.6]").replace("count = 3\n[loads]",
+                                                             "count = 2\n[loads]")
+
+
+def test_a_sweep_scene_gets_a_summary_per_swept_value(tmp_path):
+    scene = load_scene(write(tmp_path, SWEEP))
+    folder = tmp_path / "report"
+    write_report(run_scenes([scene], progress=False), folder)
+    markdown = (folder / "report.md").read_text(encoding="utf-8")
+    summary = markdown[markdown.index("## Where each theory holds"):markdown.index("## Findings")]
+    assert "Scene `tiny`, per D" in summary
+    assert "| model | quantity | D = 2.2 | D = 2.6 |" in summary
+    assert "| GW | area |" in summary.replace("original GW", "GW")
+    assert "| nowhere |" not in summary and "*Undecided* says why" in summary

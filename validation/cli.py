@@ -15,10 +15,11 @@ import signal
 import sys
 import threading
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 from validation.cache import check_directory, default_cache_dir
-from validation.scene import SceneError, builtin_scenes, load_scene
+from validation.scene import SceneError, SceneWarning, builtin_scenes, load_scene, scene_warnings
 
 #: Scenes of the default report, in report order.
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")
@@ -100,7 +101,10 @@ def _report(args: argparse.Namespace) -> int:
     from validation.runner import run_scenes
 
     names = args.scenes or list(DEFAULT_SCENES)
-    scenes = [_load_scene(name) for name in names]
+    with warnings.catch_warnings():
+        # said once below, for the scenes as they will run (quick mode changes them)
+        warnings.simplefilter("ignore", SceneWarning)
+        scenes = [_load_scene(name) for name in names]
     repeated = sorted({s.name for s in scenes if [t.name for t in scenes].count(s.name) > 1})
     if repeated:
         raise SceneError(f"scene names must be unique in one report (they name its files); "
@@ -112,6 +116,8 @@ def _report(args: argparse.Namespace) -> int:
     if quick:
         scenes = [scene.quick_version() for scene in scenes]
     mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
+    for message in (m for scene in scenes for m in scene_warnings(scene)):
+        print(f"warning: {message}", file=sys.stderr)
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
     # Fail before any computing: an unwritable report or cache folder is found now, not after.
     try:

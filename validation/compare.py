@@ -31,6 +31,7 @@ from validation.verdicts import (
     classify,
     confidence_interval,
     reference_band,
+    undecided_reasons,
     validity_range,
     verdict_counts,
     verdict_range,
@@ -165,10 +166,20 @@ class ModelComparison:
     verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
     tolerances: tuple[float, ...] = ()
     reference_field: str = ""                         # the reference field compared with
+    complete: np.ndarray | None = None                # where every realization converged
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
         return verdict_counts(self.verdicts[index])
+
+    def reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided at ``tolerances[index]`` ("" where decided;
+        :func:`validation.verdicts.undecided_reasons`)."""
+        if self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return undecided_reasons(self.interval, band, self.tolerances[index],
+                                 complete=self.complete)
 
 
 @dataclass(frozen=True)
@@ -227,7 +238,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
-                           verdicts, tuple(tolerances), field_name)
+                           verdicts, tuple(tolerances), field_name, complete)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:

@@ -43,12 +43,12 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 
 from validation import models as _models
 from validation import scene_checks as check
-from validation.scene_checks import SceneError
+from validation.scene_checks import SceneError, SceneWarning
 from validation.surface_spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
 
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
-    "SceneError", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
+    "SceneError", "SceneWarning", "scene_warnings", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
     "MIN_TILE", "load_scene", "builtin_scenes", "parse_scene", "defaults",
 ]
 
@@ -235,6 +235,19 @@ class Scene:
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
         return replace(self, surface=surface, loads=loads,
                        realizations=min(self.realizations, self.quick.realizations))
+
+
+def scene_warnings(scene: Scene) -> list[str]:
+    """What a valid scene will not give although it seems to ask for it (one message each):
+    verdicts need a confidence interval, so at least two realizations."""
+    if scene.kind != "surface" or scene.realizations >= 2 \
+            or not set(scene.models) & set(_models.reference_names()):
+        return []
+    change = ("surface.tiles = 4 (2 x 2 tiles as realizations)" if scene.surface.family == "file"
+              else "[realizations] count = 2 or more")
+    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: the "
+            f"95 % interval of a mean error needs at least 2, so every verdict will be "
+            f"undecided; set {change}"]
 
 
 def defaults(kind: type) -> dict:

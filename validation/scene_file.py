@@ -11,11 +11,13 @@ import contextlib
 import math
 import pathlib
 import tomllib
+import warnings
 from importlib import resources
 from typing import Any, Iterator
 
 from validation.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
-                              Scene, SceneError, SurfaceSpec, TheorySpec, defaults)
+                              Scene, SceneError, SceneWarning, SurfaceSpec, TheorySpec, defaults,
+                              scene_warnings)
 
 __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
@@ -196,6 +198,12 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     ------
     SceneError
         Naming the key and ``source``.
+
+    Warns
+    -----
+    SceneWarning
+        For a valid scene that will not give what it seems to ask for
+        (:func:`validation.scene.scene_warnings`: verdicts from fewer than two realizations).
     """
     top = _Reader(data, "", source)
     base = defaults(Scene)
@@ -217,7 +225,10 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
         fields.update(_surface_parts(top, base, None if folder is None else pathlib.Path(folder)))
     top.finish()
     with _keys(source, mapping=_SCENE_KEYS):
-        return Scene(**fields)
+        scene = Scene(**fields)
+    for message in scene_warnings(scene):
+        warnings.warn(message, SceneWarning, stacklevel=3)
+    return scene
 
 
 def load_scene(name_or_path: str | pathlib.Path) -> Scene:

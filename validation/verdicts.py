@@ -35,13 +35,17 @@ __all__ = [
     "FAILS",
     "HOLDS",
     "REFERENCE_ACCURACY",
+    "REFERENCE_BAND",
     "SYMBOLS",
+    "TOO_FEW_REALIZATIONS",
+    "UNCONVERGED",
     "UNDECIDED",
     "ErrorInterval",
     "ValidityRange",
     "classify",
     "confidence_interval",
     "reference_band",
+    "undecided_reasons",
     "validity_range",
     "verdict_counts",
     "verdict_range",
@@ -49,6 +53,9 @@ __all__ = [
 ]
 
 HOLDS, FAILS, UNDECIDED = "holds", "fails", "undecided"
+#: Why a point is undecided (:func:`undecided_reasons`), in the report's words.
+REFERENCE_BAND, TOO_FEW_REALIZATIONS, UNCONVERGED = ("reference band", "too few realizations",
+                                                     "unconverged")
 #: One character per verdict, for tables and figures.
 SYMBOLS = {HOLDS: "✔", FAILS: "✘", UNDECIDED: "?"}
 #: Confidence level of the interval over realizations.
@@ -165,6 +172,29 @@ def classify(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
     verdict[holds] = HOLDS
     verdict[fails] = FAILS
     return verdict
+
+
+def undecided_reasons(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
+                      complete: np.ndarray | None = None) -> np.ndarray:
+    """Why each undecided point is undecided ("" where a point holds or fails).
+
+    * :data:`UNCONVERGED`: no realization converged there, or the point would hold but a
+      realization did not converge;
+    * :data:`REFERENCE_BAND`: the point would be decided against an exact reference (band 0)
+      but the band is not estimated or above a quarter of the tolerance (a finer reference
+      grid decides it);
+    * :data:`TOO_FEW_REALIZATIONS`: otherwise: the confidence interval straddles a bound, or
+      fewer than two realizations give one (more realizations decide it).
+    """
+    verdict = classify(interval, band, tolerance, complete=complete)
+    undecided = verdict == UNDECIDED
+    exact = classify(interval, np.zeros(np.shape(verdict)), tolerance)
+    if_complete = classify(interval, band, tolerance)
+    reasons = np.full(verdict.shape, "", dtype=f"<U{len(TOO_FEW_REALIZATIONS)}")
+    reasons[undecided] = TOO_FEW_REALIZATIONS
+    reasons[undecided & (exact != UNDECIDED)] = REFERENCE_BAND
+    reasons[undecided & ((if_complete == HOLDS) | (np.asarray(interval.count) == 0))] = UNCONVERGED
+    return reasons
 
 
 def verdict_counts(verdicts: np.ndarray) -> dict[str, int]:
