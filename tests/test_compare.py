@@ -23,9 +23,14 @@ def test_curve_errors_known_values():
     np.testing.assert_allclose(errors["conductance"], [0.0, -0.5, 1.0])
 
 
-def test_curve_errors_need_equal_loads():
-    with pytest.raises(ValueError, match="same loads"):
-        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 3], [1, 1], [1, 1]), 1.0, ("area",))
+def test_a_load_the_model_did_not_reach_is_not_compared():
+    # the second point ended at load 3 where 2 was asked (an unconverged solve): NaN, no error
+    errors = curve_errors(curve([1, 3], [1.1, 1], [1, 1]), curve([1, 2], [1, 1], [1, 1]), 1.0,
+                          ("area",))
+    np.testing.assert_allclose(errors["area"], [0.1, np.nan])
+    with pytest.raises(ValueError, match="same load points"):
+        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 2, 3], [1, 1, 1], [1, 1, 1]), 1.0,
+                     ("area",))
 
 
 def test_summarise_errors_mean_and_sample_std():

@@ -145,7 +145,9 @@ _ADVICE = ("*Undecided* says why: **reference band**: the BEM's own error is unk
            "quarter of the tolerance (a finer grid, larger `surface.n`, decides it); **too few "
            "realizations**: the 95 % interval straddles the tolerance (more realizations, "
            "`[realizations] count`, decide it; a scene needs at least 2); **unconverged**: a "
-           "solver did not converge there (see the unconverged points of the verdict tables).")
+           "solver did not converge there, or a model did not reach the load (unreachable: past "
+           "full contact, or an unconverged solve that ended at another load); the verdict "
+           "tables count these points.")
 
 
 def _sweep_holds(analysis: Analysis) -> list[str]:
@@ -244,7 +246,9 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
                       f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}",
                       holds_cell(entry, index, ".2e")]
         cells.append(_band_cell(entry.band, entry.quantity))
-        cells.append(str(entry.unconverged) if entry.unconverged else "–")
+        unreachable = getattr(entry, "unreachable", 0)
+        cells.append((f"{entry.unconverged}" + (f" ({unreachable} unreachable)" if unreachable
+                                                 else "")) if entry.unconverged else "–")
         rows.append(cells)
     return rows
 
@@ -253,7 +257,7 @@ def verdict_table(comparison: Comparison, tolerances) -> list[str]:
     header = ["model", "quantity"]
     for t in tolerances:
         header += [f"verdicts within {t:g}, low → high load", "✔ / ✘ / ?", "holds (Load range)"]
-    header += ["reference band (max)", "unconverged points"]
+    header += ["reference band (max)", "unconverged or unreachable points"]
     rows = _verdict_rows(comparison)
     totals = [verdict_counts(np.concatenate([e.verdicts[i] for e in comparison.models.values()]))
               for i in range(len(tolerances))] if comparison.models else []

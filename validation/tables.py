@@ -24,7 +24,8 @@ TABLES = {
     "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source"],
-    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict"],
+    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict",
+                     "undecided_reason"],
     "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
                      "area_fraction_min", "area_fraction_max", "points", "total", "holds",
                      "fails", "undecided", "reference_band_max", "unconverged",
@@ -81,14 +82,16 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
             # a band that could not be estimated is written as such, never as a number
             cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
+            reasons = [e.reasons(i) for i in range(len(e.tolerances))]
             for k in range(c.load.size):
                 out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
                                           e.interval.std[k], int(e.interval.count[k]), cells[k],
                                           c.band_source.get(e.reference_field, "")])
-                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k]]
-                                        for t, v in zip(e.tolerances, e.verdicts)]
+                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
+                                         why[k]] for t, v, why in zip(e.tolerances, e.verdicts,
+                                                                      reasons)]
             for index, r in enumerate(e.ranges):
                 counts = e.counts(index)
                 out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
