@@ -240,3 +240,73 @@ def test_a_load_path_into_full_contact_is_reported_point_by_point(tmp_path):
     last = [r for r in rows(folder / "verdicts.csv")
             if r["model"] == "discrete" and r["point"] == "7" and r["verdict"] == "undecided"]
     assert all(r["undecided_reason"] for r in last)
+
+
+NPY = """
+name = "user-map"
+[surface]
+family = "file"
+path = "user.npy"
+tiles = 4
+"""
+
+
+@pytest.fixture()
+def user_map(tmp_path):
+    """A 64 x 64 .npy map with a hole (NaN), as a user's instrument export: no size, no unit."""
+    heights = self_affine_surface(64, hurst=0.8, rms_slope=0.1, L=6.4, window=128, seed=3)
+    heights[10:13, 20:22] = np.nan
+    np.save(tmp_path / "user.npy", heights)
+    return tmp_path
+
+
+def test_missing_settings_are_listed_together_with_an_example(user_map):
+    from validation.scene import SceneError
+
+    with pytest.raises(SceneError) as info:
+        load_scene(write(user_map, NPY))
+    message = str(info.value)
+    assert "height unit or its physical size" in message
+    assert 'file_unit = "nm"' in message and 'physical_size = "10 um"' in message
+
+
+def test_every_option_an_error_recommends_is_a_scene_key(user_map):
+    from validation.scene import SceneError
+
+    sized = NPY + 'physical_size = "6.4 um"\nfile_unit = "um"\nunit = "um"\n'
+    with pytest.raises(SceneError) as info:
+        load_scene(write(user_map, sized))
+    message = str(info.value)
+    # the advice, in the scene's words ...
+    assert 'fill = "mean" or fill = "interpolate" in [surface]' in message
+    assert "'surface.fill'" in message
+    # ... can be followed
+    scene = load_scene(write(user_map, sized + 'fill = "mean"\n'))
+    assert dict(scene.surface.read_options) == {"fill": "mean"}
+    # every other keyword of read_topography is a key too, handed to it unchanged
+    keys = 'fill = "interpolate"\nsquare = "keep"\nreader = "builtin"\n'
+    scene = load_scene(write(user_map, sized + keys + '[loads]\nmin = 1e-3\nmax = 1e-2\ncount = 2\n'
+                             '[models]\nuse = ["gw", "bem"]\n'))
+    assert dict(scene.surface.read_options) == {"fill": "interpolate", "square": "keep",
+                                                "reader": "builtin"}
+    assert scene.surface.n == 32
+    (result,) = run_scenes([scene], progress=False)
+    assert all(np.isfinite(r.sigma) for r in result.realizations[0.0])
+    with pytest.raises(SceneError, match="'surface.fill'.*must be one of"):
+        load_scene(write(user_map, sized + 'fill = "zero"\n'))
+    # read_topography's own name of the unit is the scene's unit
+    renamed = sized.replace('\nunit = "um"\n', '\nheight_unit = "nm"\n') + 'fill = "mean"\n'
+    assert load_scene(write(user_map, renamed)).surface.unit == "nm"
+
+
+def test_the_scene_keys_of_a_measured_map_follow_the_reader_signature():
+    import inspect
+
+    from validation.scene import FAMILY_KEYS
+    from validation.surface_spec import READ_FIELDS
+    from validation.topography import read_topography
+
+    keywords = {name for name, p in inspect.signature(read_topography).parameters.items()
+                if p.kind is p.KEYWORD_ONLY}
+    keys = set(FAMILY_KEYS["file"]) | {"height_unit"}
+    assert keywords - set(READ_FIELDS) <= keys and {"fill", "square"} <= keys

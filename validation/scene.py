@@ -17,7 +17,8 @@ file's tables and keys map onto them::
                wm: D rms_slope G gamma M n_max L n
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
-               file: path physical_size file_unit unit detrend tiles
+               file: path physical_size file_unit unit detrend tiles, and every
+                     other keyword of read_topography (fill square channel reader ...)
     [realizations]  count seed          -> Scene.realizations, Scene.seed
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath

@@ -15,6 +15,7 @@ import warnings
 from importlib import resources
 from typing import Any, Iterator
 
+from validation.surface_spec import read_keywords
 from validation.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
                               Scene, SceneError, SceneWarning, SurfaceSpec, TheorySpec, defaults,
                               scene_warnings)
@@ -127,6 +128,11 @@ def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
     if family not in FAMILIES:
         reader.fail("family", f"must be one of {', '.join(FAMILIES)}; got {family!r}")
     allowed = FAMILY_KEYS[family]
+    if family == "file" and "height_unit" in reader.table:
+        # read_topography's name for the scene's unit, accepted where its messages use it
+        if "unit" in reader.table:
+            reader.fail("height_unit", "and 'unit' are the same setting: give one of them")
+        reader.table = {("unit" if k == "height_unit" else k): v for k, v in reader.table.items()}
     for key in reader.table:
         if key != "family" and key not in allowed:
             reader.fail(key, f"is not a key of family {family!r} (its keys: {', '.join(allowed)})")
@@ -135,8 +141,13 @@ def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
         if not any(key in reader.table for key in options):
             reader.fail(options[0], ("or '" + "' or '".join(options[1:]) + "' " if
                                      len(options) > 1 else "") + "is required")
-    values = {key: reader.get(key, None, _SURFACE_KINDS[key]) for key in allowed
+    values = {key: reader.get(key, None, _SURFACE_KINDS.get(key, "any")) for key in allowed
               if key in reader.table}
+    if family == "file":
+        # the reader's other keywords go to it as they are (it checks their values)
+        options = {key: values.pop(key) for key in read_keywords() if key in values}
+        if options:
+            values["read_options"] = options
     if "path" in values and folder is not None:
         values["path"] = str(folder / values["path"])
     with _keys(reader.source, "surface."):

@@ -47,17 +47,18 @@ def file_digest(path: str) -> str:
 
 @functools.lru_cache(maxsize=8)
 def _read(path: str, digest: str, physical_size, unit: str, detrend: str | None,
-          file_unit: str | None) -> Topography:
+          file_unit: str | None, options: tuple = ()) -> Topography:
     return read_topography(path, physical_size=physical_size, height_unit=unit, detrend=detrend,
-                           file_unit=file_unit)
+                           file_unit=file_unit, **dict(options))
 
 
 def read_map(surface) -> Topography:
     """The measured map of a ``"file"`` surface as :func:`validation.read_topography` reads it
-    (heights and spacing in ``surface.unit``), read once per process and per file content."""
+    (heights and spacing in ``surface.unit``, the scene's other reader keywords passed on),
+    read once per process and per file content."""
     s = surface
     return _read(s.path, file_digest(s.path), s.physical_size, s.unit,
-                 None if s.detrend == "none" else s.detrend, s.file_unit)
+                 None if s.detrend == "none" else s.detrend, s.file_unit, s.read_options)
 
 
 def tile(heights: np.ndarray, tiles: int, index: int, side: int | None = None) -> np.ndarray:
@@ -136,5 +137,6 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
                     short_cutoff=s.short_cutoff, window=s.window, L=s.L, n=s.n, seed=seed,
                     slope_grid=grid)
     return dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
-                file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles, tile=seed,
+                file_unit=s.file_unit, unit=s.unit, detrend=s.detrend,
+                read_options=dict(s.read_options), tiles=s.tiles, tile=seed,
                 n=s.n)

@@ -11,7 +11,8 @@ from dataclasses import dataclass, fields, replace
 
 from validation import scene_checks as check
 
-__all__ = ["SurfaceSpec", "SWEEPS", "FAMILIES", "FAMILY_KEYS", "MIN_TILE"]
+__all__ = ["SurfaceSpec", "SWEEPS", "FAMILIES", "FAMILY_KEYS", "MIN_TILE", "READ_FIELDS",
+           "read_keywords"]
 
 #: Surface families and the parameter each sweeps (a list of values gives a validity map): its
 #: key in the scene file and its symbol in the report. A measured map sweeps nothing.
@@ -25,6 +26,12 @@ FAMILY_KEYS = {
                     "window", "L", "n"),
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "tiles", "n"),
 }
+#: Keywords of :func:`validation.read_topography` with a field of their own in a file scene
+#: (``height_unit`` is the scene's ``unit``); every other keyword of it is passed through as
+#: it is (``read_options``: fill, square, channel, reader, ...), so a scene accepts whatever
+#: the reader does, including what its error messages recommend.
+READ_FIELDS = {"path": "path", "physical_size": "physical_size", "file_unit": "file_unit",
+               "detrend": "detrend", "height_unit": "unit"}
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
 #: Smallest tile of a measured map, in pixels per side.
@@ -48,6 +55,9 @@ class SurfaceSpec:
     ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
     the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
     ``unit`` of every length (default m), ``detrend`` ("plane", "mean" or "none"),
+    ``read_options`` (a dict, stored as sorted ``(key, value)`` pairs) the other keywords of
+    :func:`validation.read_topography` (:func:`read_keywords`: ``fill``, ``square``,
+    ``channel``, ``reader``, ...), passed to it unchanged;
     ``tiles = k^2`` non-overlapping k x k square tiles as realizations (each at least
     :data:`MIN_TILE` pixels, and an even number: an odd cell drops its last row and column, so
     that the reference's error estimate on every second pixel covers the same window).
@@ -78,11 +88,12 @@ class SurfaceSpec:
     unit: str = "m"
     detrend: str = "plane"
     tiles: int = 1
+    read_options: tuple[tuple[str, object], ...] | dict = ()
 
     def __post_init__(self) -> None:
         check.choice(self, "family", FAMILIES)
         base = {f.name: f.default for f in fields(self)}
-        derived = ("n", "L") if self.family == "file" else ()
+        derived = ("n", "L", "read_options") if self.family == "file" else ()
         for key, default in base.items():
             if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
                     and getattr(self, key) != default:
@@ -134,6 +145,7 @@ class SurfaceSpec:
 
         if not isinstance(self.path, str) or not self.path:
             check.fail(self, "path", f"must name a height file, got {self.path!r}")
+        self._check_read_options()
         if isinstance(self.physical_size, list):
             object.__setattr__(self, "physical_size", tuple(self.physical_size))
         check.choice(self, "unit", tuple(LENGTH_UNITS))
@@ -148,10 +160,14 @@ class SurfaceSpec:
         try:
             scan = read_map(self)
         except (ValueError, ImportError) as error:
-            key = next((k for k in ("physical_size", "file_unit") if k in str(error)), "path")
-            check.fail(self, key, f"does not give a readable height map: {error}")
+            _refuse_map(self, error)
+        rows, columns = scan.heights.shape
+        if rows != columns:
+            check.fail(self, "square", f"keeps the map {rows} x {columns} pixels, but the tiles of "
+                       f"a scene are cut from a square map: leave it out (the default, "
+                       f"square = \"crop\", takes the largest centred square)")
         side = tile_side(scan.heights.shape[0], self.tiles)
-        if side < MIN_TILE or scan.heights.shape[0] != scan.heights.shape[1]:
+        if side < MIN_TILE:
             check.fail(self, "tiles", f"= {self.tiles} cuts the {scan.heights.shape[0]}-pixel map "
                        f"into tiles of {side} pixels; at least {MIN_TILE} are needed")
         for key, value in (("n", side), ("L", side * scan.spacing)):
@@ -160,6 +176,21 @@ class SurfaceSpec:
                 check.fail(self, key, f"= {given!r} conflicts with the tile of the file "
                            f"({value:g}); leave it out")
             object.__setattr__(self, key, value if key == "L" else int(value))
+
+    def _check_read_options(self) -> None:
+        options = self.read_options
+        if isinstance(options, dict):
+            options = options.items()
+        try:
+            pairs = sorted((str(k), tuple(v) if isinstance(v, list) else v) for k, v in options)
+        except (TypeError, ValueError):
+            check.fail(self, "read_options", f"must be a dict of keywords of read_topography, "
+                       f"got {self.read_options!r}")
+        for key, _ in pairs:
+            if key not in read_keywords():
+                check.fail(self, key, f"is not a keyword of read_topography that a file scene "
+                           f"passes on (those are: {', '.join(read_keywords())})")
+        object.__setattr__(self, "read_options", tuple(pairs))
 
     @property
     def spacing(self) -> float:
@@ -183,3 +214,43 @@ class SurfaceSpec:
         sweep = SWEEPS[self.family]
         return replace(self, **{sweep[0]: (value,)}) if sweep else self
 
+
+
+def read_keywords() -> tuple[str, ...]:
+    """Keywords of :func:`validation.read_topography` a file scene passes on unchanged: every
+    keyword-only parameter without a field of its own (:data:`READ_FIELDS`) in
+    :class:`SurfaceSpec`, read from its signature, so that a new option of the reader is a
+    scene key at once."""
+    import inspect
+
+    from validation.topography import read_topography
+
+    own = set(READ_FIELDS) | {f.name for f in fields(SurfaceSpec)}
+    return tuple(p.name for p in inspect.signature(read_topography).parameters.values()
+                 if p.kind is p.KEYWORD_ONLY and p.name not in own)
+
+
+#: Scene keys of a measured map: its own fields, then the reader's other keywords.
+FAMILY_KEYS["file"] = FAMILY_KEYS["file"] + read_keywords()
+
+
+def _refuse_map(spec: SurfaceSpec, error: Exception) -> None:
+    """A :class:`SceneError` for a map the reader refused, naming the scene key at fault and
+    giving the reader's advice in the scene's own words (``fill = "mean"`` in [surface], not
+    ``fill='mean'``); settings the file lacks are listed together, with an example."""
+    import re
+
+    message = str(error)
+    keys = [k for k in ("file_unit", "physical_size") if re.search(rf"\b{k}\b", message)] + [
+        k for k in read_keywords() if re.search(rf"\b{k}(=| must)", message)]
+    advice = re.sub(r"\b(\w+)='([^']*)'", r'\1 = "\2"', message).replace("pass ", "set ")
+    missing = [k for k in ("file_unit", "physical_size") if f"set {k}" in advice
+               or f"and {k}" in advice]
+    if missing:
+        examples = {"file_unit": 'file_unit = "nm"        # unit of the numbers in the file',
+                    "physical_size": 'physical_size = "10 um"  # width of the whole map'}
+        advice += " in [surface], e.g.\n    " + "\n    ".join(examples[k] for k in missing)
+    elif keys and keys[0] in read_keywords():
+        advice += " in [surface]"
+    check.fail(spec, keys[0] if keys else "path",
+               f"does not give a readable height map: {advice}")
