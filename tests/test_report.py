@@ -104,6 +104,7 @@ def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
     # the theory scene alone: a published report in seconds, header with the exact command
     folder = tmp_path / "results"
     folder.mkdir()
+    (folder / "report.md").write_text("# an earlier report")
     (folder / "stale-figure.png").write_bytes(b"old")
     (folder / "notes.txt").write_text("kept")
     assert main(["report", "paper-theory", "--publish", str(folder), "--no-cache", "--quiet"]) == 0

@@ -58,7 +58,7 @@ def measured(tmp_path_factory):
     return folder
 
 
-def test_the_band_of_odd_tiles_is_estimated_and_tilings_do_not_contradict(measured):
+def test_the_band_of_odd_tiles_is_estimated_and_tilings_do_not_contradict(measured, tmp_path):
     # The same map cut 4 and 9 ways: odd cells are made even, so both carry the BEM's error
     # band, and no point gets "holds" from one tiling and "fails" from the other.
     verdicts = {}
@@ -73,6 +73,10 @@ def test_the_band_of_odd_tiles_is_estimated_and_tilings_do_not_contradict(measur
             assert np.all(np.isfinite(entry.band)), key
             for tolerance, verdict in zip(entry.tolerances, entry.verdicts):
                 verdicts[tiles, key, tolerance] = verdict
+        if tiles == 4:  # a measured map is not the paper's WM surface: no "paper Fig." caption
+            markdown = write_report([result], tmp_path / "t4").read_text(encoding="utf-8")
+            assert "against separation, measured map (thin lines: tiles" in markdown
+            assert "paper Fig" not in markdown
     keys = {key[1:] for key in verdicts}
     together = np.concatenate(list(verdicts.values()))
     assert (together == HOLDS).any() and (together == FAILS).any()  # firm verdicts to compare
@@ -218,6 +222,7 @@ use = ["area", "load", "separation"]
 """
 
 
+@pytest.mark.filterwarnings("ignore:discrete asperity model")
 def test_a_load_path_into_full_contact_is_reported_point_by_point(tmp_path):
     # Mean pressure 2 E* presses the surface flat; there the discrete model's solve ends
     # unconverged at another load (2.03 for 2.0) than the one asked: an unreachable point.
@@ -225,9 +230,10 @@ def test_a_load_path_into_full_contact_is_reported_point_by_point(tmp_path):
 
     scene = write(tmp_path, FULL_CONTACT)
     folder = tmp_path / "report"
-    assert main(["report", str(scene), "--out", str(folder), "--no-cache", "--jobs", "1",
+    cache = str(tmp_path / "cache")
+    assert main(["report", str(scene), "--out", str(folder), "--cache", cache, "--jobs", "1",
                  "--quiet"]) == 0
-    (result,) = run_scenes([load_scene(scene)], progress=False)
+    (result,) = run_scenes([load_scene(scene)], cache_dir=cache, progress=False)
     reference = [r.curves["bem"] for r in result.realizations[2.8]]
     assert all(c.area_fraction[-1] == pytest.approx(1.0) for c in reference)  # full contact
     (comparison,) = analyse(result).comparisons
@@ -310,3 +316,89 @@ def test_the_scene_keys_of_a_measured_map_follow_the_reader_signature():
                 if p.kind is p.KEYWORD_ONLY}
     keys = set(FAMILY_KEYS["file"]) | {"height_unit"}
     assert keywords - set(READ_FIELDS) <= keys and {"fill", "square"} <= keys
+
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+
+def test_a_report_replaces_its_previous_report_and_refuses_other_folders(tmp_path, capsys):
+    from validation.cli import main
+
+    scene = write(tmp_path, TINY)
+    folder = tmp_path / "report"
+    folder.mkdir()
+    (folder / "report.md").write_text("# an earlier report")
+    (folder / "old-scene-errors-D2.png").write_bytes(b"stale figure")
+    (folder / "theory.csv").write_text("stale table")
+    (folder / "notes.txt").write_text("the user's")
+    arguments = ["report", str(scene), "--no-cache", "--jobs", "1", "--quiet"]
+    assert main(arguments + ["--out", str(folder)]) == 0
+    assert not (folder / "old-scene-errors-D2.png").exists()
+    assert not (folder / "theory.csv").exists()           # this run has no theory scene
+    assert (folder / "notes.txt").read_text() == "the user's"
+    assert "tiny" in (folder / "report.md").read_text(encoding="utf-8")
+    # a folder of other files (and no report) is refused before anything is computed
+    data = tmp_path / "data"
+    data.mkdir()
+    (data / "measurements.csv").write_text("1,2")
+    capsys.readouterr()
+    assert main(arguments + ["--out", str(data)]) == 2
+    err = capsys.readouterr().err
+    assert "--out" in err and "measurements.csv" in err and "not a report" in err
+    assert (data / "measurements.csv").read_text() == "1,2" and len(list(data.iterdir())) == 1
+    with pytest.raises(ValueError, match="not a report"):
+        write_report([], data)
+
+
+def test_help_and_readme_agree_with_the_program():
+    import re
+
+    from validation import cli
+    from validation.cli import DEFAULT_SCENES
+
+    scenes = [load_scene(name) for name in DEFAULT_SCENES if load_scene(name).kind == "surface"]
+    # the counts the help and the docstring give are the default scenes' own
+    doc = " ".join(cli.__doc__.split())
+    parser = cli.build_parser()
+    report = next(a for a in parser._subparsers._group_actions[0].choices.values()
+                  if a.prog.endswith("report"))
+    full = " ".join(next(a.help for a in report._actions if "--full" in a.option_strings).split())
+    for scene in scenes:
+        quick = scene.quick_version()
+        assert f"{scene.realizations} " in full and f"{scene.realizations} " in doc
+        assert f"{quick.realizations} " in doc
+        assert f"{scene.surface.n} x {scene.surface.n} grids with {scene.loads.count} loads" in doc
+        assert f"{quick.surface.n} x {quick.surface.n} grids with {quick.loads.count} loads" in doc
+    # every option of the report command is in the README's option list
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    listing = readme[readme.index("python -m validation report [SCENE"):]
+    listing = listing[:listing.index("```")]
+    options = {o for a in report._actions for o in a.option_strings if o.startswith("--")}
+    assert {o for o in options if o != "--help" and o not in listing} == set()
+    # install hints name the package as pyproject does, with extras the README names
+    name = next(line.split('"')[1] for line in (ROOT / "pyproject.toml").read_text().splitlines()
+                if line.startswith("name ="))
+    for path in (ROOT / "validation").rglob("*.py"):
+        for hint in re.findall(r"pip install '([^']+)'", path.read_text(encoding="utf-8")):
+            assert hint.startswith(f"{name}["), (path.name, hint)
+            assert f'pip install "{hint}"' in readme, hint
+
+
+def test_the_tolerance_contours_of_the_validity_map_are_told_apart():
+    from validation.compare import compare_realizations
+    from validation.figures import pyplot, validity_map_figure
+
+    comparisons = []
+    for value, scale in ((2.2, 0.01), (2.6, 0.1), (2.9, 1.0)):
+        results = synthetic([scale, 1.2 * scale, 0.8 * scale])
+        for r in results:
+            r.task.sweep_value = value
+        comparisons.append(compare_realizations(results, tolerances=(0.05, 0.2)))
+    figure = validity_map_figure(comparisons, [("gw", "area")], (0.05, 0.2))
+    (legend,) = figure.legends
+    lines = legend.get_lines()
+    assert [t.get_text() for t in legend.get_texts()] == ["|mean error| = 0.05",
+                                                          "|mean error| = 0.2"]
+    styles = {(line.get_color(), line.get_linestyle()) for line in lines}
+    assert len(styles) == 2 and len({c for c, _ in styles}) == 2
+    pyplot().close(figure)
