@@ -16,8 +16,8 @@ from asperity.gw_functions import DISTRIBUTIONS, GW_ORDERS, gw_integral, log_gw_
 from asperity.greenwood_williamson import GreenwoodWilliamson, ImprovedGreenwoodWilliamson  # noqa: E402
 from asperity.holm_greenwood import holm_greenwood  # noqa: E402
 from asperity.dimensionless import (  # noqa: E402
-    DimensionlessCurve, InteractionCurves, dimensionless, dimensionless_pressure,
-    interaction_curves, interaction_parameter)
+    DimensionlessCurve, dimensionless, dimensionless_pressure, interaction_parameter)
+from asperity.reduced_curves import InteractionCurves, interaction_curves  # noqa: E402
 
 __all__ += ["gw_integral", "log_gw_integral", "GW_ORDERS", "DISTRIBUTIONS",
             "GreenwoodWilliamson", "ImprovedGreenwoodWilliamson", "holm_greenwood",

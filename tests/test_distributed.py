@@ -10,9 +10,9 @@ import pytest
 
 distributed = pytest.importorskip("distributed")
 
-from validation.report import write_report  # noqa: E402
-from validation.runner import run_scenes  # noqa: E402
-from validation.scene import parse_scene  # noqa: E402
+from validation.report.write import write_report  # noqa: E402
+from validation.run.runner import run_scenes  # noqa: E402
+from validation.scenes.reader import parse_scene  # noqa: E402
 
 SCENE = """
 name = "tiny-cluster"

@@ -6,8 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from bem.curve import ContactCurve
-from validation.compare import compare_realizations
-from validation.findings import (
+from validation.judge.compare import compare_realizations
+from validation.judge.findings import (
     CONTRADICTED,
     NEW,
     REPRODUCED,
@@ -81,7 +81,7 @@ def test_interaction_shift_direction_matters():
 
 
 def test_scatter_shrinking_with_load():
-    from validation import findings
+    from validation.judge import findings
 
     rng = np.random.default_rng(1)
     base = results()

@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-from validation.cache import Cache
+from validation.run.cache import Cache
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 #: Big enough to run for a minute or more when not interrupted (so that the signal always

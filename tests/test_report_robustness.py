@@ -9,11 +9,12 @@ import pathlib
 import numpy as np
 import pytest
 
-from validation.report import analyse, write_report
-from validation.runner import run_scenes
-from validation.scene import load_scene
-from validation.self_affine import self_affine_surface
-from validation.verdicts import FAILS, HOLDS
+from validation.report.write import write_report
+from validation.judge.analysis import analyse
+from validation.run.runner import run_scenes
+from validation.scenes.reader import load_scene
+from validation.surfaces.self_affine import self_affine_surface
+from validation.judge.verdicts import FAILS, HOLDS
 
 
 def write(folder: pathlib.Path, text: str, name: str = "scene.toml") -> pathlib.Path:
@@ -86,6 +87,28 @@ def test_the_band_of_odd_tiles_is_estimated_and_tilings_do_not_contradict(measur
         assert not contradictions.any(), (key, four, nine)
 
 
+def test_odd_rows_and_columns_of_a_rectangular_map_kept_whole_are_both_made_even(measured):
+    # 71 x 99 pixels, 2 x 2 tiles: cells of 35 x 49, tiles of 34 x 48 from each cell's top-left
+    # corner, so the BEM's band (every second pixel along both sides) is estimated on each
+    from validation.surfaces.families import surface_heights
+
+    heights = np.load(measured / "map.npy")[:71]
+    np.save(measured / "wide.npy", heights)
+    text = (MEASURED.format(name="wide", tiles=4).replace("map.npy", "wide.npy")
+            .replace("physical_size = 9.9", "physical_size = [9.9, 7.1]")
+            .replace("count = 4", "count = 2"))
+    text = text.replace('tiles = 4\n', 'tiles = 4\nsquare = "keep"\ndetrend = "none"\n')
+    text = text.replace('"gw", "improved_gw", "persson", "bem"', '"gw", "bem"')
+    scene = load_scene(write(measured, text, "wide.toml"))
+    assert scene.surface.grid == (34, 48) and scene.surface.n == 34
+    assert scene.surface.L == pytest.approx(0.1 * np.sqrt(34 * 48))
+    expected = heights[35:69, 49:97] - heights[35:69, 49:97].mean()
+    np.testing.assert_allclose(surface_heights(scene.surface, 3), expected, atol=1e-12)
+    (result,) = run_scenes([scene], progress=False)
+    for realization in result.realizations[0.0]:
+        assert np.all(np.isfinite(realization.curves["bem"].extras["area_error"]))
+
+
 TINY = """
 name = "tiny"
 [surface]
@@ -120,7 +143,7 @@ def test_a_band_not_estimated_is_written_as_such_never_as_zero(tmp_path):
 
 
 def test_an_odd_grid_with_a_reference_band_is_refused_with_the_reason(tmp_path):
-    from validation.scene import SceneError
+    from validation.scenes.scene import SceneError
 
     with pytest.raises(SceneError, match=r"'surface.n' must be even .*every second grid point"):
         load_scene(write(tmp_path, TINY.replace("n = 32", "n = 33")))
@@ -162,8 +185,8 @@ def synthetic(errors, *, band=0.0, converged=True):
     ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
 ])
 def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, converged, cell):
-    from validation.compare import compare_realizations
-    from validation.report_sections import holds_cell
+    from validation.judge.compare import compare_realizations
+    from validation.report.sections import holds_cell
 
     comparison = compare_realizations(synthetic(errors, band=band, converged=converged),
                                       tolerances=(0.2,))
@@ -172,7 +195,7 @@ def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, con
 
 def test_fewer_than_two_realizations_are_warned_about_at_load_time(tmp_path, measured, capsys):
     from validation.cli import main
-    from validation.scene import SceneWarning
+    from validation.scenes.scene import SceneWarning
 
     single = write(tmp_path, TINY.replace("count = 3\n[loads]", "count = 1\n[loads]"))
     with pytest.warns(SceneWarning, match=r"1 realization.*every verdict will be undecided.*"
@@ -267,7 +290,7 @@ def user_map(tmp_path):
 
 
 def test_missing_settings_are_listed_together_with_an_example(user_map):
-    from validation.scene import SceneError
+    from validation.scenes.scene import SceneError
 
     with pytest.raises(SceneError) as info:
         load_scene(write(user_map, NPY))
@@ -277,7 +300,7 @@ def test_missing_settings_are_listed_together_with_an_example(user_map):
 
 
 def test_every_option_an_error_recommends_is_a_scene_key(user_map):
-    from validation.scene import SceneError
+    from validation.scenes.scene import SceneError
 
     sized = NPY + 'physical_size = "6.4 um"\nfile_unit = "um"\nunit = "um"\n'
     with pytest.raises(SceneError) as info:
@@ -289,12 +312,19 @@ def test_every_option_an_error_recommends_is_a_scene_key(user_map):
     # ... can be followed
     scene = load_scene(write(user_map, sized + 'fill = "mean"\n'))
     assert dict(scene.surface.read_options) == {"fill": "mean"}
-    # every other keyword of read_topography is a key too, handed to it unchanged
+    # every other keyword of read_topography is a key too, handed to it unchanged (those with
+    # a field of their own, such as square, are not passed through twice)
     keys = 'fill = "interpolate"\nsquare = "keep"\nreader = "builtin"\n'
     scene = load_scene(write(user_map, sized + keys + '[loads]\nmin = 1e-3\nmax = 1e-2\ncount = 2\n'
                              '[models]\nuse = ["gw", "bem"]\n'))
-    assert dict(scene.surface.read_options) == {"fill": "interpolate", "square": "keep",
-                                                "reader": "builtin"}
+    assert dict(scene.surface.read_options) == {"fill": "interpolate", "reader": "builtin"}
+    assert scene.surface.square == "keep"
+    # and they are part of the cache key (another fill gives other heights)
+    from validation.surfaces.families import surface_identity
+
+    identity = surface_identity(scene.surface, 0)
+    assert identity["read_options"] == {"fill": "interpolate", "reader": "builtin"}
+    assert identity["square"] == "keep"
     assert scene.surface.n == 32
     (result,) = run_scenes([scene], progress=False)
     assert all(np.isfinite(r.sigma) for r in result.realizations[0.0])
@@ -308,9 +338,9 @@ def test_every_option_an_error_recommends_is_a_scene_key(user_map):
 def test_the_scene_keys_of_a_measured_map_follow_the_reader_signature():
     import inspect
 
-    from validation.scene import FAMILY_KEYS
-    from validation.surface_spec import READ_FIELDS
-    from validation.topography import read_topography
+    from validation.scenes.scene import FAMILY_KEYS
+    from validation.surfaces.spec import READ_FIELDS
+    from validation.surfaces.topography import read_topography
 
     keywords = {name for name, p in inspect.signature(read_topography).parameters.items()
                 if p.kind is p.KEYWORD_ONLY}
@@ -385,8 +415,8 @@ def test_help_and_readme_agree_with_the_program():
 
 
 def test_the_tolerance_contours_of_the_validity_map_are_told_apart():
-    from validation.compare import compare_realizations
-    from validation.figures import pyplot, validity_map_figure
+    from validation.judge.compare import compare_realizations
+    from validation.report.figures import pyplot, validity_map_figure
 
     comparisons = []
     for value, scale in ((2.2, 0.01), (2.6, 0.1), (2.9, 1.0)):

@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy import stats
 
-from validation.verdicts import (
+from validation.judge.verdicts import (
     FAILS,
     HOLDS,
     UNDECIDED,

@@ -19,8 +19,9 @@ import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
 
-from validation.cache import check_directory, default_cache_dir
-from validation.scene import SceneError, SceneWarning, builtin_scenes, load_scene, scene_warnings
+from validation.run.cache import check_directory, default_cache_dir
+from validation.scenes.reader import builtin_scenes, load_scene
+from validation.scenes.scene import SceneError, SceneWarning, scene_warnings
 
 #: Scenes of the default report, in report order.
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map")
@@ -98,8 +99,8 @@ def _load_scene(name: str):
 
 
 def _report(args: argparse.Namespace) -> int:
-    from validation.report import write_report
-    from validation.runner import run_scenes
+    from validation.report.write import write_report
+    from validation.run.runner import run_scenes
 
     names = args.scenes or list(DEFAULT_SCENES)
     with warnings.catch_warnings():
@@ -121,7 +122,7 @@ def _report(args: argparse.Namespace) -> int:
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
     # Fail before any computing: an unwritable report or cache folder is found now, not after.
     try:
-        from validation.report import previous_report
+        from validation.report.write import previous_report
 
         try:
             previous_report(args.out)  # replaced when the new report is written, not before
@@ -173,14 +174,14 @@ def _show(args: argparse.Namespace) -> int:
 
 
 def _bench(args: argparse.Namespace) -> int:
-    from validation.bench import run_bench
+    from validation.campaigns.bench import run_bench
 
     run_bench(args.out, quick=args.quick)
     return 0
 
 
 def _stress(args: argparse.Namespace) -> int:
-    from validation.stress import run_stress
+    from validation.campaigns.stress import run_stress
 
     records = run_stress(args.out, quick=args.quick)
     failures = [r for r in records if r.status == "FAIL"]
