@@ -50,7 +50,7 @@ def test_report_with_no_converged_bem_point(unconverged, tmp_path):
     assert verdicts and {v["verdict"] for v in verdicts} == {"undecided"}
     bem_rows = [r for r in rows(tmp_path / "curves.csv") if r["model"] == "bem"]
     assert len(bem_rows) == 12 and {r["converged"] for r in bem_rows} == {"False"}
-    assert "`????`" in text and "nowhere" in text and "**0 / 0 /" in text
+    assert "`????`" in text and "undecided: unconverged" in text and "**0 / 0 /" in text
     assert "fewer than two converged BEM realizations" in text  # finding (c) says why
     assert "Command: `python -m validation x`" in text and "run time 0.2 min" in text
 
@@ -104,6 +104,7 @@ def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
     # the theory scene alone: a published report in seconds, header with the exact command
     folder = tmp_path / "results"
     folder.mkdir()
+    (folder / "report.md").write_text("# an earlier report")
     (folder / "stale-figure.png").write_bytes(b"old")
     (folder / "notes.txt").write_text("kept")
     assert main(["report", "paper-theory", "--publish", str(folder), "--no-cache", "--quiet"]) == 0

@@ -31,6 +31,7 @@ from validation.judge.verdicts import (
     classify,
     confidence_interval,
     reference_band,
+    undecided_reasons,
     validity_range,
     verdict_counts,
     verdict_range,
@@ -39,6 +40,7 @@ from validation.judge.verdicts import (
 __all__ = [
     "ABSOLUTE_QUANTITIES",
     "COMPARED_QUANTITIES",
+    "NOT_ESTIMATED",
     "RELATIVE_QUANTITIES",
     "Comparison",
     "ErrorSummary",
@@ -47,6 +49,7 @@ __all__ = [
     "compare_realizations",
     "converged_points",
     "curve_errors",
+    "reached_points",
     "pairwise_errors",
     "summarise_errors",
     "validity_range",
@@ -56,6 +59,11 @@ __all__ = [
 RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
 #: Quantities compared by absolute error in units of sigma.
 ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
+#: Largest relative difference between a model's load and the reference's at one point for
+#: the two to be compared (both solve for the same load; far beyond any solver tolerance).
+LOAD_RTOL = 1e-6
+#: Band source of a reference field without error estimates (its band is NaN).
+NOT_ESTIMATED = "not estimated"
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
 COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
@@ -75,15 +83,35 @@ def converged_points(curve: ContactCurve) -> np.ndarray:
     return np.broadcast_to(np.asarray(flags, dtype=bool), curve.load.shape)
 
 
+def reached_points(model: ContactCurve, reference: ContactCurve, *,
+                   load_rtol: float = LOAD_RTOL) -> np.ndarray:
+    """Boolean array: where ``model`` reached the reference's load (to ``load_rtol``). A model
+    that cannot carry a load (an unconverged solve ending at another load, a load beyond what
+    it can reach) is not compared there: its point is *unreachable*, never an error.
+
+    Raises
+    ------
+    ValueError
+        When the two curves do not have the same number of points.
+    """
+    if model.load.shape != reference.load.shape:
+        raise ValueError(f"model and reference curves must have the same load points, got "
+                         f"{model.load.shape} and {reference.load.shape}")
+    with np.errstate(invalid="ignore"):
+        return np.abs(model.load - reference.load) <= load_rtol * np.abs(reference.load)
+
+
 def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
-                 quantities: tuple[str, ...], *, load_rtol: float = 1e-6,
+                 quantities: tuple[str, ...], *, load_rtol: float = LOAD_RTOL,
                  reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
     """Errors of ``model`` against ``reference`` at the same loads.
 
     Parameters
     ----------
     model, reference : ContactCurve
-        Curves on the same load points (checked to ``load_rtol``).
+        Curves on the same load points; a point where the model's load differs from the
+        reference's by more than ``load_rtol`` (relative) is unreachable
+        (:func:`reached_points`): NaN error.
     sigma : float
         Standard deviation of the summit heights [length], the unit of separation errors.
     quantities : tuple of str
@@ -95,15 +123,14 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
     -------
     dict of str to ndarray
         One error array per quantity (NaN where the reference value is zero for a relative
-        error, or where either curve's solver did not converge).
+        error, where either curve's solver did not converge, or where the model did not reach
+        the reference's load).
     """
     sigma, quantities = checks.curve_error_arguments(
         sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES)
-    if model.load.shape != reference.load.shape or not np.allclose(
-            model.load, reference.load, rtol=load_rtol, atol=0.0):
-        raise ValueError("model and reference curves must be evaluated at the same loads")
+    reached = reached_points(model, reference, load_rtol=load_rtol)
     fields = reference_fields or {}
-    unconverged = ~(converged_points(model) & converged_points(reference))
+    unconverged = ~(converged_points(model) & converged_points(reference) & reached)
     errors: dict[str, np.ndarray] = {}
     for name in quantities:
         got, want = _field(model, name), _field(reference, fields.get(name, name))
@@ -156,16 +183,29 @@ class ModelComparison:
     quantity: str
     summary: ErrorSummary
     ranges: tuple[ValidityRange, ...]
-    unconverged: int = 0  # (realization, load) points where the model or the BEM did not converge
+    # (realization, load) points where the model or the BEM did not converge, or the model did
+    # not reach the reference's load (``unreachable`` of them)
+    unconverged: int = 0
     interval: ErrorInterval | None = None
     band: np.ndarray | None = None                    # reference band per point
     verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
     tolerances: tuple[float, ...] = ()
     reference_field: str = ""                         # the reference field compared with
+    complete: np.ndarray | None = None                # where every realization converged
+    unreachable: int = 0                              # points the model did not reach
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
         return verdict_counts(self.verdicts[index])
+
+    def reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.verdicts.undecided_reasons`)."""
+        if self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return undecided_reasons(self.interval, band, self.tolerances[index],
+                                 complete=self.complete)
 
 
 @dataclass(frozen=True)
@@ -196,7 +236,8 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
     """Reference band of one field per point, and where it came from.
 
     Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
-    over realizations of |error| in the comparison's measure. Otherwise zero ("not estimated").
+    over realizations of |error| in the comparison's measure. Otherwise NaN, "not estimated":
+    an unknown band is never taken as zero (every verdict against it is undecided).
     """
     curves = [r.curves[reference_model] for r in results]
     points = curves[0].load.shape
@@ -208,27 +249,32 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
         else:
             scale = np.vstack([_field(c, field_name) for c in curves])
         return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
-    return np.zeros(points), "not estimated"
+    return np.full(points, np.nan), NOT_ESTIMATED
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
                       area_fraction, tolerances, field_name) -> ModelComparison:
     interval = confidence_interval(errors)
+    reached = np.vstack([reached_points(r.curves[model], r.curves[reference_model])
+                         for r in results])
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
-                                 for r in results]), axis=0)
+                                 for r in results]) & reached, axis=0)
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
     summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
-                           verdicts, tuple(tolerances), field_name)
+                           verdicts, tuple(tolerances), field_name, complete,
+                           int(np.count_nonzero(~reached)))
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
     return sum(int(np.count_nonzero(~(converged_points(r.curves[model])
-                                      & converged_points(r.curves[reference_model]))))
+                                      & converged_points(r.curves[reference_model])
+                                      & reached_points(r.curves[model],
+                                                       r.curves[reference_model]))))
                for r in results)
 
 

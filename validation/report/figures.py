@@ -24,6 +24,11 @@ __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_l
            "plot_validity_map", "panels_figure", "verdict_figure", "validity_map_figure"]
 
 VERDICT_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
+#: Line of each tolerance contour of the validity map, smallest tolerance first: told apart by
+#: colour and dash, and each visible on both ends of the viridis colour map.
+CONTOUR_STYLES = (dict(colors="white", linestyles="solid", linewidths=1.4),
+                  dict(colors="tab:red", linestyles="dashed", linewidths=1.4),
+                  dict(colors="black", linestyles="dotted", linewidths=1.4))
 #: Axis label of each swept surface parameter (validation.scenes.scene.SWEEPS).
 SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H"}
 
@@ -252,8 +257,9 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
                          cmap="viridis")
     drawn = [mesh]
     if len(values) > 1 and not np.ma.is_masked(error):
-        drawn.append(ax.contour(load, values, error, levels=sorted(tolerances), colors="white",
-                                linewidths=1.0))
+        for tolerance, style in zip(sorted(tolerances), CONTOUR_STYLES):
+            if np.nanmin(error) < tolerance < np.nanmax(error):  # only contours that exist
+                drawn.append(ax.contour(load, values, error, levels=[tolerance], **style))
     ax.set_xscale("log")
     ax.set_xlabel(QUANTITY_LABELS["load"])
     parameter = comparisons[0].parameter
@@ -300,4 +306,17 @@ def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
     mesh = next((m for m in meshes if hasattr(m, "get_cmap")), None)
     if mesh is not None:
         fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)")
+    _contour_legend(fig, tolerances)
     return fig
+
+
+def _contour_legend(fig, tolerances) -> None:
+    """One legend entry per tolerance contour (:data:`CONTOUR_STYLES`), above the panels."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=style["colors"], linestyle=style["linestyles"],
+                      linewidth=style["linewidths"], label=f"|mean error| = {tolerance:g}")
+               for tolerance, style in zip(sorted(tolerances), CONTOUR_STYLES)]
+    legend = fig.legend(handles=handles, loc="outside upper center", ncols=len(handles),
+                        fontsize=8, title="tolerance contours", title_fontsize=8)
+    legend.get_frame().set_facecolor("0.6")  # white and black lines both stand out on grey

@@ -10,8 +10,9 @@ import pathlib
 
 import numpy as np
 
-from validation.report.figures import dimensionless
+from validation.judge.compare import NOT_ESTIMATED
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
+from validation.report.figures import dimensionless
 
 __all__ = ["write_tables", "TABLES"]
 
@@ -23,7 +24,8 @@ TABLES = {
     "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source"],
-    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict"],
+    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict",
+                     "undecided_reason"],
     "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
                      "area_fraction_min", "area_fraction_max", "points", "total", "holds",
                      "fails", "undecided", "reference_band_max", "unconverged",
@@ -84,14 +86,18 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
         sweep = _sweep(c.parameter, c.value)
         for (model, quantity), e in c.models.items():
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
+            # a band that could not be estimated is written as such, never as a number
+            cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
+            reasons = [e.reasons(i) for i in range(len(e.tolerances))]
             for k in range(c.load.size):
                 out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
-                                          e.interval.std[k], int(e.interval.count[k]), band[k],
+                                          e.interval.std[k], int(e.interval.count[k]), cells[k],
                                           c.band_source.get(e.reference_field, "")])
-                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k]]
-                                        for t, v in zip(e.tolerances, e.verdicts)]
+                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
+                                         why[k]] for t, v, why in zip(e.tolerances, e.verdicts,
+                                                                      reasons)]
             for index, r in enumerate(e.ranges):
                 counts = e.counts(index)
                 out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
@@ -99,7 +105,7 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                            else math.nan, e.unconverged,
+                                            else NOT_ESTIMATED, e.unconverged,
                                             e.reference_field or quantity])
     return out
 

@@ -285,9 +285,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
                          bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
                                           max_iter=task.bem.max_iter,
-                                          # the half grid must cover the same window
-                                          error_estimate=task.bem.reference_error
-                                          and not any(side % 2 for side in task.surface.grid)))
+                                          # an even grid along both sides: the scene
+                                          # checks it (a measured map's tiles are made even)
+                                          error_estimate=task.bem.reference_error))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
@@ -322,14 +322,23 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
                                     time.perf_counter() - started) if pending else 0.0
             bar.advance(task.describe(), eta=eta)
 
-    if executor is None:
-        for task in tasks:
-            finished(task, run_realization(task))
-    else:
-        futures: dict[Future, RealizationTask] = {executor.submit(run_realization, t): t
-                                                  for t in tasks}
-        for future in as_completed(futures):
-            finished(futures[future], future.result())
+    futures: dict[Future, RealizationTask] = {}
+    try:
+        if executor is None:
+            for task in tasks:
+                finished(task, run_realization(task))
+        else:
+            futures = {executor.submit(run_realization, t): t for t in tasks}
+            for future in as_completed(futures):
+                finished(futures[future], future.result())
+    except BaseException:
+        # interrupted (Ctrl-C) or a realization failed: nothing queued may start any more
+        for future in futures:
+            future.cancel()
+        raise
+    finally:
+        if bar:
+            bar.close()
     return results
 
 

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SceneError", "fail", "number", "integer", "flag", "numbers", "names", "choice"]
+__all__ = ["SceneError", "SceneWarning", "fail", "number", "integer", "flag", "numbers", "names",
+           "choice"]
 
 
 class SceneError(ValueError):
@@ -20,6 +21,11 @@ class SceneError(ValueError):
     def __init__(self, message: str, *, key: str | None = None, detail: str | None = None):
         super().__init__(message)
         self.key, self.detail = key, detail
+
+
+class SceneWarning(UserWarning):
+    """A valid scene that will not give what it seems to ask for (e.g. verdicts from one
+    realization); the message says why and what to change."""
 
 
 def fail(owner: object, key: str, detail: str) -> None:

@@ -17,7 +17,8 @@ file's tables and keys map onto them::
                wm: D rms_slope G gamma M n_max L n
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
-               file: path physical_size file_unit unit detrend resample square tiles
+               file: path physical_size file_unit unit detrend resample square tiles, and
+                     every other keyword of read_topography (fill channel reader ...)
     [realizations]  count seed          -> Scene.realizations, Scene.seed
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
@@ -43,13 +44,13 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 
 from validation.run import models as _models
 from validation.scenes import checks as check
-from validation.scenes.checks import SceneError
+from validation.scenes.checks import SceneError, SceneWarning
 from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
 
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
-    "SceneError", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
-    "MIN_TILE", "defaults",
+    "SceneError", "SceneWarning", "scene_warnings", "MODELS", "QUANTITIES", "KINDS", "FAMILIES",
+    "FAMILY_KEYS", "SWEEPS", "MIN_TILE", "defaults",
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
@@ -215,6 +216,16 @@ class Scene:
                        "window is not periodic)")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
+        elif self.kind == "surface" and self.bem.reference_error:
+            # the reference band comes from the same surface on every second grid point, which
+            # covers the same window only on an even grid (a measured map's tiles are made even)
+            for key, n in (("surface.n", self.surface.n), ("quick.n", self.quick.n)):
+                if n % 2:
+                    check.fail(self, key, f"must be even when bem.reference_error = true (the "
+                               f"BEM's error band is estimated on every second grid point, "
+                               f"which spans the same window only on an even grid); use "
+                               f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
+                               f"band: every verdict then stays undecided)")
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""
@@ -225,6 +236,19 @@ class Scene:
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
         return replace(self, surface=surface, loads=loads,
                        realizations=min(self.realizations, self.quick.realizations))
+
+
+def scene_warnings(scene: Scene) -> list[str]:
+    """What a valid scene will not give although it seems to ask for it (one message each):
+    verdicts need a confidence interval, so at least two realizations."""
+    if scene.kind != "surface" or scene.realizations >= 2 \
+            or not set(scene.models) & set(_models.reference_names()):
+        return []
+    change = ("surface.tiles = 4 (2 x 2 tiles as realizations)" if scene.surface.family == "file"
+              else "[realizations] count = 2 or more")
+    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: the "
+            f"95 % interval of a mean error needs at least 2, so every verdict will be "
+            f"undecided; set {change}"]
 
 
 def defaults(kind: type) -> dict:
