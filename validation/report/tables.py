@@ -10,6 +10,7 @@ import pathlib
 
 import numpy as np
 
+from validation.report import sampling
 from validation.report.figures import dimensionless
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
 
@@ -33,6 +34,7 @@ TABLES = {
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
 }
+TABLES.update(sampling.TABLES)
 
 
 def _sweep(parameter: str, value: float) -> list:
@@ -135,6 +137,8 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
                                   f.claim, f.evidence, f.verdict]
                                  for value, found in analysis.findings.items() for f in found]
         rows["theory.csv"] += _theory_rows(analysis)
+        for name, more in sampling.table_rows(analysis).items():
+            rows[name] += more
     written = []
     for name, table in rows.items():
         if table:
