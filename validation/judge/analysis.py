@@ -1,5 +1,6 @@
-"""One scene judged: its results with the comparisons against the reference and the paper's
-findings, by sweep value (D, H)."""
+"""One scene judged: its results with the comparisons against the reference, the paper's
+findings and, for a scene sampled at several intervals, its sampling study, by sweep value
+(D, H)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from dataclasses import dataclass, field
 
 from validation.judge.compare import Comparison, compare_realizations
 from validation.judge.findings import Finding, check_findings
+from validation.judge.sampling import SamplingStudy, sampling_finding, sampling_study
 from validation.run import models
 from validation.run.runner import SceneResult
 
@@ -20,6 +22,7 @@ class Analysis:
     result: SceneResult
     comparisons: list[Comparison] = field(default_factory=list)
     findings: dict[float, list[Finding]] = field(default_factory=dict)
+    sampling: dict[float, SamplingStudy] = field(default_factory=dict)  # with [sampling] factors
 
 
 def analyse(result: SceneResult) -> Analysis:
@@ -28,9 +31,13 @@ def analyse(result: SceneResult) -> Analysis:
     scene = result.scene
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return Analysis(result)
-    comparisons, findings = [], {}
+    comparisons, findings, studies = [], {}, {}
     for value, realizations in sorted(result.realizations.items()):
         comparison = compare_realizations(realizations, tolerances=scene.tolerances)
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
-    return Analysis(result, comparisons, findings)
+        study = sampling_study(realizations, scene.tolerances)
+        findings[value].append(sampling_finding(study))
+        if study is not None:
+            studies[value] = study
+    return Analysis(result, comparisons, findings, studies)

@@ -268,12 +268,21 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
     return drawn
 
 
+#: Legend entries that still fit inside the first panel; a longer legend goes beside the panels.
+LEGEND_INSIDE = 6
+
+
 def panels_figure(draw, panels: list, *, width: float = 5.0, height: float = 4.0, legend=8):
-    """One row of panels, ``draw(ax, panel)`` each; legend on the first panel."""
+    """One row of panels, ``draw(ax, panel)`` each; the first panel's legend on it, or beside
+    the row when it has more than :data:`LEGEND_INSIDE` entries (so that it hides no curve)."""
     fig, axes = subplots(1, len(panels), figsize=(width * len(panels), height), squeeze=False)
     for ax, panel in zip(axes[0], panels):
         draw(ax, panel)
-    if axes[0][0].get_legend_handles_labels()[0]:
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    if len(handles) > LEGEND_INSIDE:
+        fig.set_figwidth(fig.get_figwidth() + 2.6)
+        fig.legend(handles, labels, loc="outside right upper", fontsize=legend)
+    elif handles:
         axes[0][0].legend(fontsize=legend)
     return fig
 
@@ -291,21 +300,30 @@ def verdict_figure(comparison: Comparison):
     return fig
 
 
+#: Most models side by side in a validity map; more go one per row.
+MAP_COLUMNS = 5
+
+
 def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
-    """``|mean error|`` over Load and the swept parameter: rows quantities, columns models."""
+    """``|mean error|`` over Load and the swept parameter: rows quantities, columns models (rows
+    models, columns quantities when there are more than :data:`MAP_COLUMNS` models)."""
     models = list(dict.fromkeys(k[0] for k in keys))
     quantities = list(dict.fromkeys(k[1] for k in keys))
-    fig, axes = subplots(len(quantities), len(models),
-                         figsize=(3.6 * len(models), 3.0 * len(quantities)), squeeze=False)
-    meshes = [plot_validity_map(axes[i][j], comparisons, m, q, tolerances)[0]
-              for i, q in enumerate(quantities) for j, m in enumerate(models)]
+    by_model = len(models) > MAP_COLUMNS
+    rows, columns = (models, quantities) if by_model else (quantities, models)
+    fig, axes = subplots(len(rows), len(columns), squeeze=False,
+                         figsize=((4.2 if by_model else 3.6) * len(columns), 3.0 * len(rows)))
+    meshes = [plot_validity_map(axes[i][j], comparisons, *((r, c) if by_model else (c, r)),
+                                tolerances)[0]
+              for i, r in enumerate(rows) for j, c in enumerate(columns)]
     for ax in axes[:-1].ravel():
         ax.set_xlabel("")
     for ax in axes[:, 1:].ravel():
         ax.set_ylabel("")
     mesh = next((m for m in meshes if hasattr(m, "get_cmap")), None)
     if mesh is not None:
-        fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)")
+        fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)",
+                     **(dict(location="bottom", fraction=0.015, aspect=60) if by_model else {}))
     _contour_legend(fig, tolerances)
     return fig
 

@@ -201,6 +201,7 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
 
 def findings_section(analyses: list[Analysis]) -> list[str]:
     from validation.judge import findings as module
+    from validation.judge import sampling
 
     chosen = [a for a in analyses
               if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
@@ -219,7 +220,7 @@ def findings_section(analyses: list[Analysis]) -> list[str]:
                              f"{analysis.result.scene.name}, {sweep_member(parameter, value)}",
                              f.evidence.replace("|", "/"), f"**{f.verdict}**"])
     lines += md_table(["finding", "surface", "numbers that decide it", "verdict"], rows)
-    rules = module.RULES.replace("\n(", "\n\n(").split("\n\n")
+    rules = f"{module.RULES}\n{sampling.RULE}".replace("\n(", "\n\n(").split("\n\n")
     return lines + [" ".join(part.split()) + "\n" for part in rules]
 
 

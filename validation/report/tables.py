@@ -11,6 +11,7 @@ import pathlib
 import numpy as np
 
 from validation.judge.compare import NOT_ESTIMATED
+from validation.report import sampling
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
 from validation.report.figures import dimensionless
 
@@ -35,6 +36,7 @@ TABLES = {
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
 }
+TABLES.update(sampling.TABLES)
 
 
 def _sweep(parameter: str, value: float) -> list:
@@ -141,6 +143,8 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
                                   f.claim, f.evidence, f.verdict]
                                  for value, found in analysis.findings.items() for f in found]
         rows["theory.csv"] += _theory_rows(analysis)
+        for name, more in sampling.table_rows(analysis).items():
+            rows[name] += more
     written = []
     for name, table in rows.items():
         if table:

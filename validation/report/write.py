@@ -18,6 +18,7 @@ from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
 from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
+from validation.report.sampling import sampling_section
 from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,
                                         timing, verdict_table)
@@ -206,6 +207,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     figures = _Figures(folder, header(seconds, mode, command))
     figures.lines += holds_section(analyses)
     figures.lines += findings_section(analyses)
+    figures.lines += sampling_section(analyses)
     for analysis in analyses:
         scene = analysis.result.scene
         figures.lines += [f"## {scene.title}\n",

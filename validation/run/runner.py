@@ -14,7 +14,9 @@ and only when needed:
   separations in units of sigma are);
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
-  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked for.
+  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked for;
+* with ``[sampling] factors``, the models fitted to summits again on every k-th grid point, at
+  the reference's loads (:mod:`validation.run.sampling`; the BEM is not solved again).
 
 Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
 Persson) are cached (:mod:`validation.run.cache`) under keys that hash exactly their inputs plus
@@ -37,7 +39,7 @@ import numpy as np
 
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from validation.run import models
+from validation.run import models, sampling
 from validation.run.cache import Cache, cache_key
 from validation.run.models import ModelInputs
 from validation.run.cost import remaining_seconds, schedule
@@ -67,7 +69,8 @@ _SOURCE_VERSION: str | None = None
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
                                  "run/cost.py", "report/figures.py", "judge/findings.py",
                                  "report/labels.py", "run/progress.py", "report/write.py",
-                                 "report/sections.py", "report/tables.py", "judge/verdicts.py"})
+                                 "report/sections.py", "report/tables.py", "judge/verdicts.py",
+                                 "judge/sampling.py", "report/sampling.py"})
 
 
 def _version() -> str:
@@ -106,6 +109,7 @@ class RealizationTask:
     quantities: tuple[str, ...]
     bem: BemSettings
     cache_dir: str | None = None
+    sampling: tuple[int, ...] = (1,)   # sampling intervals in grid steps (Scene.sampling)
 
     @property
     def sweep_value(self) -> float:
@@ -135,6 +139,8 @@ class RealizationResult:
     summit_count: int
     computed: tuple[str, ...]     # log of computations actually done (cache hits excluded)
     seconds: dict[str, float]     # wall time per model (0 for a cache hit)
+    # the summit-fitted models at every sampling interval of task.sampling (finest first)
+    sampled: tuple[sampling.Sampled, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -164,7 +170,7 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
             tasks.append(RealizationTask(surface=surface, seed=seed, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=scene.bem,
-                                         cache_dir=cache_dir))
+                                         cache_dir=cache_dir, sampling=scene.sampling))
     return tasks
 
 
@@ -296,11 +302,15 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
         if item.reference and loads is None:
             loads = curves[name].load
+    path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
+    sampled = sampling.sample_realization(
+        task, heights, summits, inputs, curves, cache, log, version=_version(),
+        curve=lambda item, at: _model_curve(item, at, path, quantities, cache, log))
     return RealizationResult(
         task=task, curves=curves, sigma=sigma,
         summit_mean=math.nan if summits is None else float(np.mean(summits.height)),
         summit_count=0 if summits is None else int(np.size(summits.height)),
-        computed=tuple(log.computed), seconds=log.seconds)
+        computed=tuple(log.computed), seconds=log.seconds, sampled=sampled)
 
 
 # --------------------------------------------------------------------------------------------

@@ -27,9 +27,10 @@ __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 #: Scene fields read from another table than their name, as "table.key".
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
                "e_star": "material.e_star", "models": "models.use", "m": "models.m",
-               "quantities": "quantities.use", "tolerances": "tolerances.levels"}
+               "quantities": "quantities.use", "tolerances": "tolerances.levels",
+               "sampling": "sampling.factors"}
 _SURFACE_TABLES = ("surface", "realizations", "loads", "models", "quantities", "bem", "quick",
-                   "material")
+                   "material", "sampling")
 
 
 class _Reader:
@@ -174,7 +175,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
                  "realizations are its tiles (surface.tiles)")
     tables = dict(realizations=dict(count="integer", seed="integer"),
                   material=dict(e_star="number"), models=dict(use="strings", m="number"),
-                  quantities=dict(use="strings"))
+                  quantities=dict(use="strings"), sampling=dict(factors="numbers"))
     for table, kinds in tables.items():
         reader = top.sub(table)
         for key, kind in kinds.items():

@@ -26,6 +26,7 @@ file's tables and keys map onto them::
     [quantities]  use                   -> Scene.quantities
     [bem]  periodic tol max_iter reference_error           -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
+    [sampling]  factors                 -> Scene.sampling (surface scenes)
     [quick]  realizations n count       -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
 
@@ -60,6 +61,8 @@ MODELS = _models.default_names()
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
 #: Kinds of scene.
 KINDS = ("surface", "theory")
+#: Fewest grid points per side of a coarser sampling (``[sampling] factors``).
+MIN_SAMPLED_GRID = 16
 
 #: Path defaults by controlled quantity (the only place they are written).
 _PATH_DEFAULTS = {"load": dict(min=1e-5, max=1e-2, spacing="log"),
@@ -181,6 +184,7 @@ class Scene:
     tolerances: tuple[float, ...] = (0.05, 0.2)
     quick: QuickSettings = field(default_factory=QuickSettings)
     theory: TheorySpec | None = None
+    sampling: tuple[int, ...] = (1,)
     source: str = "<memory>"
 
     def __post_init__(self) -> None:
@@ -196,6 +200,7 @@ class Scene:
         check.names(self, "quantities", QUANTITIES)
         check.numbers(self, "tolerances", above=0.0)
         self._check_parts()
+        self._check_sampling()
 
     def _check_parts(self) -> None:
         parts = dict(surface=SurfaceSpec, loads=LoadPath, bem=BemSettings, quick=QuickSettings,
@@ -226,6 +231,31 @@ class Scene:
                                f"which spans the same window only on an even grid); use "
                                f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
                                f"band: every verdict then stays undecided)")
+
+    def _check_sampling(self) -> None:
+        """``sampling``: sampling intervals as multiples k of the grid step, 1 (the grid itself,
+        the one the BEM solves) among them; every coarser sampling takes every k-th point of
+        the grid (:mod:`validation.run.sampling`), so k divides the grid and leaves at least
+        :data:`MIN_SAMPLED_GRID` points per side, and a model fitted to summits must be listed."""
+        check.integers(self, "sampling", 1)
+        if 1 not in self.sampling:
+            check.fail(self, "sampling", f"must list 1 (the scene's own grid, the one the BEM "
+                       f"solves) beside the coarser factors, got {list(self.sampling)!r}")
+        if len(self.sampling) == 1:
+            return
+        if self.kind == "theory":
+            check.fail(self, "sampling", "belongs only in a surface scene")
+        summit_models = [m for m in _models.names() if _models.entry(m).needs_summits]
+        if not set(self.models) & set(summit_models):
+            check.fail(self, "sampling", f"needs a model fitted to summits among the models "
+                       f"(one of {', '.join(summit_models)}); the scene lists "
+                       f"{', '.join(self.models)}")
+        grid = self.surface.grid
+        for factor in self.sampling:
+            if any(side % factor for side in grid) or min(grid) // factor < MIN_SAMPLED_GRID:
+                shape = " x ".join(map(str, grid))
+                check.fail(self, "sampling", f"factor {factor} must divide the {shape} grid "
+                           f"and leave at least {MIN_SAMPLED_GRID} points per side")
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""
