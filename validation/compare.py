@@ -13,6 +13,9 @@ separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 At each load point the errors over realizations give a mean, a 95 % Student-t confidence
 interval and, with the reference's own error band, a verdict (holds / fails / undecided;
 :mod:`validation.verdicts`). The validity range at a tolerance is the longest run of "holds".
+Beside it, a verdict on single surfaces from a normal tolerance interval of the same errors
+(:mod:`validation.tolerance`): holds per surface where at least 90 % of surfaces are within the
+tolerance, with the same confidence.
 """
 
 from __future__ import annotations
@@ -24,7 +27,9 @@ import numpy as np
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation import models
+from validation.tolerance import SurfaceInterval, classify_per_surface, surface_interval
 from validation.verdicts import (
+    CONFIDENCE,
     HOLDS,
     ErrorInterval,
     ValidityRange,
@@ -162,10 +167,16 @@ class ModelComparison:
     verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
     tolerances: tuple[float, ...] = ()
     reference_field: str = ""                         # the reference field compared with
+    surface: SurfaceInterval | None = None            # tolerance interval of single surfaces
+    surface_verdicts: tuple[np.ndarray, ...] = ()     # per tolerance: holds per surface or not
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
         return verdict_counts(self.verdicts[index])
+
+    def surface_counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided per surface at ``tolerances[index]``."""
+        return verdict_counts(self.surface_verdicts[index])
 
 
 @dataclass(frozen=True)
@@ -185,6 +196,7 @@ class Comparison:
     models: dict[tuple[str, str], ModelComparison]
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
+    confidence: float = CONFIDENCE  # of every interval and verdict (validation.sequential)
 
     @property
     def D(self) -> float:
@@ -212,18 +224,22 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
-                      area_fraction, tolerances, field_name) -> ModelComparison:
-    interval = confidence_interval(errors)
+                      area_fraction, tolerances, field_name, confidence) -> ModelComparison:
+    interval = confidence_interval(errors, confidence)
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
                                  for r in results]), axis=0)
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    surface = surface_interval(interval.mean, interval.std, interval.count,
+                               confidence=confidence)
+    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                             for tol in tolerances)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
     summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
-                           verdicts, tuple(tolerances), field_name)
+                           verdicts, tuple(tolerances), field_name, surface, surface_verdicts)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
@@ -239,7 +255,8 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
 
 
 def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
-                         reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
+                         reference_fields: dict[str, dict[str, str]] | None = None,
+                         confidence: float = CONFIDENCE) -> Comparison:
     """Compare every model with the reference over the realizations of one sweep value (D, H).
 
     Parameters
@@ -253,6 +270,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.models.reference_fields`).
+    confidence : float
+        Confidence of the intervals and verdicts, on the mean and per surface (the sequential
+        plan's ``1 - alpha / looks``, :mod:`validation.sequential`; default 95 %).
 
     Notes
     -----
@@ -284,7 +304,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             field_name = own.get(name, name)
             entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
-                area_fraction, tolerances, field_name)
+                area_fraction, tolerances, field_name, confidence)
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
                       load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()})
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)
