@@ -23,6 +23,7 @@ from validation.report_sections import (REPORT_QUANTITIES, findings_section, hea
                                         holds_section, md_table, surface_text, sweep_member,
                                         timing, verdict_table)
 from validation.runner import SceneResult
+from validation.sequential import scene_plan
 
 __all__ = ["write_report", "analyse", "Analysis", "md_table", "dimensionless", "MODEL_LABELS",
            "QUANTITY_LABELS"]
@@ -43,8 +44,10 @@ def analyse(result: SceneResult) -> Analysis:
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return Analysis(result)
     comparisons, findings = [], {}
+    confidence = scene_plan(scene).confidence  # 95 %, split between the looks of a budget
     for value, realizations in sorted(result.realizations.items()):
-        comparison = compare_realizations(realizations, tolerances=scene.tolerances)
+        comparison = compare_realizations(realizations, tolerances=scene.tolerances,
+                                          confidence=confidence)
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
     return Analysis(result, comparisons, findings)
@@ -116,6 +119,9 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
     scene, s = result.scene, result.scene.surface
     count = len(next(iter(result.realizations.values()), []))
     lines.append(surface_text(scene, count))
+    if result.sequential is not None:
+        lines.append(f"Realizations per {s.sweep_name or 'surface'}: "
+                     f"{result.sequential.describe()}.\n")
     if not analysis.comparisons:
         lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
     for value, results in sorted(result.realizations.items()):

@@ -22,7 +22,9 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
-different scenes run once.
+different scenes run once. A scene with a realization budget (``[realizations] max``) then
+gets more realizations, look by look, while it has undecided cells
+(:mod:`validation.sequential`); its result records the looks taken and why they stopped.
 """
 
 from __future__ import annotations
@@ -30,7 +32,7 @@ from __future__ import annotations
 import math
 import time
 from concurrent.futures import Executor, Future, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable
 
 import numpy as np
@@ -42,6 +44,7 @@ from validation.models import ModelInputs
 from validation.cost import remaining_seconds, schedule
 from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
+from validation.sequential import SequentialRecord, extend_scene
 from validation.surface_families import surface_heights, surface_identity
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
@@ -64,7 +67,8 @@ _SOURCE_VERSION: str | None = None
 #: line): editing them leaves every cached result valid, so they are not part of its hash.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "compare.py", "cost.py", "figures.py",
                                  "findings.py", "labels.py", "progress.py", "report.py",
-                                 "report_sections.py", "tables.py", "verdicts.py"})
+                                 "report_sections.py", "sequential.py", "tables.py",
+                                 "tolerance.py", "verdicts.py"})
 
 
 def _version() -> str:
@@ -142,6 +146,7 @@ class SceneResult:
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
+    sequential: SequentialRecord | None = None  # the looks taken (scenes with a reference)
 
 
 # --------------------------------------------------------------------------------------------
@@ -368,4 +373,30 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             by_value.setdefault(task.sweep_value, []).append(results[task])
         out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
+    # after the planned realizations: more where cells are undecided (scene by scene)
+    for index, result in enumerate(out):
+        record = _more_realizations(result, executor, cache_dir, progress, stream)
+        if record is not None:
+            out[index] = replace(result, sequential=record,
+                                 seconds=time.perf_counter() - started)
     return out
+
+
+def _more_realizations(result: SceneResult, executor: Executor | None, cache_dir: str | None,
+                       progress: bool, stream) -> SequentialRecord | None:
+    """Take the looks of the scene's sequential plan (:func:`validation.sequential.extend_scene`),
+    adding the next seeds of each sweep value to ``result.realizations`` in place; None for a
+    scene without a BEM reference (nothing to decide)."""
+    scene = result.scene
+    if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
+        return None
+
+    def run(count: int) -> list[RealizationResult]:
+        known = {r.task for value in result.realizations.values() for r in value}
+        tasks = [t for t in plan_scene(replace(scene, realizations=count), cache_dir=cache_dir)
+                 if t not in known]
+        done = _run_tasks(tasks, executor, Progress(len(tasks), stream=stream)
+                          if progress and tasks else None)
+        return [done[task] for task in tasks]  # in seed order
+
+    return extend_scene(scene, result.realizations, run)

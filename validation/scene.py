@@ -18,7 +18,7 @@ file's tables and keys map onto them::
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
                file: path physical_size file_unit unit detrend tiles
-    [realizations]  count seed          -> Scene.realizations, Scene.seed
+    [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
     [models]  use m                     -> Scene.models (registered names), Scene.m
@@ -171,6 +171,8 @@ class Scene:
     surface: SurfaceSpec | None = None
     realizations: int = 25
     seed: int = 0
+    # budget of the sequential plan (validation.sequential); None: the planned ones only
+    max_realizations: int | None = None
     e_star: float = 1.0
     loads: LoadPath = field(default_factory=LoadPath)
     models: tuple[str, ...] = MODELS
@@ -215,6 +217,11 @@ class Scene:
                        "window is not periodic)")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
+        if self.max_realizations is not None:
+            if family == "file":
+                check.fail(self, "max_realizations", "cannot be set for a measured map (its "
+                           "realizations are its tiles; there are no more)")
+            check.integer(self, "max_realizations", self.realizations)
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""
@@ -223,8 +230,12 @@ class Scene:
         surface = self.surface if self.surface.family == "file" else \
             replace(self.surface, n=min(self.surface.n, self.quick.n))
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
-        return replace(self, surface=surface, loads=loads,
-                       realizations=min(self.realizations, self.quick.realizations))
+        realizations = min(self.realizations, self.quick.realizations)
+        # the budget shrinks in proportion: the same number of looks at the same ratios
+        budget = None if self.max_realizations is None else max(realizations, math.ceil(
+            self.max_realizations * realizations / self.realizations))
+        return replace(self, surface=surface, loads=loads, realizations=realizations,
+                       max_realizations=budget)
 
 
 def defaults(kind: type) -> dict:

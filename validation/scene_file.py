@@ -21,6 +21,7 @@ __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
 #: Scene fields read from another table than their name, as "table.key".
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
+               "max_realizations": "realizations.max",
                "e_star": "material.e_star", "models": "models.use", "m": "models.m",
                "quantities": "quantities.use", "tolerances": "tolerances.levels"}
 _SURFACE_TABLES = ("surface", "realizations", "loads", "models", "quantities", "bem", "quick",
@@ -156,7 +157,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
     if parts["surface"].family == "file" and "realizations" in top.table:
         top.fail("realizations", "does not belong in a scene of a measured map: its "
                  "realizations are its tiles (surface.tiles)")
-    tables = dict(realizations=dict(count="integer", seed="integer"),
+    tables = dict(realizations=dict(count="integer", seed="integer", max="integer"),
                   material=dict(e_star="number"), models=dict(use="strings", m="number"),
                   quantities=dict(use="strings"))
     for table, kinds in tables.items():
