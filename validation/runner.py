@@ -44,7 +44,9 @@ from validation.models import ModelInputs
 from validation.cost import remaining_seconds, schedule
 from validation.progress import Progress
 from validation.scene import BemSettings, LoadPath, Scene, SurfaceSpec
-from validation.sequential import SequentialRecord, extend_scene
+from validation.refine import run_job
+from validation.sequential import (RefinementRecord, SequentialRecord, extend_scene,
+                                   finer_reference, scene_plan)
 from validation.surface_families import surface_heights, surface_identity
 
 __all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
@@ -147,6 +149,7 @@ class SceneResult:
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
     sequential: SequentialRecord | None = None  # the looks taken (scenes with a reference)
+    refinement: RefinementRecord | None = None  # the finer reference where its band decides
 
 
 # --------------------------------------------------------------------------------------------
@@ -373,20 +376,40 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             by_value.setdefault(task.sweep_value, []).append(results[task])
         out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
-    # after the planned realizations: more where cells are undecided (scene by scene)
+    # after the planned realizations: a finer reference, then more realizations, where cells
+    # are undecided (scene by scene)
     for index, result in enumerate(out):
-        record = _more_realizations(result, executor, cache_dir, progress, stream)
-        if record is not None:
-            out[index] = replace(result, sequential=record,
+        records = _more_work(result, executor, cache_dir, progress, stream)
+        if records is not None:
+            out[index] = replace(result, refinement=records[0], sequential=records[1],
                                  seconds=time.perf_counter() - started)
     return out
 
 
-def _more_realizations(result: SceneResult, executor: Executor | None, cache_dir: str | None,
-                       progress: bool, stream) -> SequentialRecord | None:
-    """Take the looks of the scene's sequential plan (:func:`validation.sequential.extend_scene`),
-    adding the next seeds of each sweep value to ``result.realizations`` in place; None for a
-    scene without a BEM reference (nothing to decide)."""
+def _solve_jobs(jobs: list, executor: Executor | None, cache_dir: str | None,
+                progress: bool, stream) -> list:
+    """Run refinement jobs (:func:`validation.refine.run_job`) in this process or over
+    ``executor``, in order; each gives ``(curve, computed)``."""
+    bar = Progress(len(jobs), stream=stream) if progress and jobs else None
+    if executor is None:
+        futures = None
+    else:
+        futures = [executor.submit(run_job, job, cache_dir) for job in jobs]
+    out = []
+    for index, job in enumerate(jobs):
+        out.append(run_job(job, cache_dir) if futures is None else futures[index].result())
+        if bar:
+            bar.advance(f"finer reference {job.factor * job.task.surface.n}² "
+                        f"{job.task.describe()}")
+    return out
+
+
+def _more_work(result: SceneResult, executor: Executor | None, cache_dir: str | None,
+               progress: bool, stream) -> tuple[RefinementRecord, SequentialRecord] | None:
+    """The finer reference where its band decides (:func:`validation.sequential.finer_reference`),
+    then the looks of the scene's sequential plan (:func:`validation.sequential.extend_scene`),
+    which adds the next seeds of each sweep value to ``result.realizations`` in place; None for
+    a scene without a BEM reference (nothing to decide)."""
     scene = result.scene
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return None
@@ -399,4 +422,9 @@ def _more_realizations(result: SceneResult, executor: Executor | None, cache_dir
                           if progress and tasks else None)
         return [done[task] for task in tasks]  # in seed order
 
-    return extend_scene(scene, result.realizations, run)
+    def solve(jobs: list) -> list:
+        return _solve_jobs(jobs, executor, cache_dir, progress, stream)
+
+    refinement = finer_reference(scene, result.realizations, solve,
+                                 scene_plan(scene).confidence)
+    return refinement, extend_scene(scene, result.realizations, run, refinement, solve)

@@ -23,7 +23,7 @@ file's tables and keys map onto them::
     [loads]  quantity min max count spacing                -> LoadPath
     [models]  use m                     -> Scene.models (registered names), Scene.m
     [quantities]  use                   -> Scene.quantities
-    [bem]  periodic tol max_iter reference_error           -> BemSettings
+    [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
     [quick]  realizations n count       -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
@@ -115,6 +115,9 @@ class BemSettings:
     tol: float = 1e-8
     max_iter: int = 2000
     reference_error: bool = True
+    # finest grid of the refined reference where its band decides (validation.refine);
+    # None: never refined
+    max_grid: int | None = None
 
     def __post_init__(self) -> None:
         check.flag(self, "periodic")
@@ -123,6 +126,8 @@ class BemSettings:
             check.fail(self, "tol", f"must be <= 0.1, got {self.tol!r}")
         check.integer(self, "max_iter", 1)
         check.flag(self, "reference_error")
+        if self.max_grid is not None:
+            check.integer(self, "max_grid", 8)
 
 
 @dataclass(frozen=True)
@@ -215,6 +220,10 @@ class Scene:
         if family != "wm" and self.bem.periodic:
             check.fail(self, "bem.periodic", f"must be false for a {family} surface (its "
                        "window is not periodic)")
+        grid = self.bem.max_grid
+        if grid is not None and family != "file" and grid < self.surface.n:
+            check.fail(self, "bem.max_grid", f"must be at least the surface grid n = "
+                       f"{self.surface.n}, got {grid!r}")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
         if self.max_realizations is not None:
@@ -234,8 +243,12 @@ class Scene:
         # the budget shrinks in proportion: the same number of looks at the same ratios
         budget = None if self.max_realizations is None else max(realizations, math.ceil(
             self.max_realizations * realizations / self.realizations))
+        # and the finest grid with the grid: as many refinements as at full scale
+        bem = self.bem if self.bem.max_grid is None or surface.n == self.surface.n else \
+            replace(self.bem, max_grid=max(surface.n, self.bem.max_grid * surface.n
+                                           // self.surface.n))
         return replace(self, surface=surface, loads=loads, realizations=realizations,
-                       max_realizations=budget)
+                       max_realizations=budget, bem=bem)
 
 
 def defaults(kind: type) -> dict:

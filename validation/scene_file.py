@@ -167,7 +167,8 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
             parts[field_name] = reader.get(key, base[field_name], kind)
         reader.finish()
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
-        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean"))
+        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
+        max_grid="integer"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
         realizations="integer", n="integer", count="integer"))
     return parts

@@ -1,6 +1,7 @@
 """More realizations where the answer is open: a group-sequential plan with Bonferroni looks.
 
-A scene with ``[realizations] max`` gets, after its planned realizations, up to
+First, where the reference band keeps cells undecided, the reference is solved on finer grids
+(:func:`finer_reference`, :mod:`validation.refine`). Then a scene with ``[realizations] max`` gets, after its planned realizations, up to
 :data:`LOOKS` - 1 more looks at the data (docs/theory.md, "Sequential realizations", eq. T36):
 
 * the look sizes grow geometrically from the planned count ``n_1`` to the budget ``n_K = max``
@@ -25,9 +26,12 @@ from typing import Callable
 
 import numpy as np
 
-from validation.verdicts import CONFIDENCE, UNDECIDED
+from validation import models
+from validation.refine import RefineJob, merge_points, solver_tolerance, unavailable
+from validation.verdicts import CONFIDENCE, REFERENCE_ACCURACY, UNDECIDED
 
-__all__ = ["ALPHA", "LOOKS", "LookPlan", "SequentialRecord", "extend_scene", "look_plan",
+__all__ = ["ALPHA", "LOOKS", "LookPlan", "RefinementLevel", "RefinementRecord",
+           "SequentialRecord", "band_decides", "extend_scene", "finer_reference", "look_plan",
            "run_looks", "scene_plan", "scene_share", "undecided_share"]
 
 #: Total error rate of the verdicts of a scene's cells (one minus the confidence).
@@ -175,13 +179,143 @@ def scene_share(scene, by_value: dict, confidence: float) -> float:
     return undecided_share(verdicts)
 
 
-def extend_scene(scene, by_value: dict, run: Callable[[int], list]) -> SequentialRecord:
+def extend_scene(scene, by_value: dict, run: Callable[[int], list],
+                 refinement: "RefinementRecord | None" = None,
+                 solve: Callable[[list], list] | None = None) -> SequentialRecord:
     """The looks of ``scene``'s plan on its realizations ``by_value`` (sweep value -> list of
     :class:`validation.runner.RealizationResult`, extended in place): ``run(n)`` computes the
-    realizations that the first ``n`` seeds of every sweep value add to those there."""
+    realizations that the first ``n`` seeds of every sweep value add to those there; each new
+    one gets the finer reference of ``refinement`` at the same points (``solve`` as in
+    :func:`finer_reference`)."""
     def extend(count: int) -> None:
-        for result in run(count):
+        new = run(count)
+        for result in new:
             by_value[result.task.sweep_value].append(result)
+        for level in (refinement.levels if refinement is not None else ()):
+            _apply(by_value, level, solve, only={r.task for r in new})
 
     return run_looks(scene_plan(scene), extend,
                      lambda confidence: scene_share(scene, by_value, confidence))
+
+
+def band_decides(scene, results: list, confidence: float) -> tuple[np.ndarray, np.ndarray]:
+    """Load points of one sweep value where the reference band decides: some cell (a compared
+    model and quantity at a tolerance, on the mean or per surface) is undecided while the band
+    of its reference field exceeds a quarter of the tolerance. Returns the mask and the smallest
+    band over the fields at each point (NaN where none is known)."""
+    from validation.compare import COMPARED_QUANTITIES, compare_realizations
+
+    comparison = compare_realizations(results, tolerances=scene.tolerances,
+                                      confidence=confidence)
+    mask = np.zeros(comparison.load.shape, bool)
+    smallest = np.full(comparison.load.shape, np.inf)
+    for (_, quantity), entry in comparison.models.items():
+        if quantity not in COMPARED_QUANTITIES or entry.band is None:
+            continue
+        band = np.asarray(entry.band, dtype=float)
+        smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
+        for index, tolerance in enumerate(entry.tolerances):
+            open_ = entry.verdicts[index] == UNDECIDED
+            if entry.surface_verdicts:
+                open_ |= entry.surface_verdicts[index] == UNDECIDED
+            with np.errstate(invalid="ignore"):
+                mask |= open_ & (band > REFERENCE_ACCURACY * tolerance)
+    return mask, np.where(np.isfinite(smallest), smallest, np.nan)
+
+
+@dataclass(frozen=True)
+class RefinementLevel:
+    """One refinement: the grid, and per sweep value the load points solved on it and the
+    solver tolerance they were solved to (eq. T38)."""
+
+    grid: int
+    points: dict                  # sweep value -> tuple of load point indices
+    tolerances: dict              # sweep value -> solver tolerance
+
+
+@dataclass(frozen=True)
+class RefinementRecord:
+    """The refinements of a scene's reference and why they stopped."""
+
+    levels: tuple[RefinementLevel, ...]
+    reason: str
+
+    def describe(self, parameter: str = "") -> str:
+        """E.g. ``refined on 512²: 3 load point(s) at D = 2.05 (solver tolerance 1.0e-04);
+        stopped: grid limit reached (max_grid = 512)``."""
+        if not self.levels:
+            return f"not refined: {self.reason}"
+        parts = []
+        for level in self.levels:
+            per_value = ", ".join(
+                f"{len(points)} load point(s)" + (f" at {parameter} = {value:g}" if parameter
+                                                  else "")
+                for value, points in sorted(level.points.items()))
+            tolerances = sorted(set(level.tolerances.values()))
+            parts.append(f"{level.grid}²: {per_value} (solver tolerance {tolerances[0]:.1e}"
+                         + (f"–{tolerances[-1]:.1e}" if len(tolerances) > 1 else "") + ")")
+        return "refined on " + "; ".join(parts) + f"; stopped: {self.reason}"
+
+
+def _reference_name(result) -> str:
+    return models.reference_among(result.curves)
+
+
+def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
+    """Solve the points of ``level`` on its grid for every realization (or those in ``only``)
+    and merge them into each realization's reference curve, in place."""
+    from dataclasses import replace as replaced
+
+    jobs, where = [], []
+    for value, points in level.points.items():
+        for index, result in enumerate(by_value[value]):
+            if only is not None and result.task not in only:
+                continue
+            factor = level.grid // result.task.surface.n
+            jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value]))
+            where.append((value, index))
+    for (value, index), (curve, computed) in zip(where, solve(jobs)):
+        result = by_value[value][index]
+        name = _reference_name(result)
+        merged = merge_points(result.curves[name], np.array(level.points[value]), curve,
+                              level.grid, result.task.surface.L / level.grid,
+                              result.task.surface.n)
+        log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
+                                 if computed else ())
+        by_value[value][index] = replaced(result, curves={**result.curves, name: merged},
+                                          computed=log)
+
+
+def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
+                    confidence: float) -> RefinementRecord:
+    """Refine the reference where its band decides (:func:`band_decides`), grid by grid up to
+    ``scene.bem.max_grid``: each level solves the points still decided by the band among those
+    solved on the level below. ``solve(jobs)`` runs :class:`validation.refine.RefineJob` s and
+    returns ``(curve, computed)`` per job (:func:`validation.refine.run_job`)."""
+    reason = unavailable(scene)
+    if reason is not None:
+        return RefinementRecord((), reason)
+    n, levels = scene.surface.n, []
+    grid = 2 * n
+    while True:
+        if grid > scene.bem.max_grid:
+            return RefinementRecord(tuple(levels), f"grid limit reached (max_grid = "
+                                    f"{scene.bem.max_grid})")
+        points, tolerances = {}, {}
+        for value, results in by_value.items():
+            mask, band = band_decides(scene, results, confidence)
+            reference = results[0].curves[_reference_name(results[0])]
+            below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
+            chosen = np.flatnonzero(mask & below)
+            if chosen.size:
+                points[value] = tuple(int(k) for k in chosen)
+                # the band expected on the finer grid: half the present one (first order)
+                tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
+                                                     scene.bem.tol)
+        if not points:
+            return RefinementRecord(tuple(levels), "no undecided cell is held by the band"
+                                    + (" any more" if levels else ""))
+        level = RefinementLevel(grid, points, tolerances)
+        _apply(by_value, level, solve)
+        levels.append(level)
+        grid *= 2
