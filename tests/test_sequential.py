@@ -17,8 +17,12 @@ def test_look_sizes_grow_geometrically_to_the_budget():
     assert look_plan(2, 4).sizes == (2, 3, 4)
     assert look_plan(25, None).sizes == (25,) and look_plan(25, 25).sizes == (25,)
     assert look_plan(3, 4).sizes == (3, 4)            # rounding merges equal looks
-    assert look_plan(25, 100).confidence == pytest.approx(1 - 0.05 / 3)
-    assert look_plan(25, None).confidence == pytest.approx(0.95)
+    plan = look_plan(25, 100)
+    assert plan.alphas == pytest.approx((0.05 / 7, 0.1 / 7, 0.2 / 7))  # in proportion to n
+    assert sum(plan.alphas) == pytest.approx(0.05)
+    assert plan.confidence_for(100) == plan.confidence_at(2) == pytest.approx(1 - 0.2 / 7)
+    assert plan.confidence_for(37) == plan.confidence_at(0)  # not a look: the strictest
+    assert look_plan(25, None).confidence_at(0) == pytest.approx(0.95)
     with pytest.raises(ValueError, match="planned"):
         look_plan(0, 10)
     with pytest.raises(ValueError, match="sizes"):
@@ -62,7 +66,7 @@ def simulate(plan, means, std, trials, seed):
 
         record = run_looks(plan, lambda n: available.__setitem__(0, n),
                            lambda confidence: undecided_share([verdict(confidence)]))
-        finals.append(verdict(plan.confidence))
+        finals.append(verdict(plan.confidence_at(len(record.used) - 1)))
         used.append(record.realizations)
     return np.array(finals), np.array(used)
 
@@ -87,12 +91,17 @@ def test_sequential_verdicts_on_the_boundary_are_wrong_at_most_5_percent(means):
         assert (finals[:, 1] != UNDECIDED).mean() <= 0.05 + SLACK  # the one on -TOL
 
 
+class Unsplit(LookPlan):
+    """The same looks, each at 95 %: the 5 % not split."""
+
+    def confidence_at(self, look: int) -> float:
+        return 0.95
+
+
 def test_looking_three_times_at_95_percent_would_fail_this_test():
     # The control: the same looks with the 5 % not split (95 % confidence at every look) decide
     # the boundary cell far more often than 5 % of the time, so the test above can fail.
-    plan = LookPlan((8, 16, 32), alpha=0.15)
-    assert plan.confidence == pytest.approx(0.95)
-    finals, _ = simulate(plan, [TOL], std=0.3, trials=TRIALS, seed=1)
+    finals, _ = simulate(Unsplit((8, 16, 32)), [TOL], std=0.3, trials=TRIALS, seed=1)
     assert (finals[:, 0] != UNDECIDED).mean() > 0.05 + 2 * SLACK
 
 

@@ -44,8 +44,9 @@ def analyse(result: SceneResult) -> Analysis:
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return Analysis(result)
     comparisons, findings = [], {}
-    confidence = scene_plan(scene).confidence  # 95 %, split between the looks of a budget
+    plan = scene_plan(scene)  # 95 %, or the 5 % split between the looks of a budget
     for value, realizations in sorted(result.realizations.items()):
+        confidence = plan.confidence_for(len(realizations))
         comparison = compare_realizations(realizations, tolerances=scene.tolerances,
                                           confidence=confidence)
         comparisons.append(comparison)

@@ -109,7 +109,8 @@ def header(seconds, mode, command) -> list[str]:
         "fails per surface where, with that confidence, more than 10 % of surfaces miss "
         '(docs/theory.md, "Per-surface validity"). A scene with a realization budget looks '
         "at its data up to three times, adding realizations while cells are undecided, and "
-        "takes every verdict at 1 − 5 %/3 confidence so that the 5 % holds over all the looks "
+        "splits the 5 % between the looks (in proportion to their realizations) so that it "
+        "holds over all of them "
         '(docs/theory.md, "Sequential realizations").\n',
     ]
 

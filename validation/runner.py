@@ -426,5 +426,5 @@ def _more_work(result: SceneResult, executor: Executor | None, cache_dir: str | 
         return _solve_jobs(jobs, executor, cache_dir, progress, stream)
 
     refinement = finer_reference(scene, result.realizations, solve,
-                                 scene_plan(scene).confidence)
+                                 scene_plan(scene).confidence_at(0))
     return refinement, extend_scene(scene, result.realizations, run, refinement, solve)

@@ -1,16 +1,18 @@
 """More realizations where the answer is open: a group-sequential plan with Bonferroni looks.
 
 First, where the reference band keeps cells undecided, the reference is solved on finer grids
-(:func:`finer_reference`, :mod:`validation.refine`). Then a scene with ``[realizations] max`` gets, after its planned realizations, up to
-:data:`LOOKS` - 1 more looks at the data (docs/theory.md, "Sequential realizations", eq. T36):
+(:func:`finer_reference`, :mod:`validation.refine`). Then a scene with ``[realizations] max``
+gets, after its planned realizations, up to :data:`LOOKS` - 1 more looks at the data
+(docs/theory.md, "Sequential realizations", eq. T36):
 
 * the look sizes grow geometrically from the planned count ``n_1`` to the budget ``n_K = max``
   (``n_j = round(n_1 (max / n_1)^((j - 1)/(K - 1)))``; 25, 50, 100 for 25 and 100), and the
   realizations of look j are those of look j - 1 plus the next seeds of the same sequence;
-* every verdict of every look is taken at confidence ``1 - alpha / K`` (Bonferroni): a cell's
-  reported verdict is that of the last look taken, and whatever the stopping rule, the chance
-  that it is wrong is at most the chance that any of the K looks is, at most ``K alpha / K =
-  alpha``;
+* the verdicts of look j are taken at confidence ``1 - alpha_j`` with ``alpha_j = alpha n_j /
+  (n_1 + ... + n_K)`` (the error rate spent in proportion to the realizations, Bonferroni): a
+  cell's reported verdict is that of the last look taken, and whatever the stopping rule, the
+  chance that it is wrong is at most the chance that any of the K looks is, at most
+  ``alpha_1 + ... + alpha_K = alpha``;
 * after each look the share of undecided cells (mean verdicts over every model, quantity,
   sweep value, load point and tolerance of the scene) decides whether to look again: stop when
   no cell is undecided, when the share did not fall since the previous look, or at the budget.
@@ -61,9 +63,22 @@ class LookPlan:
         return len(self.sizes)
 
     @property
-    def confidence(self) -> float:
-        """Confidence of every verdict at every look: ``1 - alpha / looks`` (Bonferroni)."""
-        return 1.0 - self.alpha / self.looks
+    def alphas(self) -> tuple[float, ...]:
+        """Error rate of each look, ``alpha n_j / sum(n)``: spent in proportion to the
+        realizations, most of it at the budget, where most cells are decided."""
+        total = sum(self.sizes)
+        return tuple(self.alpha * n / total for n in self.sizes)
+
+    def confidence_at(self, look: int) -> float:
+        """Confidence of the verdicts of look ``look`` (0 for the planned realizations)."""
+        return 1.0 - self.alphas[look]
+
+    def confidence_for(self, count: int) -> float:
+        """Confidence of verdicts on ``count`` realizations: that of the look of that size, else
+        (results not made by this plan) the strictest of the plan."""
+        if count in self.sizes:
+            return self.confidence_at(self.sizes.index(count))
+        return 1.0 - min(self.alphas)
 
 
 def look_plan(planned: int, maximum: int | None, *, looks: int = LOOKS,
@@ -117,10 +132,11 @@ class SequentialRecord:
         budget reached``."""
         counts = " → ".join(str(n) for n in self.used)
         shares = " → ".join(f"{100 * s:.0f} %" for s in self.shares)
+        levels = " → ".join(f"{100 * self.plan.confidence_at(j):.4g} %"
+                            for j in range(len(self.used)))
         looks = f"{len(self.used)} look{'s' if len(self.used) > 1 else ''}"
         return (f"{counts} realizations in {looks} of {self.plan.looks} (undecided {shares}; "
-                f"verdicts at {100 * self.plan.confidence:.4g} % confidence); stopped: "
-                f"{self.reason}")
+                f"verdicts at {levels} confidence); stopped: {self.reason}")
 
 
 def undecided_share(verdicts) -> float:
@@ -149,20 +165,20 @@ def run_looks(plan: LookPlan, extend: Callable[[int], None],
               share: Callable[[float], float]) -> SequentialRecord:
     """Take the looks of ``plan``: after the first, ``extend(n)`` makes the first ``n``
     realizations available and ``share(confidence)`` returns the undecided share of the
-    scene's cells on the realizations available, at the plan's confidence.
+    scene's cells on the realizations available, at the confidence of the look.
 
     Returns
     -------
     SequentialRecord
         The looks taken, the shares after each and the reason for stopping.
     """
-    shares = [float(share(plan.confidence))]
+    shares = [float(share(plan.confidence_at(0)))]
     while True:
         reason = _stop_reason(plan, shares)
         if reason is not None:
             return SequentialRecord(plan, plan.sizes[:len(shares)], tuple(shares), reason)
         extend(plan.sizes[len(shares)])
-        shares.append(float(share(plan.confidence)))
+        shares.append(float(share(plan.confidence_at(len(shares)))))
 
 
 def scene_share(scene, by_value: dict, confidence: float) -> float:
