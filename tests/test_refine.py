@@ -2,6 +2,7 @@
 finer solve and its band, and the runner refines where the band decides, recursively, up to the
 scene's grid limit."""
 
+import pathlib
 from dataclasses import replace
 
 import numpy as np
@@ -61,6 +62,9 @@ def test_a_measured_map_and_bad_factors_are_refused():
     assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
     assert "separation" in unavailable(replace(scene, loads=replace(scene.loads,
                                                                      quantity="separation")))
+    measured = load_scene(pathlib.Path(__file__).resolve().parents[1] / "examples"
+                          / "example-topography.toml")
+    assert unavailable(measured).startswith("a measured map cannot be refined")
 
 
 def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():

@@ -49,10 +49,10 @@ LOOSEST_TOLERANCE = 1e-4
 def unavailable(scene) -> str | None:
     """Why the scene's reference cannot be refined (None when it can)."""
     s, bem = scene.surface, scene.bem
-    if getattr(bem, "max_grid", None) is None:
-        return "no grid limit ([bem] max_grid not set)"
     if s.family == "file":
         return "a measured map cannot be refined (no finer sample of it exists)"
+    if getattr(bem, "max_grid", None) is None:
+        return "no grid limit ([bem] max_grid not set)"
     if scene.loads.quantity != "load":
         return "only load paths are refined (a separation path's loads differ per realization)"
     if not bem.reference_error:
