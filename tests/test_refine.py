@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 
 import bem
-from validation.refine import merge_points, refined_heights, solver_tolerance, unavailable
-from validation.scene import SceneError, load_scene, parse_scene
-from validation.surface_families import surface_heights
-from validation.surfaces import wm_surface
+from validation.run.refine import merge_points, refined_heights, solver_tolerance, unavailable
+from validation.scenes.scene import SceneError
+from validation.scenes.reader import load_scene, parse_scene
+from validation.surfaces.families import surface_heights
+from validation.surfaces.wm import wm_surface
 
 WM = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
       "realizations": {"count": 3, "seed": 7, "max": 6},
@@ -57,7 +58,11 @@ def test_refined_self_affine_keeps_its_spectrum_and_phases():
 def test_a_measured_map_and_bad_factors_are_refused():
     with pytest.raises(ValueError, match="factor"):
         refined_heights(one(parse_scene(WM)), 0, 3)
-    scene = load_scene("paper-wm-d205")
+    full = load_scene("paper-wm-d205")
+    # the paper scenes' grid limit is their own grid: the full run refines nothing, the quick
+    # run (half the grid) refines once
+    assert unavailable(full).startswith("the scene grid 512 is already at the limit")
+    scene = full.quick_version()
     assert unavailable(scene) is None
     assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
     assert "separation" in unavailable(replace(scene, loads=replace(scene.loads,
@@ -67,8 +72,9 @@ def test_a_measured_map_and_bad_factors_are_refused():
     assert unavailable(measured).startswith("a measured map cannot be refined")
 
 
-def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():
+def test_scene_grid_limit_is_validated_and_kept_in_quick_mode():
     assert parse_scene(WM).bem.max_grid == 128
+    assert parse_scene(WM).quick_version().bem.max_grid == 128
     assert load_scene("paper-wm-d205").quick_version().bem.max_grid == 512
     with pytest.raises(SceneError, match="max_grid"):
         parse_scene(WM | {"bem": {"max_grid": 16}})
@@ -99,7 +105,7 @@ def test_merged_points_carry_the_finer_solve_and_its_band():
 
 
 def test_runner_refines_where_the_band_decides_and_new_realizations_follow(tmp_path):
-    from validation.runner import run_scenes
+    from validation.run.runner import run_scenes
 
     scene = parse_scene(WM, source="test")
     (result,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))

@@ -5,8 +5,8 @@ limits, so the share of decided cells is the error rate)."""
 import numpy as np
 import pytest
 
-from validation.sequential import LookPlan, look_plan, run_looks, undecided_share
-from validation.verdicts import UNDECIDED, classify, confidence_interval
+from validation.run.sequential import LookPlan, look_plan, run_looks, undecided_share
+from validation.judge.verdicts import UNDECIDED, classify, confidence_interval
 
 TOL = 0.2
 
@@ -113,7 +113,8 @@ def test_more_realizations_decide_cells_near_the_boundary():
 
 
 def test_scene_budget_is_validated_and_scaled_in_quick_mode():
-    from validation.scene import SceneError, load_scene, parse_scene
+    from validation.scenes.scene import SceneError
+    from validation.scenes.reader import load_scene, parse_scene
 
     base = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32}}
     scene = parse_scene(base | {"realizations": {"count": 25, "max": 100}})
@@ -123,12 +124,13 @@ def test_scene_budget_is_validated_and_scaled_in_quick_mode():
     for bad in (10, 2.5, True):
         with pytest.raises(SceneError, match="realizations.max"):
             parse_scene(base | {"realizations": {"count": 25, "max": bad}}, source="s.toml")
-    assert load_scene("paper-wm-d205").max_realizations == 100
+    paper = load_scene("paper-wm-d205")
+    assert paper.max_realizations == 50 and paper.quick_version().max_realizations == 16
 
 
 def test_runner_adds_realizations_in_looks_and_the_cache_keeps_them(tmp_path):
-    from validation.runner import run_scenes
-    from validation.scene import parse_scene
+    from validation.run.runner import run_scenes
+    from validation.scenes.reader import parse_scene
 
     scene = parse_scene({
         "name": "open", "surface": {"D": 2.3, "rms_slope": 0.1, "n": 16},

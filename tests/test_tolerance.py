@@ -5,9 +5,11 @@ import numpy as np
 import pytest
 from scipy import optimize, special, stats
 
-from validation.tolerance import (classify_per_surface, howe_factor, quantile_bound_factor,
-                                  surface_interval, two_sided_factor)
-from validation.verdicts import FAILS, HOLDS, UNDECIDED, confidence_interval
+from validation.judge.tolerance import (classify_per_surface, howe_factor, quantile_bound_factor,
+                                        surface_interval, surface_reasons, two_sided_factor)
+from validation.judge.verdicts import (FAILS, HOLDS, REFERENCE_BAND, TOO_FEW_REALIZATIONS,
+                                       UNCONVERGED, UNDECIDED, classify, confidence_interval,
+                                       undecided_reasons)
 
 TOL = 0.2
 TRIALS = 20_000
@@ -112,6 +114,34 @@ def test_the_reference_band_widens_and_an_unknown_one_decides_nothing():
     assert list(incomplete) == [UNDECIDED, HOLDS, FAILS]
 
 
+def test_an_unestimated_band_leaves_the_mean_and_the_single_surfaces_undecided_alike():
+    # errors well inside (columns 0, 1) and well outside (column 2) the tolerance: decided on
+    # both readings against an exact reference, undecided on both when the band is unknown
+    rng = np.random.default_rng(11)
+    errors = rng.normal([0.0, 0.01, 0.5], 0.01, size=(25, 3))
+    mean = confidence_interval(errors)
+    single = surface_interval(mean.mean, mean.std, mean.count)
+    exact = np.zeros(3)
+    assert list(classify(mean, exact, TOL)) == list(classify_per_surface(single, exact, TOL)) \
+        == [HOLDS, HOLDS, FAILS]
+    unknown = np.full(3, np.nan)
+    assert set(classify(mean, unknown, TOL)) == set(classify_per_surface(single, unknown, TOL)) \
+        == {UNDECIDED}
+    assert set(undecided_reasons(mean, unknown, TOL)) == {REFERENCE_BAND}
+    assert set(surface_reasons(single, unknown, TOL, count=mean.count)) == {REFERENCE_BAND}
+
+
+def test_per_surface_reasons_say_why_a_point_is_open():
+    interval = surface_interval(np.array([0.0, 0.0, 0.0, 0.0, 0.1]),
+                                np.array([0.02, 0.02, 0.02, np.nan, 0.08]),
+                                np.array([25, 25, 25, 0, 25]))
+    band = np.array([0.0, 0.1, 0.0, 0.0, 0.0])
+    complete = np.array([True, True, False, True, True])
+    reasons = surface_reasons(interval, band, TOL, count=np.array([25, 25, 25, 0, 25]),
+                              complete=complete)
+    assert list(reasons) == ["", REFERENCE_BAND, UNCONVERGED, UNCONVERGED, TOO_FEW_REALIZATIONS]
+
+
 def test_too_few_errors_leave_the_point_undecided():
     interval = surface_interval(np.zeros(3), np.full(3, 1e-3), np.array([0, 1, 2]))
     assert set(classify_per_surface(interval, 0.0, TOL)) == {UNDECIDED}
@@ -125,3 +155,15 @@ def test_bad_arguments_are_named(bad):
         two_sided_factor(**arguments)
     with pytest.raises(ValueError, match="tolerance"):
         classify_per_surface(surface_interval(np.zeros(1), np.ones(1), np.array([5])), 0.0, 0.0)
+
+
+@pytest.mark.parametrize("bad, error", [(1.0, ValueError), (0.0, ValueError),
+                                        (float("nan"), ValueError), ("0.95", TypeError),
+                                        (None, TypeError)])
+def test_a_comparison_names_a_bad_confidence(bad, error):
+    from validation.campaigns._bad_input_table import _realizations
+    from validation.judge.compare import compare_realizations
+
+    assert compare_realizations(_realizations(), confidence=0.99).confidence == 0.99
+    with pytest.raises(error, match="confidence"):
+        compare_realizations(_realizations(), confidence=bad)
