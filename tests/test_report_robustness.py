@@ -193,6 +193,23 @@ def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, con
     assert holds_cell(comparison.models[("gw", "area")]).startswith(cell)
 
 
+@pytest.mark.parametrize("errors, band, converged, cell", [
+    ([0.5, 0.52, 0.49], 0.0, True, "fails everywhere"),
+    ([0.5, 0.52, 0.49], np.nan, True, "undecided: reference band"),
+    ([0.0, 0.01, -0.01], 0.3, True, "undecided: reference band"),
+    ([0.0, 0.01], 0.0, True, "undecided: too few realizations"),
+    ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
+    ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+])
+def test_the_summary_says_why_per_surface_too(errors, band, converged, cell):
+    from validation.judge.compare import compare_realizations
+    from validation.report.sections import holds_cell
+
+    comparison = compare_realizations(synthetic(errors, band=band, converged=converged),
+                                      tolerances=(0.2,))
+    assert holds_cell(comparison.models[("gw", "area")], per_surface=True).startswith(cell)
+
+
 def test_fewer_than_two_realizations_are_warned_about_at_load_time(tmp_path, measured, capsys):
     from validation.cli import main
     from validation.scenes.scene import SceneWarning

@@ -11,6 +11,7 @@ from validation.judge.findings import Finding, check_findings
 from validation.judge.sampling import SamplingStudy, sampling_finding, sampling_study
 from validation.run import models
 from validation.run.runner import SceneResult
+from validation.run.sequential import scene_plan
 
 __all__ = ["Analysis", "analyse"]
 
@@ -32,8 +33,11 @@ def analyse(result: SceneResult) -> Analysis:
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return Analysis(result)
     comparisons, findings, studies = [], {}, {}
+    plan = scene_plan(scene)  # 95 %, or the 5 % split between the looks of a budget
     for value, realizations in sorted(result.realizations.items()):
-        comparison = compare_realizations(realizations, tolerances=scene.tolerances)
+        confidence = plan.confidence_for(len(realizations))
+        comparison = compare_realizations(realizations, tolerances=scene.tolerances,
+                                          confidence=confidence)
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
         study = sampling_study(realizations, scene.tolerances)

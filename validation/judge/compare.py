@@ -10,9 +10,12 @@ A model may be compared with a different field of the reference than its own qua
 its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
 separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
-At each load point the errors over realizations give a mean, a 95 % Student-t confidence
-interval and, with the reference's own error band, a verdict (holds / fails / undecided;
-:mod:`validation.judge.verdicts`). The validity range at a tolerance is the longest run of "holds".
+At each load point the errors over realizations give a mean, a Student-t confidence interval
+(95 %, or the level of a look of the sequential plan) and, with the reference's own error band,
+a verdict (holds / fails / undecided; :mod:`validation.judge.verdicts`). The validity range at a
+tolerance is the longest run of "holds". Beside it, a verdict on single surfaces from a normal
+tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
+where at least 90 % of surfaces are within the tolerance, with the same confidence.
 """
 
 from __future__ import annotations
@@ -24,7 +27,10 @@ import numpy as np
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.run import models
+from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
+                                        surface_reasons)
 from validation.judge.verdicts import (
+    CONFIDENCE,
     HOLDS,
     ErrorInterval,
     ValidityRange,
@@ -193,10 +199,26 @@ class ModelComparison:
     reference_field: str = ""                         # the reference field compared with
     complete: np.ndarray | None = None                # where every realization converged
     unreachable: int = 0                              # points the model did not reach
+    surface: SurfaceInterval | None = None            # tolerance interval of single surfaces
+    surface_verdicts: tuple[np.ndarray, ...] = ()     # per tolerance: holds per surface or not
+    surface_ranges: tuple[ValidityRange, ...] = ()    # per tolerance: longest run per surface
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
         return verdict_counts(self.verdicts[index])
+
+    def surface_counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided per surface at ``tolerances[index]``."""
+        return verdict_counts(self.surface_verdicts[index])
+
+    def surface_reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided per surface at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.tolerance.surface_reasons`)."""
+        if self.surface is None or self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return surface_reasons(self.surface, band, self.tolerances[index],
+                               count=self.interval.count, complete=self.complete)
 
     def reasons(self, index: int) -> np.ndarray:
         """Why each point is undecided at ``tolerances[index]`` ("" where decided;
@@ -225,6 +247,7 @@ class Comparison:
     models: dict[tuple[str, str], ModelComparison]
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
+    confidence: float = CONFIDENCE  # of every interval and verdict (validation.run.sequential)
 
     @property
     def D(self) -> float:
@@ -253,21 +276,28 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
-                      area_fraction, tolerances, field_name) -> ModelComparison:
-    interval = confidence_interval(errors)
+                      area_fraction, tolerances, field_name, confidence) -> ModelComparison:
+    interval = confidence_interval(errors, confidence)
     reached = np.vstack([reached_points(r.curves[model], r.curves[reference_model])
                          for r in results])
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
                                  for r in results]) & reached, axis=0)
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    surface = surface_interval(interval.mean, interval.std, interval.count,
+                               confidence=confidence)
+    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                             for tol in tolerances)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
+    surface_ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
+                           for v, tol in zip(surface_verdicts, tolerances))
     summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name, complete,
-                           int(np.count_nonzero(~reached)))
+                           int(np.count_nonzero(~reached)), surface, surface_verdicts,
+                           surface_ranges)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
@@ -292,7 +322,8 @@ def _is_realization(item) -> bool:
 
 
 def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
-                         reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
+                         reference_fields: dict[str, dict[str, str]] | None = None,
+                         confidence: float = CONFIDENCE) -> Comparison:
     """Compare every model with the reference over the realizations of one sweep value (D, H).
 
     Parameters
@@ -306,6 +337,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.run.models.reference_fields`).
+    confidence : float
+        Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
+        sequential plan's, :mod:`validation.run.sequential`; default 95 %).
 
     Notes
     -----
@@ -322,6 +356,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if reference_fields is not None and not isinstance(reference_fields, dict):
         raise checks.InputTypeError(f"reference_fields must be a dict (model -> {{quantity: "
                                     f"field}}) or None, got {type(reference_fields).__name__}")
+    confidence = checks.real_number("confidence", confidence, minimum=0.0, exclusive=True,
+                                    maximum=1.0, exclusive_maximum=True)
     if not results:
         raise ValueError("results holds no realizations to compare")
     first = results[0]
@@ -350,7 +386,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             field_name = own.get(name, name)
             entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
-                area_fraction, tolerances, field_name)
+                area_fraction, tolerances, field_name, confidence)
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
                       load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()})
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)

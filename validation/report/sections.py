@@ -64,11 +64,11 @@ def _git_commit() -> str:
 
 def header(seconds, mode, command) -> list[str]:
     import bem.fft
-    from validation.run.runner import _version
+    from validation.run.cache import source_version
 
     commit = _git_commit()
     run = [f"Command: `{command}`" if command else "",
-           f"asperity-validation {_version()}" + (f" ({commit})" if commit else ""),
+           f"asperity-validation {source_version()}" + (f" ({commit})" if commit else ""),
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
            f"mode: {mode}" if mode else ""]
     return [
@@ -102,24 +102,39 @@ def header(seconds, mode, command) -> list[str]:
         "the point is **undecided** (?). A validity range is the longest run of ✔. Contact "
         "counts are plotted but not judged: the BEM counts connected contact patches, the "
         "asperity models asperities in contact.\n",
+        "**Two readings: on the mean and per surface.** The verdict above is on the *mean* "
+        "error over realizations. The verdict **per surface** asks whether the model holds on "
+        "single surfaces: it holds per surface where, with the same confidence, at least 90 % "
+        "of surfaces have an error within the tolerance (the normal tolerance interval "
+        "m ± k₂ s of 90 % content, widened by the reference band, inside ± the tolerance); it "
+        "fails per surface where, with that confidence, more than 10 % of surfaces miss "
+        '(docs/theory.md, "Per-surface validity"). A scene with a realization budget looks '
+        "at its data up to three times, adding realizations while cells are undecided, and "
+        "splits the 5 % between the looks (in proportion to their realizations) so that it "
+        "holds over all of them "
+        '(docs/theory.md, "Sequential realizations").\n',
     ]
 
 
-def holds_cell(entry, index: int | None = None, load_format: str = ".1e") -> str:
-    """Where one model holds in one quantity at ``tolerances[index]`` (default the largest):
-    its validity range; else "fails everywhere", or why it could not be decided (the
-    undecided points' reasons, :func:`validation.judge.verdicts.undecided_reasons`, most frequent
-    first), never a bare "nowhere" that hides which."""
-    if entry is None or not entry.ranges:
+def holds_cell(entry, index: int | None = None, load_format: str = ".1e", *,
+               per_surface: bool = False) -> str:
+    """Where one model holds in one quantity at ``tolerances[index]`` (default the largest),
+    on the mean error or, with ``per_surface``, on single surfaces: its validity range; else
+    "fails everywhere", or why it could not be decided (the undecided points' reasons,
+    :func:`validation.judge.verdicts.undecided_reasons`,
+    :func:`validation.judge.tolerance.surface_reasons`, most frequent first), never a bare
+    "nowhere" that hides which."""
+    if entry is None or not entry.ranges or (per_surface and not entry.surface_ranges):
         return "–"
     index = int(np.argmax(entry.tolerances)) if index is None else index
-    found = entry.ranges[index]
+    found = (entry.surface_ranges if per_surface else entry.ranges)[index]
     if found.holds_anywhere:
         return found.describe(load_format)
-    counts = entry.counts(index)
+    counts = entry.surface_counts(index) if per_surface else entry.counts(index)
     if counts[FAILS] == found.total:
         return "fails everywhere"
-    reasons = [r for r in entry.reasons(index) if r]
+    reasons = [r for r in (entry.surface_reasons(index) if per_surface
+                           else entry.reasons(index)) if r]
     why = " / ".join(sorted(set(reasons), key=lambda r: (-reasons.count(r), r)))
     if not counts[FAILS]:
         return f"undecided: {why}"
@@ -128,10 +143,13 @@ def holds_cell(entry, index: int | None = None, load_format: str = ".1e") -> str
 
 
 def _holds_cells(entry, quantity: str) -> str:
-    """:func:`holds_cell`, prefixed with the reference field where it is not the quantity's."""
-    cell = holds_cell(entry)
-    if entry is None:
-        return cell
+    """:func:`holds_cell` on the mean and per surface, prefixed with the reference field where
+    it is not the quantity's."""
+    if entry is None or not entry.ranges:
+        return "–"
+    cell = f"mean: {holds_cell(entry)}"
+    if entry.surface_ranges:
+        cell += f"; per surface: {holds_cell(entry, per_surface=True)}"
     what = compared_label(quantity, entry.reference_field)
     return cell if what == compared_label(quantity) else f"{what}: {cell}"
 
@@ -143,9 +161,11 @@ def _largest_tolerance(comparisons) -> float:
 
 #: What decides an undecided cell, printed under the summary.
 _ADVICE = ("*Undecided* says why: **reference band**: the BEM's own error is unknown or above a "
-           "quarter of the tolerance (a finer grid, larger `surface.n`, decides it); **too few "
-           "realizations**: the 95 % interval straddles the tolerance (more realizations, "
-           "`[realizations] count`, decide it; a scene needs at least 2); **unconverged**: a "
+           "quarter of the tolerance (a finer grid decides it: a larger `surface.n`, or "
+           "`[bem] max_grid` to solve again on finer grids where the band decides); **too few "
+           "realizations**: the interval straddles the tolerance (more realizations decide it: "
+           "`[realizations] count`, or a budget `[realizations] max` spent where cells are "
+           "undecided; a scene needs at least 2, a per-surface verdict 3); **unconverged**: a "
            "solver did not converge there, or a model did not reach the load (unreachable: past "
            "full contact, or an unconverged solve that ended at another load); the verdict "
            "tables count these points.")
@@ -189,10 +209,12 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
                                                     quantity))
         lines += ([f"Load range (longest run of ✔, with the BEM's area fraction over it) within "
                    f"the tolerance {_largest_tolerance(columns):g} (relative for area and "
-                   "conductance, in units of σ for separation); the asperity models are judged "
-                   "by the separation d, Persson's theory by the mean gap ū, each against the "
-                   "BEM's own field of that name. Per-point verdicts and the other tolerances "
-                   "are in the sections below and in `validity.csv`.\n"]
+                   "conductance, in units of σ for separation), in two readings: **mean**, the "
+                   "mean error over realizations within the tolerance; **per surface**, at least "
+                   "90 % of single surfaces within it; both at 95 % confidence overall. The "
+                   "asperity models are judged by the separation d, Persson's theory by the mean "
+                   "gap ū, each against the BEM's own field of that name. Per-point verdicts and "
+                   "the other tolerances are in the sections below and in `validity.csv`.\n"]
                   + md_table(header, list(rows.values())))
     for analysis in sweeps:
         lines += _sweep_holds(analysis)
@@ -247,6 +269,12 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
             cells += [f"`{verdict_strip(entry.verdicts[index])}`",
                       f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}",
                       holds_cell(entry, index, ".2e")]
+            if entry.surface_verdicts:
+                single = entry.surface_counts(index)
+                cells += [f"`{verdict_strip(entry.surface_verdicts[index])}`",
+                          f"{single[HOLDS]} / {single[FAILS]} / {single[UNDECIDED]}"]
+            else:
+                cells += ["–", "–"]
         cells.append(_band_cell(entry.band, entry.quantity))
         unreachable = getattr(entry, "unreachable", 0)
         cells.append((f"{entry.unconverged}" + (f" ({unreachable} unreachable)" if unreachable
@@ -258,17 +286,26 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
 def verdict_table(comparison: Comparison, tolerances) -> list[str]:
     header = ["model", "quantity"]
     for t in tolerances:
-        header += [f"verdicts within {t:g}, low → high load", "✔ / ✘ / ?", "holds (Load range)"]
+        header += [f"mean: verdicts within {t:g}, low → high load", "mean ✔ / ✘ / ?",
+                   "mean holds (Load range)", f"per surface: verdicts within {t:g}",
+                   "per surface ✔ / ✘ / ?"]
     header += ["reference band (max)", "unconverged or unreachable points"]
     rows = _verdict_rows(comparison)
     totals = [verdict_counts(np.concatenate([e.verdicts[i] for e in comparison.models.values()]))
               for i in range(len(tolerances))] if comparison.models else []
+    single = [verdict_counts(np.concatenate([e.surface_verdicts[i] for e in
+                                             comparison.models.values() if e.surface_verdicts]
+                                            or [np.array([], str)]))
+              for i in range(len(tolerances))] if comparison.models else []
     total_row = ["**all**", ""]
-    for counts in totals:
-        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", ""]
+    for counts, alone in zip(totals, single):
+        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", "",
+                      "", f"**{alone[HOLDS]} / {alone[FAILS]} / {alone[UNDECIDED]}**"]
     sources = "; ".join(f"{q}: {s}" for q, s in comparison.band_source.items())
     return ([f"Verdicts per load point ({SYMBOLS[HOLDS]} holds, {SYMBOLS[FAILS]} fails, "
-             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ). Reference "
+             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ), on the mean "
+             f"error and per surface (at least 90 % of surfaces), at "
+             f"{100 * comparison.confidence:.4g} % confidence. Reference "
              f"band: {sources or 'not estimated'}.\n"]
             + md_table(header, rows + ([total_row + ["", ""]] if totals else [])))
 

@@ -1,6 +1,11 @@
 """The report's CSV tables: every curve, every error with its interval and verdicts, every
 validity range and every finding. Written before any figure, so the numbers of a run survive
-whatever the figures do."""
+whatever the figures do.
+
+Two readings of every cell: ``verdict`` on the mean error over realizations
+(:mod:`validation.judge.verdicts`) and ``verdict_per_surface`` on single surfaces
+(:mod:`validation.judge.tolerance`: at least 90 % of surfaces within the tolerance); ``confidence``
+is that of both (95 %, or split between the looks of a realization budget)."""
 
 from __future__ import annotations
 
@@ -24,13 +29,15 @@ TABLES = {
                    "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap"],
     "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
-                   "realizations", "reference_band", "reference_band_source"],
+                   "realizations", "reference_band", "reference_band_source", "confidence",
+                   "surfaces90_low", "surfaces90_high"],
     "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict",
-                     "undecided_reason"],
+                     "undecided_reason", "verdict_per_surface", "confidence"],
     "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
                      "area_fraction_min", "area_fraction_max", "points", "total", "holds",
                      "fails", "undecided", "reference_band_max", "unconverged",
-                     "reference_field"],
+                     "reference_field", "holds_per_surface", "fails_per_surface",
+                     "undecided_per_surface"],
     "findings.csv": ["scene", "D", "H", "finding", "claim", "evidence", "verdict"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
@@ -91,24 +98,33 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
             # a band that could not be estimated is written as such, never as a number
             cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
             reasons = [e.reasons(i) for i in range(len(e.tolerances))]
+            nan = np.full(c.load.shape, math.nan)
+            low, high = (nan, nan) if e.surface is None else (e.surface.low, e.surface.high)
+            per_surface = e.surface_verdicts or tuple(np.full(c.load.shape, "") for _ in
+                                                      e.verdicts)
             for k in range(c.load.size):
                 out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
                                           e.interval.std[k], int(e.interval.count[k]), cells[k],
-                                          c.band_source.get(e.reference_field, "")])
+                                          c.band_source.get(e.reference_field, ""),
+                                          c.confidence, low[k], high[k]])
                 out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
-                                         why[k]] for t, v, why in zip(e.tolerances, e.verdicts,
-                                                                      reasons)]
+                                         why[k], w[k], c.confidence]
+                                        for t, v, why, w in zip(e.tolerances, e.verdicts,
+                                                                reasons, per_surface)]
             for index, r in enumerate(e.ranges):
                 counts = e.counts(index)
+                surface = (e.surface_counts(index) if e.surface_verdicts
+                           else dict.fromkeys((HOLDS, FAILS, UNDECIDED), ""))
                 out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
                                             r.load_max, r.area_fraction_min, r.area_fraction_max,
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
                                             else NOT_ESTIMATED, e.unconverged,
-                                            e.reference_field or quantity])
+                                            e.reference_field or quantity, surface[HOLDS],
+                                            surface[FAILS], surface[UNDECIDED]])
     return out
 
 

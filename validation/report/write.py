@@ -133,6 +133,11 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
     scene, s = result.scene, result.scene.surface
     count = len(next(iter(result.realizations.values()), []))
     lines.append(surface_text(scene, count))
+    if result.refinement is not None:
+        lines.append(f"Reference: {result.refinement.describe(s.sweep_name)}.\n")
+    if result.sequential is not None:
+        lines.append(f"Realizations per {s.sweep_name or 'surface'}: "
+                     f"{result.sequential.describe()}.\n")
     if not analysis.comparisons:
         lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
     for value, results in sorted(result.realizations.items()):

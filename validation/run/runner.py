@@ -24,7 +24,10 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
-different scenes run once.
+different scenes run once. Then a scene with a reference, where its cells are undecided, gets
+a finer reference where the band decides (``[bem] max_grid``, :mod:`validation.run.refine`) and
+more realizations, look by look (``[realizations] max``, :mod:`validation.run.sequential`); its
+result records both and why they stopped.
 """
 
 from __future__ import annotations
@@ -32,18 +35,21 @@ from __future__ import annotations
 import math
 import time
 from concurrent.futures import Executor, Future, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable
 
 import numpy as np
 
 from bem import checks
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.curve import ContactCurve
 from validation.run import models, sampling
-from validation.run.cache import Cache, cache_key
+from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
+                                  needs_stiffness, source_version)
 from validation.run.models import ModelInputs
 from validation.run.cost import remaining_seconds, schedule
 from validation.run.progress import Progress
+from validation.run.refine import solve_jobs
+from validation.run.sequential import RefinementRecord, SequentialRecord, decide_scene
 from validation.scenes.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces.families import surface_heights, surface_identity
 
@@ -60,40 +66,6 @@ def __getattr__(name: str):
                       stacklevel=2)
         return tuple(n for n in models.names() if models.entry(n).needs_summits)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
-_SOURCE_VERSION: str | None = None
-#: Modules that only read results (comparison, verdicts, findings, figures, tables, command
-#: line): editing them leaves every cached result valid, so they are not part of its hash.
-#: Paths relative to the ``validation`` folder.
-REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
-                                 "run/cost.py", "report/figures.py", "judge/findings.py",
-                                 "report/labels.py", "run/progress.py", "report/write.py",
-                                 "report/sections.py", "report/tables.py", "judge/verdicts.py",
-                                 "judge/sampling.py", "report/sampling.py"})
-
-
-def _version() -> str:
-    """Package version plus a hash of the three packages' sources: results cached by one state
-    of the code are never read back by another (a fixed bug does not survive in the cache)."""
-    global _SOURCE_VERSION
-    if _SOURCE_VERSION is None:
-        import hashlib
-        import pathlib
-
-        from validation._version import __version__
-
-        digest = hashlib.sha256()
-        root = pathlib.Path(__file__).resolve().parents[2]
-        for package in ("asperity", "bem", "validation"):
-            for path in sorted((root / package).rglob("*.py")):
-                name = path.relative_to(root / package).as_posix()
-                if package == "validation" and name in REPORT_ONLY_MODULES:
-                    continue
-                digest.update(name.encode())
-                digest.update(path.read_bytes())
-        _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
-    return _SOURCE_VERSION
 
 
 @dataclass(frozen=True)
@@ -152,6 +124,8 @@ class SceneResult:
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
+    sequential: SequentialRecord | None = None  # the looks taken (scenes with a reference)
+    refinement: RefinementRecord | None = None  # the finer reference where its band decides
 
 
 # --------------------------------------------------------------------------------------------
@@ -177,30 +151,8 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
 # --------------------------------------------------------------------------------------------
 # one realization
 
-def _curve_arrays(curve: ContactCurve) -> dict[str, np.ndarray]:
-    arrays = {name: getattr(curve, name) for name in CURVE_QUANTITIES if getattr(curve, name) is not None}
-    arrays["nominal_area"] = np.array(curve.nominal_area)
-    arrays["e_star"] = np.array(curve.e_star)
-    for name, value in curve.extras.items():
-        value = np.asarray(value)
-        if value.ndim == 1 and value.shape == curve.load.shape and value.dtype.kind in "fiub":
-            arrays[f"extra:{name}"] = value
-    return arrays
-
-
-def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
-    kwargs = {name: arrays[name] for name in CURVE_QUANTITIES if name in arrays}
-    extras = {name[6:]: value for name, value in arrays.items() if name.startswith("extra:")}
-    return ContactCurve(nominal_area=float(arrays["nominal_area"]), e_star=float(arrays["e_star"]),
-                        extras=extras, **kwargs)
-
-
 def _surface_inputs(task: RealizationTask) -> dict:
     return surface_identity(task.surface, task.seed)
-
-
-def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
-    return "stiffness" in quantities or "conductance" in quantities
 
 
 @dataclass
@@ -234,7 +186,7 @@ def _summits(task: RealizationTask, cache: Cache, log: _Log, heights):
     if not (any(models.entry(name).needs_summits for name in task.models)
             or task.loads.quantity == "separation"):
         return None
-    key = cache_key("summits", _version(), surface=_surface_inputs(task))
+    key = cache_key("summits", source_version(), surface=_surface_inputs(task))
     summits = cache.load(key, decode=asperity.summits_from_arrays)
     if summits is not None:
         return summits
@@ -249,12 +201,12 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     """One model's curve along the path; expensive models from or into the cache (a cache
     hit costs 0 s and is not logged)."""
     key = None
-    stiffness = _needs_stiffness(quantities)
+    stiffness = needs_stiffness(quantities)
     if item.cached:
-        key = cache_key(item.name, _version(), surface=_surface_inputs(log.task),
+        key = cache_key(item.name, source_version(), surface=_surface_inputs(log.task),
                         e_star=inputs.e_star, stiffness=stiffness, **item.settings(inputs),
                         **path)
-        cached = cache.load(key, decode=_curve_from_arrays)
+        cached = cache.load(key, decode=curve_from_arrays)
         if cached is not None:
             log.seconds[item.name] = 0.0
             return cached
@@ -267,7 +219,7 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     log.seconds[item.name] = time.perf_counter() - start
     log.did(item.name)
     if key is not None:
-        cache.store(key, _curve_arrays(curve))
+        cache.store(key, curve_arrays(curve))
         if stiffness:
             log.did(f"{item.name}-stiffness")
     return curve
@@ -283,7 +235,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     # cache keys hold this flag, not the scene's quantity list, so that listing "contacts" or
     # "stiffness" instead of "conductance" reuses the same solves.
     quantities = ("area", "load", "separation", "contacts") + (
-        ("stiffness", "conductance") if _needs_stiffness(task.quantities) else ())
+        ("stiffness", "conductance") if needs_stiffness(task.quantities) else ())
     values = np.array(task.loads.values())
     nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
     loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None
@@ -304,7 +256,7 @@ def run_realization(task: RealizationTask) -> RealizationResult:
             loads = curves[name].load
     path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
     sampled = sampling.sample_realization(
-        task, heights, summits, inputs, curves, cache, log, version=_version(),
+        task, heights, summits, inputs, curves, cache, log, version=source_version(),
         curve=lambda item, at: _model_curve(item, at, path, quantities, cache, log))
     return RealizationResult(
         task=task, curves=curves, sigma=sigma,
@@ -397,4 +349,35 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             by_value.setdefault(task.sweep_value, []).append(results[task])
         out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
+    # after the planned realizations: a finer reference, then more realizations, where cells
+    # are undecided (scene by scene)
+    for index, result in enumerate(out):
+        records = _decide(result, executor, cache_dir, progress, stream)
+        if records is not None:
+            out[index] = replace(result, refinement=records[0], sequential=records[1],
+                                 seconds=time.perf_counter() - started)
     return out
+
+
+def _decide(result: SceneResult, executor: Executor | None, cache_dir: str | None,
+            progress: bool, stream) -> tuple[RefinementRecord, SequentialRecord] | None:
+    """:func:`validation.run.sequential.decide_scene` on a scene's result (its realizations
+    extended in place) with this run's executor, cache and progress bars; None for a scene
+    without a BEM reference (nothing to decide)."""
+    scene = result.scene
+    if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
+        return None
+
+    def run(count: int) -> list[RealizationResult]:
+        known = {r.task for value in result.realizations.values() for r in value}
+        tasks = [t for t in plan_scene(replace(scene, realizations=count), cache_dir=cache_dir)
+                 if t not in known]
+        done = _run_tasks(tasks, executor, Progress(len(tasks), stream=stream)
+                          if progress and tasks else None)
+        return [done[task] for task in tasks]  # in seed order
+
+    def solve(jobs: list) -> list:
+        return solve_jobs(jobs, executor, cache_dir,
+                          Progress(len(jobs), stream=stream) if progress and jobs else None)
+
+    return decide_scene(scene, result.realizations, run, solve)

@@ -26,6 +26,7 @@ __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
 #: Scene fields read from another table than their name, as "table.key".
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
+               "max_realizations": "realizations.max",
                "e_star": "material.e_star", "models": "models.use", "m": "models.m",
                "quantities": "quantities.use", "tolerances": "tolerances.levels",
                "sampling": "sampling.factors"}
@@ -173,7 +174,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
     if parts["surface"].family == "file" and "realizations" in top.table:
         top.fail("realizations", "does not belong in a scene of a measured map: its "
                  "realizations are its tiles (surface.tiles)")
-    tables = dict(realizations=dict(count="integer", seed="integer"),
+    tables = dict(realizations=dict(count="integer", seed="integer", max="integer"),
                   material=dict(e_star="number"), models=dict(use="strings", m="number"),
                   quantities=dict(use="strings"), sampling=dict(factors="numbers"))
     for table, kinds in tables.items():
@@ -183,7 +184,8 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
             parts[field_name] = reader.get(key, base[field_name], kind)
         reader.finish()
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
-        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean"))
+        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
+        max_grid="integer"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
         realizations="integer", n="integer", count="integer"))
     return parts

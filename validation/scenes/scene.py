@@ -19,12 +19,12 @@ file's tables and keys map onto them::
                             window L n
                file: path physical_size file_unit unit detrend resample square tiles, and
                      every other keyword of read_topography (fill channel reader ...)
-    [realizations]  count seed          -> Scene.realizations, Scene.seed
+    [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
     [models]  use m                     -> Scene.models (registered names), Scene.m
     [quantities]  use                   -> Scene.quantities
-    [bem]  periodic tol max_iter reference_error           -> BemSettings
+    [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
     [sampling]  factors                 -> Scene.sampling (surface scenes)
     [quick]  realizations n count       -> QuickSettings
@@ -119,6 +119,9 @@ class BemSettings:
     tol: float = 1e-8
     max_iter: int = 2000
     reference_error: bool = True
+    # finest grid of the refined reference where its band decides (validation.run.refine);
+    # None: never refined
+    max_grid: int | None = None
 
     def __post_init__(self) -> None:
         check.flag(self, "periodic")
@@ -127,6 +130,8 @@ class BemSettings:
             check.fail(self, "tol", f"must be <= 0.1, got {self.tol!r}")
         check.integer(self, "max_iter", 1)
         check.flag(self, "reference_error")
+        if self.max_grid is not None:
+            check.integer(self, "max_grid", 8)
 
 
 @dataclass(frozen=True)
@@ -175,6 +180,8 @@ class Scene:
     surface: SurfaceSpec | None = None
     realizations: int = 25
     seed: int = 0
+    # budget of the sequential plan (validation.run.sequential); None: the planned ones only
+    max_realizations: int | None = None
     e_star: float = 1.0
     loads: LoadPath = field(default_factory=LoadPath)
     models: tuple[str, ...] = MODELS
@@ -219,6 +226,10 @@ class Scene:
         if family != "wm" and self.bem.periodic:
             check.fail(self, "bem.periodic", f"must be false for a {family} surface (its "
                        "window is not periodic)")
+        grid = self.bem.max_grid
+        if grid is not None and family != "file" and grid < self.surface.n:
+            check.fail(self, "bem.max_grid", f"must be at least the surface grid n = "
+                       f"{self.surface.n}, got {grid!r}")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
         elif self.kind == "surface" and self.bem.reference_error:
@@ -231,6 +242,11 @@ class Scene:
                                f"which spans the same window only on an even grid); use "
                                f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
                                f"band: every verdict then stays undecided)")
+        if self.max_realizations is not None:
+            if family == "file":
+                check.fail(self, "max_realizations", "cannot be set for a measured map (its "
+                           "realizations are its tiles; there are no more)")
+            check.integer(self, "max_realizations", self.realizations)
 
     def _check_sampling(self) -> None:
         """``sampling``: sampling intervals as multiples k of the grid step, 1 (the grid itself,
@@ -264,8 +280,14 @@ class Scene:
         surface = self.surface if self.surface.family == "file" else \
             replace(self.surface, n=min(self.surface.n, self.quick.n))
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
-        return replace(self, surface=surface, loads=loads,
-                       realizations=min(self.realizations, self.quick.realizations))
+        realizations = min(self.realizations, self.quick.realizations)
+        # the budget shrinks in proportion: the same number of looks at the same ratios
+        budget = None if self.max_realizations is None else max(realizations, math.ceil(
+            self.max_realizations * realizations / self.realizations))
+        # the finest grid stays as set: it bounds what one refined solve costs, so a quick run
+        # on a coarser grid refines up to it where the full run, at that grid, may not
+        return replace(self, surface=surface, loads=loads, realizations=realizations,
+                       max_realizations=budget)
 
 
 def scene_warnings(scene: Scene) -> list[str]:
