@@ -16,8 +16,8 @@ from asperity.gw_functions import DISTRIBUTIONS, GW_ORDERS, gw_integral, log_gw_
 from asperity.greenwood_williamson import GreenwoodWilliamson, ImprovedGreenwoodWilliamson  # noqa: E402
 from asperity.holm_greenwood import holm_greenwood  # noqa: E402
 from asperity.dimensionless import (  # noqa: E402
-    DimensionlessCurve, InteractionCurves, dimensionless, dimensionless_pressure,
-    interaction_curves, interaction_parameter)
+    DimensionlessCurve, dimensionless, dimensionless_pressure, interaction_parameter)
+from asperity.reduced_curves import InteractionCurves, interaction_curves  # noqa: E402
 
 __all__ += ["gw_integral", "log_gw_integral", "GW_ORDERS", "DISTRIBUTIONS",
             "GreenwoodWilliamson", "ImprovedGreenwoodWilliamson", "holm_greenwood",
@@ -39,3 +39,13 @@ from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum  # noqa: 
 
 __all__ += ["Persson", "PERSSON_QUANTITIES", "separation_kernel", "IsotropicSpectrum",
             "radial_power_spectrum"]
+
+# Spectral asperity theories: Nayak's summit statistics from the moments m0, m2, m4 (GW from
+# the spectrum, McCool 1986) and Bush-Gibson-Thomas theory of elliptic summits.
+from asperity.spectral_summits import (  # noqa: E402
+    SpectralMoments, SpectralSummits, spectral_moments, spectral_summits)
+from asperity.hertz_elliptic import hertz_elliptic_factors  # noqa: E402
+from asperity.bush_gibson_thomas import BushGibsonThomas  # noqa: E402
+
+__all__ += ["SpectralMoments", "SpectralSummits", "spectral_moments", "spectral_summits",
+            "hertz_elliptic_factors", "BushGibsonThomas"]

@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from bem.checks import positive
+from bem.checks import InputTypeError, flag, non_negative, positive
 
 from asperity.interaction import PointForceInteraction
 from asperity.summits import Summits
@@ -127,17 +127,14 @@ def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
     """Build the discrete system of ``summits`` (see :class:`asperity.DiscreteAsperityModel`
     for the parameters). Raises ``ValueError`` naming a bad parameter."""
     if not isinstance(summits, Summits):
-        raise ValueError(f"summits must be an asperity.Summits record, got "
+        raise InputTypeError(f"summits must be an asperity.Summits record, got "
                          f"{type(summits).__name__}")
     if summits.count == 0:
         raise ValueError("summits must contain at least one summit")
     e_star = positive("e_star", e_star)
-    if not isinstance(interaction, (bool, np.bool_)):
-        raise ValueError(f"interaction must be True or False, got {interaction!r}")
+    interaction = flag("interaction", interaction)
     if m is not None:
-        m = float(m)
-        if not (math.isfinite(m) and m >= 0):
-            raise ValueError(f"m must be finite and >= 0 (or None), got {m!r}")
+        m = non_negative("m", m)
         if interaction:
             raise ValueError("m (uniform interaction) replaces the pairwise interaction: "
                              "use it with interaction=False")

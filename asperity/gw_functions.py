@@ -23,7 +23,7 @@ instead uses, for the Gaussian law:
   half-integer orders by the substitution s = h + w^2,
   ``F_n(h) = (1/sqrt(2 pi)) integral_{-inf}^{inf} |w|^{2n+1} exp(-(w^2 + h)^2/2) dw``,
   whose integrand is smooth and even (2n+1 is an even integer), so the trapezoidal rule
-  converges geometrically; step 0.1 on |w| <= 4.6 is exact to rounding for |h| < 12.
+  converges geometrically; step 0.1 on ``|w| <= 4.6`` is exact to rounding for ``|h| < 12``.
 * ``h >= 12``: ``F_n(h) = phi(h) sum_j (-1)^j Gamma(n+2j+1) / (2^j j! h^(n+2j+1))`` from
   expanding exp(-t^2/2) in ``integral_0^inf t^n exp(-h t - t^2/2) dt``; the partial sums of
   exp(-x) bracket it, so the error is below the first omitted term (< 1e-18 relative at h = 12).
@@ -31,7 +31,7 @@ instead uses, for the Gaussian law:
   exponent; values underflow gracefully (subnormal, then 0) beyond h ~ 37.5.
 * ``h <= -12``: ``F_n(h) = |h|^n sum_j binom(n, 2j) (2j-1)!! h^(-2j)``, the Gaussian
   moments in ``E[(s + |h|)^n]`` (exact for n = 0, 1 up to O(exp(-h^2/2)) < 1e-31; an
-  asymptotic series otherwise, truncated where its terms fall below 1e-18 at |h| = 12 and
+  asymptotic series otherwise, truncated where its terms fall below 1e-18 at ``|h| = 12`` and
   checked against mpmath to 1e-15 there).
 
 Accuracy (checked against mpmath in tests/test_gw_functions.py): relative error below 1e-13

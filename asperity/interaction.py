@@ -46,6 +46,7 @@ from typing import Callable
 import numpy as np
 
 from bem import checks
+from bem.fft import BACKENDS
 
 __all__ = ["PointForceInteraction"]
 
@@ -130,6 +131,7 @@ class PointForceInteraction:
             raise ValueError(f"x and y must have the same length, got {x.size} and {y.size}")
         e_star = checks.positive("e_star", e_star)
         method = checks.choice("method", method, _METHODS)
+        fft_backend = checks.choice("fft_backend", fft_backend, BACKENDS)
         threads = checks.integer("threads", threads, minimum=1)
         periodic = checks.flag("periodic", periodic)
         if x.size > 1 and np.unique(np.stack((x, y), axis=1), axis=0).shape[0] != x.size:

@@ -32,7 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem.checks import frozen_array, height_map, positive
+from bem.checks import (choice, frozen_array, height_map, positive, real_number,
+                        supported_magnitude)
 
 __all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
@@ -104,7 +105,19 @@ class IsotropicSpectrum:
 
     def moment(self, order: int) -> float:
         """integral_{q_L}^{q_1} q^order C(q) dq [length^(3 - order)]."""
-        return float(np.sum(self._piece_moments(order)))
+        return float(np.sum(self._piece_moments(real_number("order", order))))
+
+    def cumulative_moment(self, order: int, wavevector: ArrayLike) -> np.ndarray:
+        """integral_{q_L}^q q'^order C(q') dq' at each q (clipped to [q_L, q_1]), closed form
+        on each piece [length^(3 - order)]."""
+        q_all, c_all = self.wavevector, self.psd
+        q = np.clip(np.asarray(wavevector, dtype=float), q_all[0], q_all[-1])
+        below = np.concatenate(([0.0], np.cumsum(self._piece_moments(order))))
+        piece = np.clip(np.searchsorted(q_all, q, side="right") - 1, 0, q_all.size - 2)
+        q_k = q_all[piece]
+        span = np.log(q / q_k)
+        b = self.exponents[piece] + order + 1
+        return below[piece] + c_all[piece] * q_k ** (order + 1) * span * _expm1_over(b * span)
 
     def cumulative_fourth_moment(self) -> np.ndarray:
         """m(q_k) = integral_{q_L}^{q_k} q^3 C dq at every sample (m(q_L) = 0) [length^0]."""
@@ -155,9 +168,10 @@ def power_spectrum_2d(heights: ArrayLike, spacing: float, *, window: str = "hann
     ``"none"`` or ``"mirror"``, ``psd.sum() * dq_x * dq_y == mean((h - mean h)^2)`` exactly
     (Parseval).
     """
-    h, spacing = height_map("heights", heights, minimum=4), positive("spacing", spacing)
-    if window not in WINDOWS:
-        raise ValueError(f"window must be one of {WINDOWS}, got {window!r}")
+    h = height_map("heights", heights, minimum=4)
+    spacing = supported_magnitude("spacing", positive("spacing", spacing))
+    supported_magnitude("max |heights|", float(np.max(np.abs(h))))
+    choice("window", window, WINDOWS)
     ny, nx = h.shape
     z = h - h.mean()
     if window == "mirror":
@@ -179,7 +193,7 @@ def radial_power_spectrum(heights: ArrayLike, spacing: float, *, window: str = "
 
     Rings of width ``dq = 2 pi / L`` (L the longer side) centred on ``k dq``, k = 1, 2, ...,
     up to the Nyquist wavevector ``pi / spacing``; each ring's value is the mean periodogram
-    over its wavevectors, placed at their mean |q|, scaled so that the ring's power equals
+    over its wavevectors, placed at their mean ``|q|``, scaled so that the ring's power equals
     ``2 pi q dq C`` (the lattice count of a ring differs from its area). Empty rings are
     skipped.
     """

@@ -19,21 +19,27 @@ from __future__ import annotations
 
 import math
 import numbers
-from collections.abc import Iterable
+import os
+import pathlib
+from collections.abc import Callable, Iterable
 from typing import Any
 
 import numpy as np
 
 __all__ = [
     "InputTypeError",
+    "boolean_map",
     "choice",
+    "file_path",
     "flag",
     "frozen_array",
     "height_map",
+    "instances",
     "integer",
     "non_negative",
     "points",
     "positive",
+    "random_generator",
     "real_array",
     "real_number",
 ]
@@ -142,6 +148,97 @@ def _hashable(value: Any) -> bool:
     return True
 
 
+def optional_integer(name: str, value: Any, *, minimum: int | None = None) -> int | None:
+    """``None``, or :func:`integer` (e.g. a thread count whose default is chosen later)."""
+    return None if value is None else integer(name, value, minimum=minimum)
+
+
+def random_generator(name: str, seed: Any) -> np.random.Generator:
+    """``numpy.random.default_rng(seed)`` for a seed that is ``None`` (fresh entropy), an
+    integer >= 0, a :class:`numpy.random.Generator` (used as is) or a
+    :class:`numpy.random.SeedSequence`; anything else (strings, floats, bools, arrays) is a
+    :class:`TypeError` naming ``name``."""
+    if isinstance(seed, np.random.Generator):
+        return seed
+    if seed is None or isinstance(seed, np.random.SeedSequence):
+        return np.random.default_rng(seed)
+    if isinstance(seed, np.ndarray) and seed.ndim == 0:
+        seed = seed[()]
+    if isinstance(seed, (bool, np.bool_)) or not isinstance(seed, (numbers.Integral, np.integer)):
+        raise InputTypeError(f"{name} must be None, an integer >= 0 or a numpy.random.Generator,"
+                             f" got {type(seed).__name__} {_describe(seed)}")
+    if seed < 0:
+        raise ValueError(f"{name} must be None, an integer >= 0 or a numpy.random.Generator, "
+                         f"got {int(seed)!r}")
+    return np.random.default_rng(int(seed))
+
+
+def file_path(name: str, value: Any) -> pathlib.Path:
+    """``value`` as a :class:`pathlib.Path` if it is a ``str`` or an ``os.PathLike`` (not
+    bytes); whether the file exists is the caller's question."""
+    if isinstance(value, (bytes, bytearray)) or not isinstance(value, (str, os.PathLike)):
+        raise InputTypeError(f"{name} must be a path (a str or os.PathLike), got "
+                             f"{type(value).__name__} {_describe(value)}")
+    try:
+        return pathlib.Path(value)
+    except TypeError:   # an os.PathLike whose __fspath__ returns bytes
+        raise InputTypeError(f"{name} must be a path (a str or os.PathLike), got "
+                             f"{_describe(value)}") from None
+
+
+def instances(name: str, values: Any, kind: type | tuple[type, ...] | Callable[[Any], bool],
+              *, min_size: int = 0, described: str | None = None) -> tuple:
+    """The items of an iterable (not a string or a mapping) as a tuple, each an instance of
+    ``kind`` (or accepted by it, when it is a predicate, described by ``described``): entry
+    points taking collections of the project's own objects (scenes, realization results)
+    refuse anything else with a :class:`TypeError` naming ``name``."""
+    if isinstance(kind, (type, tuple)):
+        kinds = kind if isinstance(kind, tuple) else (kind,)
+        described = described or " or ".join(k.__name__ for k in kinds)
+        accept = lambda item: isinstance(item, kinds)  # noqa: E731
+    else:
+        accept = kind
+    if isinstance(values, (str, bytes, dict)) or not isinstance(values, Iterable):
+        raise InputTypeError(f"{name} must be a sequence of {described}, got "
+                             f"{type(values).__name__} {_describe(values)}")
+    items = tuple(values)
+    wrong = [item for item in items if not accept(item)]
+    if wrong:
+        raise InputTypeError(f"{name} must be a sequence of {described}, got an item of type "
+                             f"{type(wrong[0]).__name__} ({_describe(wrong[0])})")
+    if len(items) < min_size:
+        raise ValueError(f"{name} must hold at least {min_size} {described}, got {len(items)}")
+    return items
+
+
+def _as_array(name: str, values: Any, allowed: str) -> np.ndarray:
+    """``numpy.asarray(values)``, refusing None, strings and ragged sequences."""
+    if values is None or isinstance(values, (str, bytes)):
+        raise InputTypeError(f"{name} must be {allowed}, got {type(values).__name__} "
+                             f"{_describe(values)}")
+    try:
+        return np.asarray(values)
+    except (ValueError, TypeError):
+        raise ValueError(f"{name} must be {allowed}, rectangular (got a ragged "
+                         "sequence)") from None
+
+
+def boolean_map(name: str, values: Any) -> np.ndarray:
+    """A 2-D map of booleans (a contact set) as a bool array: a bool array, or real numbers
+    that are all 0 or 1. NaN, +-inf and other numbers are a :class:`ValueError`; strings,
+    complex numbers and objects a :class:`TypeError`, naming ``name``."""
+    raw = _as_array(name, values, "a 2-D array of booleans")
+    if raw.dtype.kind != "b":
+        array = real_array(name, raw, finite=False)
+        if not np.all((array == 0.0) | (array == 1.0)):
+            raise ValueError(f"{name} must be booleans (or the numbers 0 and 1), got other "
+                             "values (NaN, inf or numbers other than 0 and 1)")
+        raw = array.astype(bool)
+    if raw.ndim != 2:
+        raise ValueError(f"{name} must be a 2-D array of booleans, got {raw.ndim} dimension(s)")
+    return raw
+
+
 def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool = True,
                min_size: int = 0, minimum: float | None = None,
                exclusive: bool = False) -> np.ndarray:
@@ -155,14 +252,7 @@ def real_array(name: str, values: Any, *, ndim: int | None = None, finite: bool 
         Ragged input, wrong number of dimensions, fewer than ``min_size`` entries, NaN/inf (when
         ``finite``) or entries below ``minimum``.
     """
-    if values is None or isinstance(values, (str, bytes)):
-        raise InputTypeError(f"{name} must be real numbers (an array), got "
-                        f"{type(values).__name__} {_describe(values)}")
-    try:
-        raw = np.asarray(values)
-    except (ValueError, TypeError):
-        raise ValueError(f"{name} must be a rectangular array of real numbers "
-                         "(got a ragged sequence)") from None
+    raw = _as_array(name, values, "real numbers (an array)")
     if raw.dtype.kind not in "iuf":
         kind = {"b": "booleans", "c": "complex numbers", "U": "strings", "S": "bytes",
                 "O": "objects"}.get(raw.dtype.kind, f"dtype {raw.dtype}")
@@ -300,9 +390,10 @@ def contact_number(name: str, value: Any, *, minimum: float | None = None,
 
 
 def contact_heights(name: str, values: Any, *, minimum: int) -> np.ndarray:
-    """A square, finite, real height map of at least ``minimum`` x ``minimum`` points whose
-    largest magnitude lies in the supported range (a fresh float64 copy)."""
-    z = np.array(height_map(name, values, minimum=minimum, square=True), dtype=float, copy=True)
+    """A finite, real height map of at least ``minimum`` x ``minimum`` points (N x M: square
+    pixels, any number of rows and columns) whose largest magnitude lies in the supported range
+    (a fresh float64 copy)."""
+    z = np.array(height_map(name, values, minimum=minimum), dtype=float, copy=True)
     supported_magnitude(f"max |{name}|", float(np.max(np.abs(z))))
     return z
 

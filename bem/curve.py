@@ -17,6 +17,8 @@ Units and conventions (docs/theory.md, "Conventions used everywhere")
 * ``conductance`` = 2 S / E* [length]: the constriction conductance times the resistivity rho
   (C rho, Barber's analogy).
 * ``mean_pressure`` = W / A_nominal [pressure].
+* ``leakage`` h_eff [length]: the effective hydraulic aperture of the gap, defined by the
+  Reynolds flow rate ``Q = W h_eff^3 dp / (12 mu L)`` (a uniform gap h gives h; 0 when sealed).
 
 Fields a model did not compute (not asked for) are ``None``; separation, load, area and
 mean_pressure are always filled. Every field has the shape of the separations or loads asked for
@@ -50,18 +52,35 @@ from __future__ import annotations
 import warnings
 from dataclasses import dataclass, field, fields
 from types import MappingProxyType
-from typing import Any, Mapping
+from typing import Any, Iterable, Mapping
 
 import numpy as np
 
+from bem.checks import InputTypeError
 from bem.checks import frozen_array as _frozen_array
 from bem.checks import positive as _positive
 
-__all__ = ["ContactCurve", "CURVE_QUANTITIES"]
+__all__ = ["ContactCurve", "CURVE_QUANTITIES", "check_quantities"]
 
 #: The quantities a contact curve may carry, in the order they are tabulated.
 CURVE_QUANTITIES = ("separation", "load", "area", "contacts", "stiffness", "conductance",
-                    "mean_pressure")
+                    "mean_pressure", "leakage")
+
+
+def check_quantities(quantities: Iterable[str] | str,
+                     allowed: tuple[str, ...] = CURVE_QUANTITIES) -> frozenset[str]:
+    """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
+    if isinstance(quantities, str):
+        quantities = (quantities,)
+    try:
+        want = frozenset(quantities)
+    except TypeError:
+        raise ValueError(f"quantities must be strings among {allowed}, got {quantities!r}") \
+            from None
+    unknown = sorted(str(q) for q in want - set(allowed))
+    if unknown:
+        raise ValueError(f"quantities must be among {allowed}, got unknown {unknown}")
+    return want
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +91,7 @@ class ContactCurve:
     ----------
     separation, load, area, mean_pressure : array_like
         See the module docstring for units. All arrays share one shape.
-    contacts, stiffness, conductance : array_like or None
+    contacts, stiffness, conductance, leakage : array_like or None
         ``None`` when the model was not asked for them.
     nominal_area : float
         Nominal contact area A = L^2 [length^2].
@@ -91,6 +110,7 @@ class ContactCurve:
     contacts: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     conductance: np.ndarray | None = None
+    leakage: np.ndarray | None = None
     extras: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -166,14 +186,22 @@ class ContactCurve:
         """Real contact area over nominal area, A_real / A [-]."""
         return self.area / self.nominal_area
 
+    def _computed(self) -> list[str]:
+        fields_ = [n for n in CURVE_QUANTITIES if getattr(self, n, None) is not None]
+        return fields_ + ["area_fraction", *self.extras]
+
     def quantity(self, name: str) -> np.ndarray:
         """Return a field or an extra by name; raise ``ValueError`` if it was not computed."""
+        if not isinstance(name, str):
+            raise InputTypeError(f"name must be a quantity name (a str), got "
+                                 f"{type(name).__name__} {name!r}")
         if name in self.extras:
             return self.extras[name]
         readable = name in CURVE_QUANTITIES or name == "area_fraction"
         value = getattr(self, name) if readable else None
         if value is None:
-            raise ValueError(f"quantity {name!r} was not computed for this curve")
+            raise ValueError(f"quantity {name!r} was not computed for this curve (name must be "
+                             f"a computed field or an extra: {', '.join(self._computed())})")
         return value
 
 

@@ -24,6 +24,7 @@ import os
 import numpy as np
 import scipy.fft
 
+from bem import checks
 from bem.wisdom import load_wisdom, save_wisdom
 
 try:  # pyFFTW is optional at run time
@@ -33,6 +34,8 @@ except ImportError:  # pragma: no cover - exercised by a subprocess test
 
 __all__ = ["RealFFT2", "PaddedRealFFT2", "have_pyfftw", "default_threads"]
 
+#: FFT backends: pyFFTW when installed ("auto"), or one of the two by name.
+BACKENDS = ("auto", "pyfftw", "scipy")
 _PLANNER_EFFORTS = ("FFTW_ESTIMATE", "FFTW_MEASURE", "FFTW_PATIENT", "FFTW_EXHAUSTIVE")
 
 
@@ -67,17 +70,13 @@ def _empty(shape: tuple[int, ...], dtype) -> np.ndarray:
 def _check_arguments(shape, backend: str, threads: int | None, planner_effort: str
                      ) -> tuple[int, int]:
     """Checked shape of an FFT pair, after checking its other arguments."""
-    shape = tuple(int(s) for s in shape)
-    if len(shape) != 2 or min(shape) < 1:
+    if not isinstance(shape, (tuple, list)) or len(shape) != 2:
         raise ValueError(f"shape must be two positive integers, got {shape!r}")
-    if backend not in ("auto", "pyfftw", "scipy"):
-        raise ValueError(f"backend must be 'auto', 'pyfftw' or 'scipy', got {backend!r}")
-    if backend == "pyfftw" and pyfftw is None:
+    shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
+    if checks.choice("backend", backend, BACKENDS) == "pyfftw" and pyfftw is None:
         raise ValueError("backend='pyfftw' was asked for but pyFFTW is not installed")
-    if planner_effort not in _PLANNER_EFFORTS:
-        raise ValueError(f"planner_effort must be one of {_PLANNER_EFFORTS}, got {planner_effort!r}")
-    if threads is not None and int(threads) < 1:
-        raise ValueError(f"threads must be >= 1, got {threads!r}")
+    checks.choice("planner_effort", planner_effort, _PLANNER_EFFORTS)
+    checks.optional_integer("threads", threads, minimum=1)
     return shape
 
 

@@ -12,9 +12,9 @@ The contract
 * Shapes follow numpy: a scalar gives 0-d fields, an array of shape s gives fields of shape s
   (empty arrays give empty curves). Points may come in any order; results are in the caller's
   order.
-* ``quantities`` (any of :data:`bem.CURVE_QUANTITIES`): ``contacts``, ``stiffness`` and
-  ``conductance`` are computed only when asked for (otherwise ``None``); separation, load,
-  area and mean pressure are always filled.
+* ``quantities`` (any of :data:`bem.CURVE_QUANTITIES`): ``contacts``, ``stiffness``,
+  ``conductance`` and ``leakage`` are computed only when asked for (otherwise ``None``);
+  separation, load, area and mean pressure are always filled.
 * ``curve.extras["converged"]`` is a bool array of the curve's shape for every model (all True
   for closed forms). Non-convergence is flagged there and warned
   (:class:`bem.ConvergenceWarning`), never raised.
@@ -54,7 +54,7 @@ from numpy.typing import ArrayLike
 
 from bem.checks import points as check_points  # loads and separations of every model
 from bem.checks import positive as _positive
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.curve import CURVE_QUANTITIES, ContactCurve, check_quantities
 
 __all__ = ["ContactModel", "BoundaryElementModel", "check_points", "check_quantities",
            "empty_curve"]
@@ -83,29 +83,14 @@ class ContactModel(Protocol):
         ...
 
 
-def check_quantities(quantities: Iterable[str] | str,
-                     allowed: tuple[str, ...] = CURVE_QUANTITIES) -> frozenset[str]:
-    """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
-    if isinstance(quantities, str):
-        quantities = (quantities,)
-    try:
-        want = frozenset(quantities)
-    except TypeError:
-        raise ValueError(f"quantities must be strings among {allowed}, got {quantities!r}") \
-            from None
-    unknown = sorted(str(q) for q in want - set(allowed))
-    if unknown:
-        raise ValueError(f"quantities must be among {allowed}, got unknown {unknown}")
-    return want
-
-
 def empty_curve(nominal_area: float, e_star: float, quantities: Iterable[str],
                 extras: Iterable[str] = ()) -> ContactCurve:
     """A curve with no points (for empty input): asked-for fields are empty arrays, the
     ``converged`` extra an empty bool array and each name in ``extras`` an empty float array."""
     want = check_quantities(quantities)
     empty = np.empty(0)
-    optional = {q: (empty if q in want else None) for q in ("contacts", "stiffness", "conductance")}
+    optional = {q: (empty if q in want else None)
+                for q in CURVE_QUANTITIES if q not in ALWAYS_FILLED}
     values = {name: empty for name in extras}
     values["converged"] = np.empty(0, dtype=bool)
     return ContactCurve(separation=empty, load=empty, area=empty, mean_pressure=empty,
@@ -118,7 +103,7 @@ class BoundaryElementModel:
     Parameters
     ----------
     heights : array_like
-        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.contact_curve`).
+        Heights z[j, i] [length] on an N x M grid (as in :func:`bem.contact_curve`).
     spacing : float
         Grid step h [length].
     **options

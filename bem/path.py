@@ -11,9 +11,8 @@ import scipy.sparse
 import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
-from bem.curve import ContactCurve
+from bem.curve import ContactCurve, check_quantities
 from bem.halfspace import HalfSpace
-from bem.model import check_quantities
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _coarse_start, _nestable, _solve,
@@ -27,15 +26,14 @@ _FOUR_CONNECTED = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], dtype=bool)
 
 
 def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
-    """Number of connected contact spots of a boolean contact map.
+    """Number of connected contact spots of a 2-D contact map (booleans, or numbers 0 and 1).
 
     Pixels that share an edge belong to one spot (4-connectivity, ``scipy.ndimage.label``);
     pixels touching only at a corner do not. With ``periodic`` a spot that crosses the edge of
     the grid is counted once: spots touching across opposite edges are merged.
     """
-    contact = np.asarray(contact, dtype=bool)
-    if contact.ndim != 2:
-        raise ValueError(f"contact must be a 2-D boolean array, got {contact.ndim} dimension(s)")
+    contact = checks.boolean_map("contact", contact)
+    periodic = checks.flag("periodic", periodic)
     labels, count = scipy.ndimage.label(contact, structure=_FOUR_CONNECTED)
     if not periodic or count < 2:
         return int(count)
@@ -135,9 +133,9 @@ def contact_curve(
     Parameters
     ----------
     heights : array_like
-        Heights z[j, i] [length] on an n x n grid (as in :func:`bem.solve_contact`).
+        Heights z[j, i] [length] on an N x M grid (as in :func:`bem.solve_contact`).
     spacing : float
-        Grid step h [length]; nominal area ``(n h)^2``.
+        Grid step h [length]; nominal area ``N M h^2``.
     loads : array_like, optional
         Total forces W >= 0 [force] (load control).
     separations : array_like, optional
@@ -188,8 +186,8 @@ def contact_curve(
     area_estimator = checks.choice("area_estimator", area_estimator, AREA_ESTIMATORS)
     error_estimate = checks.flag("error_estimate", error_estimate)
     preconditioned = checks.flag("preconditioned", preconditioned)
-    if error_estimate and (z.shape[0] < 8 or z.shape[0] % 2):
-        raise ValueError(f"error_estimate needs an even grid of at least 8 x 8 (the half grid "
+    if error_estimate and (min(z.shape) < 8 or z.shape[0] % 2 or z.shape[1] % 2):
+        raise ValueError(f"error_estimate needs an even grid, at least 8 x 8 (the half grid "
                          f"covers the same window), got {z.shape}")
     if (loads is None) == (separations is None):
         raise ValueError("give exactly one of loads (forces) and separations (lengths)")
@@ -279,7 +277,7 @@ def contact_curve(
     return replace(curve, extras=extras)
 
 
-#: Safety factor f of :func:`error_estimates` on |Q_N - Q_(N/2)| (README, "Accuracy of the
+#: Safety factor f of :func:`error_estimates` on ``|Q_N - Q_(N/2)|`` (README, "Accuracy of the
 #: reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
 #: error of area, stiffness, separation and mean gap against converged values in the mesh study
 #: of benchmarks/bench_area.py (WM, D = 2.05-2.95, N = 256 and 512).

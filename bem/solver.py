@@ -33,7 +33,7 @@ inner products use numpy's reductions, not BLAS, whose spinning threads stall th
 
 Grid-independent iteration counts (default, ``preconditioned=True``): the gap on the contact set
 is preconditioned by the inverse half-space symbol ``(E*/2)|q|`` restricted to the contact set
-(:mod:`bem.preconditioner`, one n x n FFT pair per iteration), and a cold start is the pressure
+(:mod:`bem.preconditioner`, one N x M FFT pair per iteration), and a cold start is the pressure
 of the same problem on every other grid point, solved the same way down to 64 x 64 and repeated
 on 2 x 2 pixels (nested iteration; ``HalfSpace.coarse`` keeps the coarse operators). On a WM
 surface (D = 2.5) at 4 / 18 / 44 % contact the iterations went from 76 / 109 / 228 (N = 256) and
@@ -158,10 +158,11 @@ def solve_contact(
     Parameters
     ----------
     heights : array_like
-        Heights z[j, i] [length] of the elastic surface on an n x n grid (n >= 4; row j is y,
-        column i is x), as given: not re-centred. The rigid plane is above, at ``z = d``.
+        Heights z[j, i] [length] of the elastic surface on an N x M grid of square pixels
+        (N, M >= 4; row j is y, column i is x), as given: not re-centred. The rigid plane is
+        above, at ``z = d``.
     spacing : float
-        Grid step h [length]; the nominal area is ``A = (n h)^2``.
+        Grid step h [length]; the nominal area is ``A = N M h^2``.
     load : float, optional
         Total force W >= 0 [force] (load control).
     separation : float, optional
@@ -209,7 +210,7 @@ def solve_contact(
     Raises
     ------
     ValueError
-        For non-finite, non-square, non-2-D or smaller than 4 x 4 heights, spacing <= 0,
+        For non-finite, non-2-D or smaller than 4 x 4 heights, spacing <= 0,
         e_star <= 0, negative load, both or neither of load/separation, a periodic separation
         <= mean(z), tol <= 0, max_iter < 1, a bad initial pressure or a mismatched operator.
     """
@@ -334,7 +335,7 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
     stiffness_value = None
     if stiffness:
         stiffness_value, stiffness_converged, stiffness_iterations = _stiffness(
-            operator, contact, tol=_STIFFNESS_TOLERANCE, max_iter=max(1000, 10 * z.shape[0]),
+            operator, contact, tol=_STIFFNESS_TOLERANCE, max_iter=max(1000, 10 * max(z.shape)),
             preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None)
         if not stiffness_converged:
             converged = False

@@ -2,7 +2,7 @@
 
     python benchmarks/bad_input_campaign.py [--details]
 
-Outcome classes and the table of entry points: :mod:`validation.bad_input`. A clean run has
+Outcome classes and the table of entry points: :mod:`validation.campaigns.bad_input`. A clean run has
 only ``clear error`` and ``plausible result``; the script exits 1 otherwise.
 """
 
@@ -15,7 +15,7 @@ import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
 
-from validation.bad_input import GOOD, OUTCOMES, run_campaign  # noqa: E402
+from validation.campaigns.bad_input import GOOD, OUTCOMES, run_campaign  # noqa: E402
 
 
 def main(argv: list[str]) -> int:

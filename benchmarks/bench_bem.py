@@ -9,7 +9,7 @@ time, not in this column), the solve time, the time of one real FFT pair of the 
 (2N x 2N non-periodic, N x N periodic) and the solve time over iterations in those FFT pairs,
 and the peak of numpy allocations (``tracemalloc``) of one solve with the stiffness, operator
 built inside, in bytes per grid point (a separate, untimed run, at the first load, as
-validation/bench.py measures it). The operator, with its coarse levels, is built before the
+validation/campaigns/bench.py measures it). The operator, with its coarse levels, is built before the
 timed solves, and its build time is printed once per grid.
 
 ``--plain`` solves with the plain Polonsky-Keer iteration (``preconditioned=False``), the

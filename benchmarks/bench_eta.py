@@ -1,5 +1,5 @@
 """How right is the progress ETA? Run a small mixed-grid plan task by task and compare, after
-every task, the predicted remaining time (validation.cost.remaining_seconds) with the time
+every task, the predicted remaining time (validation.run.cost.remaining_seconds) with the time
 that actually remained.
 
     python benchmarks/bench_eta.py [N]     # realizations on N x N (default 128), reference on 2N
@@ -14,9 +14,9 @@ import sys
 import time
 from dataclasses import replace
 
-from validation.cost import remaining_seconds, schedule, task_cost
-from validation.runner import plan_scene, run_realization
-from validation.scene import load_scene
+from validation.run.cost import remaining_seconds, schedule, task_cost
+from validation.run.runner import plan_scene, run_realization
+from validation.scenes.reader import load_scene
 
 
 def main(n: int = 128) -> None:

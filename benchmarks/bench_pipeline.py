@@ -7,7 +7,7 @@ session: ``--json`` saves a column, ``--compare`` prints it beside the new one):
   realizations at 256², ``--jobs 2``) in a fresh process with an empty cache folder, then again
   with every result cached (the shorter of two runs). Wall time of the whole command, imports
   included, and its process time (every process of it, workers included).
-* **seconds per figure** [s]: the figure step of the report (``validation.report.write_report``
+* **seconds per figure** [s]: the figure step of the report (``validation.report.write.write_report``
   on the cached results, on a pool of two processes when it takes one) over the figures drawn;
   and its process time (all processes) per figure.
 * **load paths**: the 16-point path the report runs per realization, at 512² (WM, D = 2.05,
@@ -157,8 +157,8 @@ def figure_step(cache: pathlib.Path, out: pathlib.Path) -> tuple[float, float, i
     from concurrent.futures import ProcessPoolExecutor
 
     from validation.cli import DEFAULT_SCENES, _load_scene
-    from validation.report import write_report
-    from validation.runner import run_scenes
+    from validation.report.write import write_report
+    from validation.run.runner import run_scenes
 
     scenes = [_load_scene(name).quick_version() for name in DEFAULT_SCENES]
     results = run_scenes(scenes, executor=None, cache_dir=str(cache), progress=False)

@@ -17,8 +17,8 @@ import pathlib
 
 import numpy as np
 
-from validation.self_affine import self_affine_surface
-from validation.topography import write_gwyddion_ascii
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.topography import write_gwyddion_ascii
 
 N = 128                 # grid points per side
 SIZE_UM = 10.0          # scan size [µm]

@@ -1,7 +1,7 @@
-"""Bad-input catalogue: every public entry point of :mod:`validation.bad_input`'s table, every
+"""Bad-input catalogue: every public entry point of :mod:`validation.campaigns.bad_input`'s table, every
 scalar and array parameter, against hypothesis-drawn bad values.
 
-A new entry point is covered by adding one row to ``validation/_bad_input_table.py``. The rules
+A new entry point is covered by adding one row to ``validation/campaigns/_bad_input_table.py``. The rules
 (bem.checks): a value that is never valid gets a ``ValueError``/``TypeError`` naming the
 parameter; an extreme but finite value gets a finite result or such an error; valid variants
 (read-only arrays, nested lists, numpy scalars) are accepted.
@@ -17,7 +17,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bem import checks
-from validation.bad_input import GOOD, bad_arrays, classify, entry_points, run_campaign
+from validation.campaigns.bad_input import (GOOD, NAMED_DOMAINS, bad_arrays, classify, entry_points,
+                                              run_campaign)
 
 ENTRIES = entry_points()
 SCALARS = [(entry, name, domain) for entry in ENTRIES for name, domain in entry.scalars.items()]
@@ -37,6 +38,7 @@ never_numbers = st.one_of(
     st.complex_numbers(allow_nan=False, allow_infinity=False, max_magnitude=1e6),
     st.sampled_from([math.nan, math.inf, -math.inf, np.nan, np.float64(np.inf)]),
     st.lists(st.floats(allow_nan=False), min_size=1, max_size=3),
+    st.lists(st.floats(allow_nan=False), min_size=1, max_size=3).map(np.array),
     st.binary(max_size=4),
 )
 finite_floats = st.floats(allow_nan=False, allow_infinity=False)
@@ -69,7 +71,7 @@ def test_finite_scalar_gives_a_finite_result_or_a_clear_error(case, value):
     entry, name, domain = case
     invalid = ((domain.startswith("positive") and value <= 0)
                or (domain.startswith("non_negative") and value < 0)
-               or domain.startswith("integer"))
+               or domain.startswith(("integer",) + NAMED_DOMAINS))
     outcome, detail = classify(entry, name, value, invalid=invalid)
     assert outcome in GOOD, (entry.name, name, value, outcome, detail)
 
@@ -79,7 +81,9 @@ def broken_arrays(draw, valid, domain=""):
     """A valid array with one entry made NaN/inf, or recast to complex/strings/bools/objects,
     or replaced by a scalar string or None."""
     valid = np.array(valid, dtype=float)
-    kinds = ["nan", "complex", "strings", "bools", "objects", "text", "none"]
+    kinds = ["complex", "strings", "objects", "text", "none"]
+    kinds += [] if "nan" in domain else ["nan"]
+    kinds += [] if "mask" in domain else ["bools"]
     kind = draw(st.sampled_from(kinds if "inf" in domain else ["-inf", *kinds]))
     if kind in ("nan", "-inf"):
         broken = valid.copy()

@@ -5,7 +5,7 @@ import csv
 import numpy as np
 import pytest
 
-from validation.bench import observed_order, pareto_front
+from validation.campaigns.bench import observed_order, pareto_front
 from validation.cli import main
 
 

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from validation.cache import Cache, cache_key
+from validation.run.cache import Cache, cache_key
 
 
 def test_key_hashes_exactly_the_inputs():
@@ -95,7 +95,7 @@ def test_stale_temporary_files_are_cleaned_and_fresh_ones_kept(tmp_path):
 def test_unwritable_cache_warns_and_does_not_stop_the_computation(tmp_path):
     import pytest
 
-    from validation.cache import CacheWarning
+    from validation.run.cache import CacheWarning
 
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
@@ -107,7 +107,7 @@ def test_unwritable_cache_warns_and_does_not_stop_the_computation(tmp_path):
 def test_check_directory_names_what_is_wrong(tmp_path):
     import pytest
 
-    from validation.cache import check_directory
+    from validation.run.cache import check_directory
 
     assert check_directory(tmp_path / "new" / "folder", "--out").is_dir()
     blocker = tmp_path / "file"

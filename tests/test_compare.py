@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from bem.curve import ContactCurve
-from validation.compare import curve_errors, summarise_errors
+from validation.judge.compare import curve_errors, summarise_errors
 
 
 def curve(load, area, separation, conductance=None):
@@ -23,9 +23,14 @@ def test_curve_errors_known_values():
     np.testing.assert_allclose(errors["conductance"], [0.0, -0.5, 1.0])
 
 
-def test_curve_errors_need_equal_loads():
-    with pytest.raises(ValueError, match="same loads"):
-        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 3], [1, 1], [1, 1]), 1.0, ("area",))
+def test_a_load_the_model_did_not_reach_is_not_compared():
+    # the second point ended at load 3 where 2 was asked (an unconverged solve): NaN, no error
+    errors = curve_errors(curve([1, 3], [1.1, 1], [1, 1]), curve([1, 2], [1, 1], [1, 1]), 1.0,
+                          ("area",))
+    np.testing.assert_allclose(errors["area"], [0.1, np.nan])
+    with pytest.raises(ValueError, match="same load points"):
+        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 2, 3], [1, 1, 1], [1, 1, 1]), 1.0,
+                     ("area",))
 
 
 def test_summarise_errors_mean_and_sample_std():
@@ -57,10 +62,12 @@ AREA = np.array([0.01, 0.05, 0.2])
 def test_compare_realizations_on_synthetic_results():
     # Two realizations with known errors: area +10 % and +30 % (mean +20 %, sample std 14.1 %),
     # separation exactly 0.5 sigma high; a non-converged reference point drops out.
-    from validation.compare import compare_realizations
+    from validation.judge.compare import compare_realizations
 
-    results = [realization(0, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5]),
-               realization(1, LOAD, 1.3 * AREA, [3.5, 2.5, 1.5], converged=(True, True, False))]
+    exact = {"area_error": np.zeros(3), "separation_error": np.zeros(3)}  # a band of zero
+    results = [realization(0, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5], reference_extras=exact),
+               realization(1, LOAD, 1.3 * AREA, [3.5, 2.5, 1.5], converged=(True, True, False),
+                           reference_extras=exact)]
     comparison = compare_realizations(results, tolerances=(0.25, 0.6))
     area = comparison.models[("gw", "area")]
     np.testing.assert_allclose(area.summary.mean[:2], 0.2)
@@ -78,15 +85,29 @@ def test_compare_realizations_on_synthetic_results():
     assert list(separation.verdicts[0]) == ["fails", "fails", "undecided"]
     assert list(separation.verdicts[1]) == ["holds", "holds", "undecided"]
     assert (separation.ranges[1].first, separation.ranges[1].last) == (0, 1)
-    assert comparison.band_source["separation"] == "not estimated"
+    assert comparison.band_source["separation"].startswith("per-point")
     np.testing.assert_allclose(comparison.area_fraction, AREA)
     np.testing.assert_allclose(comparison.load, LOAD)
+
+
+def test_a_band_not_estimated_is_nan_and_decides_nothing():
+    # the same errors without the reference's own error estimates: the band is unknown, never
+    # zero, so not even the separation's clear 0.5 sigma miss of a 0.25 tolerance is a failure
+    from validation.judge.compare import NOT_ESTIMATED, compare_realizations
+
+    results = [realization(k, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5]) for k in (0, 1)]
+    comparison = compare_realizations(results, tolerances=(0.25, 0.6))
+    separation = comparison.models[("gw", "separation")]
+    assert np.all(np.isnan(separation.band))
+    assert comparison.band_source["separation"] == NOT_ESTIMATED
+    assert all(set(v) == {"undecided"} for v in separation.verdicts)
+    assert not any(r.holds_anywhere for r in separation.ranges)
 
 
 def test_reference_band_from_per_point_error_estimates():
     # The BEM curves carry absolute error estimates: area 0.002 of 0.01 (20 %) at the first
     # point, 1 % at the others; separation 0.01 and 0.03 (in units of sigma = 0.5 and 1).
-    from validation.compare import compare_realizations
+    from validation.judge.compare import compare_realizations
 
     extras = {"area_error": AREA * [0.2, 0.01, 0.01], "separation_error": np.full(3, 0.01)}
     results = [realization(0, LOAD, AREA, [3.0, 2.0, 1.0], reference_extras=extras, sigma=0.5),
@@ -104,7 +125,7 @@ def test_reference_band_from_per_point_error_estimates():
 
 def test_a_model_compared_with_another_reference_field():
     # a model whose separation is compared with the reference's mean gap (Persson's theory)
-    from validation.compare import compare_realizations
+    from validation.judge.compare import compare_realizations
 
     gap = {"mean_gap": np.array([3.2, 2.2, 1.2])}
     results = [realization(k, LOAD, AREA, [3.2, 2.2, 1.2], reference_extras=gap) for k in (0, 1)]
@@ -121,8 +142,8 @@ def test_the_registry_says_which_reference_field_a_model_is_compared_with():
     # by default the fields come from the registry: a model registered with
     # reference_fields={"separation": "mean_gap"} is compared with the BEM's mean gap, the others
     # with its separation; no name of a model is needed outside the registry
-    from validation import models
-    from validation.compare import compare_realizations
+    from validation.run import models
+    from validation.judge.compare import compare_realizations
 
     gap = {"mean_gap": np.array([3.2, 2.2, 1.2])}
     results = [realization(k, LOAD, AREA, [3.2, 2.2, 1.2], reference_extras=gap) for k in (0, 1)]
@@ -145,8 +166,8 @@ def test_the_registry_says_which_reference_field_a_model_is_compared_with():
 
 def test_the_reference_is_the_registered_reference_whatever_its_name():
     # the registry, not a model name, says which curve is the reference
-    from validation import models
-    from validation.compare import compare_realizations
+    from validation.run import models
+    from validation.judge.compare import compare_realizations
 
     results = [realization(k, LOAD, 1.1 * AREA, [3.0, 2.0, 1.0]) for k in (0, 1)]
     for r in results:

@@ -5,9 +5,9 @@ from types import SimpleNamespace
 
 import pytest
 
-from validation.cost import BEM_EXPONENT, remaining_seconds, schedule, task_cost
-from validation.runner import plan_scene
-from validation.scene import load_scene
+from validation.run.cost import BEM_EXPONENT, remaining_seconds, schedule, task_cost
+from validation.run.runner import plan_scene
+from validation.scenes.reader import load_scene
 
 
 @pytest.fixture(scope="module")

@@ -484,7 +484,7 @@ def test_stiffness_solve_status_is_reported():
 
 # ------------------------------------------------------------------------------ regressions
 def wm_summits(D, seed, n=64):
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
     return find_summits(wm_surface(n, D=D, rms_slope=0.1, seed=seed), 1.0 / n)
 
 

@@ -6,9 +6,9 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pytest
 
-import validation.report
-from validation.runner import run_scenes
-from validation.scene import parse_scene
+import validation.report.write
+from validation.run.runner import run_scenes
+from validation.scenes.reader import parse_scene
 
 SWEEP = {
     "name": "sweep",
@@ -28,9 +28,9 @@ def results():
 
 def queued_figures(results, tmp_path, monkeypatch):
     jobs = []
-    monkeypatch.setattr(validation.report._Figures, "render",
+    monkeypatch.setattr(validation.report.write._Figures, "render",
                         lambda self, executor=None, cache_dir=None: jobs.extend(self.jobs))
-    validation.report.write_report(results, tmp_path)
+    validation.report.write.write_report(results, tmp_path)
     return jobs
 
 
@@ -58,12 +58,26 @@ def test_every_label_lies_on_the_canvas_and_off_the_other_panels(results, tmp_pa
                     overlap = (min(box.x1, area.x1) - max(box.x0, area.x0),
                                min(box.y1, area.y1) - max(box.y0, area.y0))
                     assert min(overlap) <= 1.0, (name, i, j)
+        for legend in fig.legends:  # a legend beside or above the panels: on the canvas, off them
+            box = legend.get_window_extent(renderer)
+            assert box.x0 >= canvas.x0 - 1 and box.y0 >= canvas.y0 - 1, (name, box)
+            assert box.x1 <= canvas.x1 + 1 and box.y1 <= canvas.y1 + 1, (name, box)
+            for ax in fig.axes:
+                area = ax.get_tightbbox(renderer)
+                overlap = (min(box.x1, area.x1) - max(box.x0, area.x0),
+                           min(box.y1, area.y1) - max(box.y0, area.y0))
+                assert min(overlap) <= 1.0, (name, ax.get_label())
+    # eight models: the errors' legend goes beside the panels, the map's models one per row
+    figures = {name: draw() for name, draw, _ in jobs}
+    assert len(figures["sweep-errors-D2.2.png"].legends) == 1
+    assert not figures["sweep-errors-D2.2.png"].axes[0].get_legend()
+    assert figures["sweep-validity-map.png"].legends
 
 
 def test_figures_drawn_on_a_pool_are_those_drawn_here(results, tmp_path):
-    validation.report.write_report(results, tmp_path / "here")
+    validation.report.write.write_report(results, tmp_path / "here")
     with ProcessPoolExecutor(max_workers=2) as pool:
-        validation.report.write_report(results, tmp_path / "pool", executor=pool)
+        validation.report.write.write_report(results, tmp_path / "pool", executor=pool)
     here = sorted(p.name for p in (tmp_path / "here").glob("*.png"))
     assert here == sorted(p.name for p in (tmp_path / "pool").glob("*.png")) and len(here) >= 6
     for name in here:
@@ -75,7 +89,7 @@ def test_figures_drawn_on_a_pool_are_those_drawn_here(results, tmp_path):
 
 
 def test_verdict_margin_fits_the_longest_row_label():
-    from validation.figures import _text_width
+    from validation.report.figures import _text_width
 
     short, long = _text_width(["GW: area"], 7), _text_width(["GW: area", "x" * 60], 7)
     assert 0.2 < short < long and long == pytest.approx(_text_width(["x" * 60], 7))
@@ -86,14 +100,14 @@ def test_a_figure_drawn_before_from_the_same_data_comes_from_the_cache(results, 
                                                                      monkeypatch):
     import dataclasses
 
-    import validation.figures
+    import validation.report.figures
 
     cache = tmp_path / "cache"
-    validation.report.write_report(results, tmp_path / "first", cache_dir=cache)
+    validation.report.write.write_report(results, tmp_path / "first", cache_dir=cache)
     drawn = []
-    png = validation.figures.png
-    monkeypatch.setattr(validation.figures, "png", lambda fig: drawn.append(fig) or png(fig))
-    validation.report.write_report(results, tmp_path / "second", cache_dir=cache)
+    png = validation.report.figures.png
+    monkeypatch.setattr(validation.report.figures, "png", lambda fig: drawn.append(fig) or png(fig))
+    validation.report.write.write_report(results, tmp_path / "second", cache_dir=cache)
     assert not drawn  # every figure from the cache, byte for byte
     for path in (tmp_path / "first").glob("*.png"):
         assert path.read_bytes() == (tmp_path / "second" / path.name).read_bytes()
@@ -105,6 +119,6 @@ def test_a_figure_drawn_before_from_the_same_data_comes_from_the_cache(results, 
         bem, area=bem.area * 1.01)})
     moved = dataclasses.replace(sweep, realizations={
         **sweep.realizations, 2.2: [changed] + sweep.realizations[2.2][1:]})
-    validation.report.write_report([moved, theory], tmp_path / "third", cache_dir=cache)
+    validation.report.write.write_report([moved, theory], tmp_path / "third", cache_dir=cache)
     redrawn = len(drawn)
     assert 0 < redrawn < len(list((tmp_path / "first").glob("*.png")))

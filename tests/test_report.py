@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 from validation.cli import main
-from validation.report import write_report
-from validation.runner import run_scenes
-from validation.scene import parse_scene
+from validation.report.write import write_report
+from validation.run.runner import run_scenes
+from validation.scenes.reader import parse_scene
 
 NEVER_CONVERGED = {
     "name": "never-converged",
@@ -50,7 +50,7 @@ def test_report_with_no_converged_bem_point(unconverged, tmp_path):
     assert verdicts and {v["verdict"] for v in verdicts} == {"undecided"}
     bem_rows = [r for r in rows(tmp_path / "curves.csv") if r["model"] == "bem"]
     assert len(bem_rows) == 12 and {r["converged"] for r in bem_rows} == {"False"}
-    assert "`????`" in text and "nowhere" in text and "**0 / 0 /" in text
+    assert "`????`" in text and "undecided: unconverged" in text and "**0 / 0 /" in text
     assert "fewer than two converged BEM realizations" in text  # finding (c) says why
     assert "Command: `python -m validation x`" in text and "run time 0.2 min" in text
 
@@ -87,16 +87,20 @@ def test_persson_row_is_compared_by_its_mean_gap(tmp_path):
 
 
 def test_tables_are_written_before_the_figures(unconverged, tmp_path, monkeypatch):
-    import validation.figures
+    import validation.report.figures
 
     def broken(*args, **kwargs):
         raise RuntimeError("figure failed")
 
-    monkeypatch.setattr(validation.figures, "panels_figure", broken)
+    monkeypatch.setattr(validation.report.figures, "panels_figure", broken)
     with pytest.raises(RuntimeError, match="figure failed"):
         write_report(unconverged, tmp_path)
     for name in ("curves.csv", "errors.csv", "verdicts.csv", "validity.csv", "findings.csv"):
         assert rows(tmp_path / name)
+    # the folder of the unfinished report is still a report's: the next report replaces it
+    assert "not finished" in (tmp_path / "report.md").read_text(encoding="utf-8")
+    monkeypatch.undo()
+    assert "not finished" not in write_report(unconverged, tmp_path).read_text(encoding="utf-8")
 
 
 @pytest.mark.slow
@@ -104,6 +108,7 @@ def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
     # the theory scene alone: a published report in seconds, header with the exact command
     folder = tmp_path / "results"
     folder.mkdir()
+    (folder / "report.md").write_text("# an earlier report")
     (folder / "stale-figure.png").write_bytes(b"old")
     (folder / "notes.txt").write_text("kept")
     assert main(["report", "paper-theory", "--publish", str(folder), "--no-cache", "--quiet"]) == 0
@@ -119,19 +124,31 @@ def test_report_only_modules_do_not_compute_results():
     import ast
     import pathlib
 
-    from validation.runner import REPORT_ONLY_MODULES
+    from validation.run.cache import REPORT_ONLY_MODULES
 
     package = pathlib.Path(__file__).resolve().parents[1] / "validation"
-    for path in package.glob("*.py"):
-        if path.name in REPORT_ONLY_MODULES:
+
+    def files(module: str) -> set[str]:
+        """The module's path relative to the validation folder (and that of a sub-package)."""
+        if not module.startswith("validation."):
+            return set()
+        stem = module.removeprefix("validation.").replace(".", "/")
+        return {f"{stem}.py", f"{stem}/__init__.py"}
+
+    for path in package.rglob("*.py"):
+        name = path.relative_to(package).as_posix()
+        if name in REPORT_ONLY_MODULES:
             continue
         tree = ast.parse(path.read_text(encoding="utf-8"))
-        imported = {f"{alias.name.split('.')[-1]}.py" for node in ast.walk(tree)
-                    if isinstance(node, ast.Import) for alias in node.names}
-        imported |= {f"{node.module.split('.')[-1]}.py" for node in ast.walk(tree)
-                     if isinstance(node, ast.ImportFrom) and node.module}
-        allowed = {"bench.py", "stress.py", "__init__.py"}  # entry points, not result makers
-        # the progress bar and the task order/ETA never touch a result
-        imported -= {"progress.py", "cost.py"}
-        if path.name not in allowed:
-            assert not imported & REPORT_ONLY_MODULES, (path.name, imported & REPORT_ONLY_MODULES)
+        imported = {file for node in ast.walk(tree) if isinstance(node, ast.Import)
+                    for alias in node.names for file in files(alias.name)}
+        imported |= {file for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.module
+                     for alias in node.names
+                     for file in files(node.module) | files(f"{node.module}.{alias.name}")}
+        # entry points, not result makers
+        allowed = {"campaigns/bench.py", "campaigns/stress.py", "__init__.py"}
+        # the progress bar, the task order/ETA and the sequential plan (how many realizations
+        # run, never what one computes) never touch a result
+        imported -= {"run/progress.py", "run/cost.py", "run/sequential.py"}
+        if name not in allowed:
+            assert not imported & REPORT_ONLY_MODULES, (name, imported & REPORT_ONLY_MODULES)

@@ -5,8 +5,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from validation.runner import plan_scene, run_scenes
-from validation.scene import load_scene, parse_scene
+from validation.run.runner import plan_scene, run_scenes
+from validation.scenes.reader import load_scene, parse_scene
 
 TINY = {
     "name": "tiny",
@@ -148,7 +148,7 @@ def test_progress_bar_reports_work_done_on_a_terminal_only():
 def test_progress_is_quiet_off_a_terminal_and_counts_on_request():
     import io
 
-    from validation.progress import Progress
+    from validation.run.progress import Progress
 
     quiet = io.StringIO()
     bar = Progress(3, stream=quiet)

@@ -3,7 +3,8 @@
 
 import pytest
 
-from validation.scene import SceneError, builtin_scenes, load_scene, parse_scene
+from validation.scenes.scene import SceneError
+from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
 
 
 def test_every_builtin_scene_loads():
@@ -96,7 +97,7 @@ def test_parse_scene_is_a_value_error():
 def test_dataclasses_validate_themselves():
     from dataclasses import replace
 
-    from validation.scene import BemSettings, LoadPath, SurfaceSpec, TheorySpec
+    from validation.scenes.scene import BemSettings, LoadPath, SurfaceSpec, TheorySpec
 
     scene = load_scene("paper-wm-d205")
     for changes, key in ((dict(realizations=-2), "realizations"), (dict(e_star=0.0), "e_star"),
@@ -117,7 +118,7 @@ def test_dataclasses_validate_themselves():
 
 
 def test_defaults_are_the_dataclass_defaults(tmp_path):
-    from validation.scene import BemSettings, LoadPath, QuickSettings, Scene, defaults
+    from validation.scenes.scene import BemSettings, LoadPath, QuickSettings, Scene, defaults
 
     scene = load_scene(write(tmp_path, GOOD))
     assert scene.loads == LoadPath() and scene.bem == BemSettings()

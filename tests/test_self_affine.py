@@ -8,7 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import validation
-from validation.self_affine import (
+from validation.surfaces.self_affine import (
     power_spectrum,
     radial_power_spectrum,
     self_affine_spectrum,

@@ -7,13 +7,15 @@ import shutil
 import numpy as np
 import pytest
 
-from validation.report import analyse, write_report
-from validation.runner import run_scenes
-from validation.scene import FAMILIES, SceneError, SurfaceSpec, load_scene, parse_scene
-from validation.self_affine import self_affine_surface
-from validation.surface_families import _MAKERS, surface_heights, tile
-from validation.surfaces import surface_statistics
-from validation.topography import write_gwyddion_ascii
+from validation.report.write import write_report
+from validation.judge.analysis import analyse
+from validation.run.runner import run_scenes
+from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec
+from validation.scenes.reader import load_scene, parse_scene
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.families import _MAKERS, surface_heights, tile
+from validation.surfaces.wm import surface_statistics
+from validation.surfaces.topography import write_gwyddion_ascii
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
 
@@ -137,7 +139,7 @@ def test_self_affine_fine_sample_is_the_same_surface():
 
 
 def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
-    import validation.report
+    import validation.report.write
 
     scene = parse_scene({"name": "sa", "surface": {"family": "self-affine", "hurst": [0.5, 0.8],
                                                    "rms_slope": 0.1, "n": 32},
@@ -153,13 +155,13 @@ def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
     assert all(r.curves["bem"].extras["converged"].all() for rs in result.realizations.values()
                for r in rs)
     assert all(r.task.describe().startswith("H=") for r in result.realizations[0.5])
-    labels, add = {}, validation.report._Figures.add
+    labels, add = {}, validation.report.write._Figures.add
 
     def remember(self, draw, name, caption, panels=1):
         labels[name] = draw().axes[0].get_ylabel()
         add(self, draw, name, caption, panels)
 
-    monkeypatch.setattr(validation.report._Figures, "add", remember)
+    monkeypatch.setattr(validation.report.write._Figures, "add", remember)
     write_report([result], tmp_path)
     for name in ("sa-validity-map", "sa-errors-H0.5", "sa-verdicts-H0.8"):
         assert (tmp_path / f"{name}.png").stat().st_size > 5_000
@@ -206,3 +208,69 @@ def test_file_scene_end_to_end_and_cache_follows_the_content(tmp_path, scan):
                             progress=False)
     assert sum(e.startswith("bem ") for e in computed_log(changed)) == 4
     assert sum(e.startswith("discrete ") for e in computed_log(changed)) == 4
+
+
+RECTANGLE = """
+name = "rect"
+[surface]
+family = "file"
+path = "wide.txt"
+unit = "um"
+square = "keep"
+tiles = 1
+[loads]
+min = 1e-3
+max = 1e-2
+count = 3
+"""
+
+
+@pytest.fixture()
+def wide(tmp_path):
+    """A 48 x 80 Gwyddion scan of 4.8 µm x 8 µm (rows y, columns x) in tmp_path/wide.txt."""
+    heights = self_affine_surface(96, hurst=0.8, rms_slope=0.1, L=9.6, window=192, seed=5)
+    write_gwyddion_ascii(tmp_path / "wide.txt", heights[:48, :80] * 1e-6, 0.1e-6, unit="m",
+                         size_unit="µm")
+    return tmp_path / "wide.txt"
+
+
+def test_rectangular_map_is_kept_whole_or_cropped(tmp_path, wide):
+    kept = load_scene(write(tmp_path, RECTANGLE)).surface
+    assert kept.grid == (48, 80) and kept.n == 48
+    assert kept.spacing == pytest.approx(0.1) and kept.L**2 == pytest.approx(4.8 * 8.0)
+    assert surface_heights(kept, 0).shape == (48, 80)
+    cropped = load_scene(write(tmp_path, RECTANGLE.replace('square = "keep"\n', ""))).surface
+    assert cropped.grid == (48, 48) and cropped.L == pytest.approx(4.8)
+    assert cropped.spacing == pytest.approx(0.1)
+    with pytest.raises(SceneError, match="'surface.square'"):
+        load_scene(write(tmp_path, RECTANGLE.replace('"keep"', '"pad"'), "bad.toml"))
+    with pytest.raises(SceneError, match="'surface.tiles'.*48 x 80.*24 x 40"):
+        load_scene(write(tmp_path, RECTANGLE.replace("tiles = 1", "tiles = 4"), "bad.toml"))
+
+
+def test_tiles_of_a_rectangular_map_keep_its_aspect():
+    heights = np.arange(6 * 10.0).reshape(6, 10) ** 1.5
+    parts = [tile(heights, 4, k) for k in range(4)]
+    assert all(p.shape == (3, 5) for p in parts)
+    np.testing.assert_allclose(parts[3] + heights[3:, 5:].mean(), heights[3:, 5:])
+
+
+def test_rectangular_map_runs_through_the_report_uncropped(tmp_path, wide):
+    from validation.cli import main
+
+    scene = write(tmp_path, RECTANGLE)
+    assert main(["report", str(scene), "--quick", "--no-cache", "--jobs", "1", "--quiet",
+                 "--out", str(tmp_path / "out")]) == 0
+    text = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
+    assert "48 × 80 (uncropped) pixels" in text and "tile(s) of 48 × 80 pixels" in text
+    curves = rows(tmp_path / "out" / "curves.csv")
+    assert {r["n"] for r in curves} == {"48x80"}
+    bem = [r for r in curves if r["model"] == "bem"]
+    # Load = W / (E* A) with A the whole 8 x 4.8 µm map
+    for r in bem:
+        assert float(r["load_W"]) == pytest.approx(float(r["Load"]) * 8.0 * 4.8, rel=1e-9)
+    (result,) = run_scenes([load_scene(scene)], progress=False)
+    (realization,) = result.realizations[0.0]
+    curve = realization.curves["bem"]
+    assert curve.nominal_area == pytest.approx(38.4)
+    assert np.all(np.isfinite(curve.extras["area_error"]))    # the half grid is 24 x 40

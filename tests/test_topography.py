@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import validation
-from validation.self_affine import self_affine_surface
-from validation.topography import LENGTH_UNITS, read_topography, write_gwyddion_ascii
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.topography import LENGTH_UNITS, read_topography, write_gwyddion_ascii
 
 
 def rough(rows=24, columns=24, seed=0):

@@ -4,19 +4,14 @@ Weierstrass-Mandelbrot surfaces, declarative scenes, a runner that computes only
 asks for, and reports of where each asperity model holds against the exact half-space solution.
 """
 
-from importlib import metadata as _metadata
-
-from validation.surfaces import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
-from validation.self_affine import radial_power_spectrum, self_affine_surface
-from validation.topography import Topography, read_topography
-from validation.scene import Scene, SceneError, builtin_scenes, load_scene, parse_scene
-from validation.runner import run_scenes
-from validation.compare import compare_realizations, curve_errors, validity_range
-
-try:
-    __version__ = _metadata.version("asperity-validation")
-except _metadata.PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0.0.0+source"
+from validation._version import __version__
+from validation.surfaces.wm import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
+from validation.surfaces.self_affine import radial_power_spectrum, self_affine_surface
+from validation.surfaces.topography import Topography, read_topography
+from validation.scenes.scene import Scene, SceneError
+from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
+from validation.run.runner import run_scenes
+from validation.judge.compare import compare_realizations, curve_errors, validity_range
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
@@ -25,7 +20,7 @@ __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistic
 
 
 def write_report(*args, **kwargs):
-    """Write the report folder (see :func:`validation.report.write_report`; imports matplotlib)."""
-    from validation.report import write_report as write
+    """Write the report folder (see :func:`validation.report.write.write_report`; imports matplotlib)."""
+    from validation.report.write import write_report as write
 
     return write(*args, **kwargs)

@@ -1,0 +1,392 @@
+"""Errors of a model against the reference at equal load, with verdicts and validity ranges.
+
+Error measures (at equal total load W, realization by realization):
+
+* area and conductance (and stiffness, contacts): relative error ``q_model / q_reference - 1``;
+* separation (and the mean gap): ``(d_model - d_reference) / sigma`` with sigma the standard
+  deviation of the summit heights of that realization (the paper's unit of separation).
+
+A model may be compared with a different field of the reference than its own quantity's name:
+its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
+separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
+
+At each load point the errors over realizations give a mean, a Student-t confidence interval
+(95 %, or the level of a look of the sequential plan) and, with the reference's own error band,
+a verdict (holds / fails / undecided; :mod:`validation.judge.verdicts`). The validity range at a
+tolerance is the longest run of "holds". Beside it, a verdict on single surfaces from a normal
+tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
+where at least 90 % of surfaces are within the tolerance, with the same confidence.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from bem import checks
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from validation.run import models
+from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
+                                        surface_reasons)
+from validation.judge.verdicts import (
+    CONFIDENCE,
+    HOLDS,
+    ErrorInterval,
+    ValidityRange,
+    classify,
+    confidence_interval,
+    reference_band,
+    undecided_reasons,
+    validity_range,
+    verdict_counts,
+    verdict_range,
+)
+
+__all__ = [
+    "ABSOLUTE_QUANTITIES",
+    "COMPARED_QUANTITIES",
+    "NOT_ESTIMATED",
+    "RELATIVE_QUANTITIES",
+    "Comparison",
+    "ErrorSummary",
+    "ModelComparison",
+    "ValidityRange",
+    "compare_realizations",
+    "converged_points",
+    "curve_errors",
+    "reached_points",
+    "pairwise_errors",
+    "summarise_errors",
+    "validity_range",
+]
+
+#: Quantities compared by relative error.
+RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
+#: Quantities compared by absolute error in units of sigma.
+ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
+#: Largest relative difference between a model's load and the reference's at one point for
+#: the two to be compared (both solve for the same load; far beyond any solver tolerance).
+LOAD_RTOL = 1e-6
+#: Band source of a reference field without error estimates (its band is NaN).
+NOT_ESTIMATED = "not estimated"
+#: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
+#: among them: the BEM counts connected contact patches, the asperity models asperities.
+COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
+
+
+def _field(curve: ContactCurve, name: str) -> np.ndarray | None:
+    """A quantity of a curve by name: a curve field, else an extra (``None`` when absent)."""
+    value = getattr(curve, name) if name in CURVE_QUANTITIES else curve.extras.get(name)
+    return None if value is None else np.asarray(value, dtype=float)
+
+
+def converged_points(curve: ContactCurve) -> np.ndarray:
+    """Boolean array: where the curve's solver converged (all True for closed-form models)."""
+    flags = curve.extras.get("converged")
+    if flags is None:
+        return np.ones(curve.load.shape, dtype=bool)
+    return np.broadcast_to(np.asarray(flags, dtype=bool), curve.load.shape)
+
+
+def reached_points(model: ContactCurve, reference: ContactCurve, *,
+                   load_rtol: float = LOAD_RTOL) -> np.ndarray:
+    """Boolean array: where ``model`` reached the reference's load (to ``load_rtol``). A model
+    that cannot carry a load (an unconverged solve ending at another load, a load beyond what
+    it can reach) is not compared there: its point is *unreachable*, never an error.
+
+    Raises
+    ------
+    ValueError
+        When the two curves do not have the same number of points.
+    """
+    if model.load.shape != reference.load.shape:
+        raise ValueError(f"model and reference curves must have the same load points, got "
+                         f"{model.load.shape} and {reference.load.shape}")
+    with np.errstate(invalid="ignore"):
+        return np.abs(model.load - reference.load) <= load_rtol * np.abs(reference.load)
+
+
+def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
+                 quantities: tuple[str, ...], *, load_rtol: float = LOAD_RTOL,
+                 reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
+    """Errors of ``model`` against ``reference`` at the same loads.
+
+    Parameters
+    ----------
+    model, reference : ContactCurve
+        Curves on the same load points; a point where the model's load differs from the
+        reference's by more than ``load_rtol`` (relative) is unreachable
+        (:func:`reached_points`): NaN error.
+    sigma : float
+        Standard deviation of the summit heights [length], the unit of separation errors.
+    quantities : tuple of str
+        Which errors to compute; quantities missing from either curve are skipped.
+    reference_fields : dict, optional
+        Reference field per quantity where it differs from the quantity (default identity).
+
+    Returns
+    -------
+    dict of str to ndarray
+        One error array per quantity (NaN where the reference value is zero for a relative
+        error, where either curve's solver did not converge, or where the model did not reach
+        the reference's load).
+    """
+    sigma, quantities = checks.curve_error_arguments(
+        sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES)
+    reached = reached_points(model, reference, load_rtol=load_rtol)
+    fields = reference_fields or {}
+    unconverged = ~(converged_points(model) & converged_points(reference) & reached)
+    errors: dict[str, np.ndarray] = {}
+    for name in quantities:
+        got, want = _field(model, name), _field(reference, fields.get(name, name))
+        if got is None or want is None:
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if name in ABSOLUTE_QUANTITIES:
+                error = (got - want) / sigma
+            else:
+                error = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
+        # a point that either solver did not converge at says nothing
+        errors[name] = np.where(unconverged, np.nan, error)
+    return errors
+
+
+def pairwise_errors(results, model: str, reference_model: str, quantities: tuple[str, ...],
+                    reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
+    """Errors of one model against another over realizations: quantity -> (realizations, k)."""
+    stacked: dict[str, list[np.ndarray]] = {}
+    for result in results:
+        errors = curve_errors(result.curves[model], result.curves[reference_model], result.sigma,
+                              quantities, reference_fields=reference_fields)
+        for name, values in errors.items():
+            stacked.setdefault(name, []).append(values)
+    return {name: np.vstack(arrays) for name, arrays in stacked.items()}
+
+
+@dataclass(frozen=True)
+class ErrorSummary:
+    """Mean and scatter over realizations of one model's error in one quantity."""
+
+    quantity: str
+    mean: np.ndarray      # shape (points,)
+    std: np.ndarray       # sample standard deviation over realizations (0 for one)
+    count: int            # realizations
+
+
+def summarise_errors(quantity: str, per_realization: list[np.ndarray]) -> ErrorSummary:
+    """Mean and sample standard deviation over realizations (ignoring NaN entries)."""
+    interval = confidence_interval(np.vstack(per_realization))
+    return ErrorSummary(quantity, interval.mean, np.nan_to_num(interval.std, nan=0.0),
+                        len(per_realization))
+
+
+@dataclass(frozen=True)
+class ModelComparison:
+    """One model, one quantity: errors with their interval, verdicts and ranges per tolerance."""
+
+    model: str
+    quantity: str
+    summary: ErrorSummary
+    ranges: tuple[ValidityRange, ...]
+    # (realization, load) points where the model or the BEM did not converge, or the model did
+    # not reach the reference's load (``unreachable`` of them)
+    unconverged: int = 0
+    interval: ErrorInterval | None = None
+    band: np.ndarray | None = None                    # reference band per point
+    verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
+    tolerances: tuple[float, ...] = ()
+    reference_field: str = ""                         # the reference field compared with
+    complete: np.ndarray | None = None                # where every realization converged
+    unreachable: int = 0                              # points the model did not reach
+    surface: SurfaceInterval | None = None            # tolerance interval of single surfaces
+    surface_verdicts: tuple[np.ndarray, ...] = ()     # per tolerance: holds per surface or not
+    surface_ranges: tuple[ValidityRange, ...] = ()    # per tolerance: longest run per surface
+
+    def counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
+        return verdict_counts(self.verdicts[index])
+
+    def surface_counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided per surface at ``tolerances[index]``."""
+        return verdict_counts(self.surface_verdicts[index])
+
+    def surface_reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided per surface at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.tolerance.surface_reasons`)."""
+        if self.surface is None or self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return surface_reasons(self.surface, band, self.tolerances[index],
+                               count=self.interval.count, complete=self.complete)
+
+    def reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.verdicts.undecided_reasons`)."""
+        if self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return undecided_reasons(self.interval, band, self.tolerances[index],
+                                 complete=self.complete)
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """All models against the reference for one surface family of a scene: one ``value`` of
+    its swept ``parameter`` (D of a WM surface, H of a self-affine one; "" and 0 for a measured
+    map).
+
+    ``load`` is the paper's dimensionless Load = W/(E* L^2) of the path; ``area_fraction`` the
+    reference's mean area fraction at each load; ``band_source`` says per compared field where
+    the reference band came from (the per-point estimates, or "not estimated").
+    """
+
+    value: float
+    load: np.ndarray
+    area_fraction: np.ndarray
+    models: dict[tuple[str, str], ModelComparison]
+    band_source: dict[str, str] = field(default_factory=dict)
+    parameter: str = "D"
+    confidence: float = CONFIDENCE  # of every interval and verdict (validation.run.sequential)
+
+    @property
+    def D(self) -> float:
+        """The sweep value (the fractal dimension D of a WM family; kept for old callers)."""
+        return self.value
+
+
+def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, str]:
+    """Reference band of one field per point, and where it came from.
+
+    Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
+    over realizations of |error| in the comparison's measure. Otherwise NaN, "not estimated":
+    an unknown band is never taken as zero (every verdict against it is undecided).
+    """
+    curves = [r.curves[reference_model] for r in results]
+    points = curves[0].load.shape
+    estimates = [c.extras.get(f"{field_name}_error") for c in curves]
+    if all(e is not None for e in estimates):
+        absolute = np.vstack([np.asarray(e, dtype=float) for e in estimates])
+        if field_name in ABSOLUTE_QUANTITIES:
+            scale = np.array([[r.sigma] for r in results])
+        else:
+            scale = np.vstack([_field(c, field_name) for c in curves])
+        return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
+    return np.full(points, np.nan), NOT_ESTIMATED
+
+
+def _model_comparison(results, model, quantity, errors, band, reference_model, load,
+                      area_fraction, tolerances, field_name, confidence) -> ModelComparison:
+    interval = confidence_interval(errors, confidence)
+    reached = np.vstack([reached_points(r.curves[model], r.curves[reference_model])
+                         for r in results])
+    complete = np.all(np.vstack([converged_points(r.curves[model])
+                                 & converged_points(r.curves[reference_model])
+                                 for r in results]) & reached, axis=0)
+    verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    surface = surface_interval(interval.mean, interval.std, interval.count,
+                               confidence=confidence)
+    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                             for tol in tolerances)
+    ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
+                   for v, tol in zip(verdicts, tolerances))
+    surface_ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
+                           for v, tol in zip(surface_verdicts, tolerances))
+    summary = summarise_errors(quantity, list(errors))
+    return ModelComparison(model, quantity, summary, ranges,
+                           _unconverged(results, model, reference_model), interval, band,
+                           verdicts, tuple(tolerances), field_name, complete,
+                           int(np.count_nonzero(~reached)), surface, surface_verdicts,
+                           surface_ranges)
+
+
+def _unconverged(results, model: str, reference_model: str) -> int:
+    return sum(int(np.count_nonzero(~(converged_points(r.curves[model])
+                                      & converged_points(r.curves[reference_model])
+                                      & reached_points(r.curves[model],
+                                                       r.curves[reference_model]))))
+               for r in results)
+
+
+def _registered_fields(names) -> dict[str, dict[str, str]]:
+    """model -> {quantity: reference field} from the registry (models it does not know: {})."""
+    known = models.reference_fields()
+    return {name: dict(known[name]) for name in names if name in known}
+
+
+def _is_realization(item) -> bool:
+    """Whether ``item`` looks like a :class:`validation.run.runner.RealizationResult`."""
+    curves = getattr(item, "curves", None)
+    return (hasattr(item, "task") and isinstance(curves, dict)
+            and all(isinstance(curve, ContactCurve) for curve in curves.values()))
+
+
+def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
+                         reference_fields: dict[str, dict[str, str]] | None = None,
+                         confidence: float = CONFIDENCE) -> Comparison:
+    """Compare every model with the reference over the realizations of one sweep value (D, H).
+
+    Parameters
+    ----------
+    results : list of validation.run.runner.RealizationResult
+        Realizations of one surface family; each holds a curve per model.
+    tolerances : tuple of float
+        Error levels for the verdicts and validity ranges.
+    reference_model : str, optional
+        The model compared against; default: the registered reference among the curves.
+    reference_fields : dict, optional
+        model -> {quantity: reference field}; default: the registry's entries
+        (:func:`validation.run.models.reference_fields`).
+    confidence : float
+        Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
+        sequential plan's, :mod:`validation.run.sequential`; default 95 %).
+
+    Notes
+    -----
+    On a separation path the loads of point k differ between realizations and ``load`` is that
+    of the first realization: read such a comparison as one per separation point.
+    """
+    results = checks.instances("results", results, _is_realization, described=(
+        "realization results (validation.run.runner.RealizationResult: .task and .curves)"))
+    tolerances = tuple(float(t) for t in checks.real_array(
+        "tolerances", tolerances, ndim=1, min_size=1, minimum=0.0, exclusive=True))
+    if reference_model is not None and not isinstance(reference_model, str):
+        raise checks.InputTypeError(f"reference_model must be a model name or None, got "
+                                    f"{type(reference_model).__name__} {reference_model!r}")
+    if reference_fields is not None and not isinstance(reference_fields, dict):
+        raise checks.InputTypeError(f"reference_fields must be a dict (model -> {{quantity: "
+                                    f"field}}) or None, got {type(reference_fields).__name__}")
+    confidence = checks.real_number("confidence", confidence, minimum=0.0, exclusive=True,
+                                    maximum=1.0, exclusive_maximum=True)
+    if not results:
+        raise ValueError("results holds no realizations to compare")
+    first = results[0]
+    if reference_model is None:
+        reference_model = models.reference_among(first.curves)
+    if reference_model is None or reference_model not in first.curves:
+        which = "registered" if reference_model is None else repr(reference_model)
+        raise ValueError(f"the results hold no {which} reference curve (reference_model must "
+                         f"be a model of the results; registered "
+                         f"references: {', '.join(models.reference_names())})")
+    mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
+    ref0 = first.curves[reference_model]
+    load = ref0.load / (ref0.e_star * first.task.surface.L**2)
+    area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)
+    quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
+    fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
+                                 for q in quantities))
+    bands = {name: _band(results, name, reference_model) for name in fields}
+    entries: dict[tuple[str, str], ModelComparison] = {}
+    for model in first.curves:
+        if model == reference_model:
+            continue
+        own = mapping.get(model, {})
+        errors = pairwise_errors(results, model, reference_model, quantities, own)
+        for name, stack in errors.items():
+            field_name = own.get(name, name)
+            entries[(model, name)] = _model_comparison(
+                results, model, name, stack, bands[field_name][0], reference_model, load,
+                area_fraction, tolerances, field_name, confidence)
+    return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
+                      load=load, area_fraction=area_fraction, models=entries,
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)

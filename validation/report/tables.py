@@ -1,0 +1,172 @@
+"""The report's CSV tables: every curve, every error with its interval and verdicts, every
+validity range and every finding. Written before any figure, so the numbers of a run survive
+whatever the figures do.
+
+Two readings of every cell: ``verdict`` on the mean error over realizations
+(:mod:`validation.judge.verdicts`) and ``verdict_per_surface`` on single surfaces
+(:mod:`validation.judge.tolerance`: at least 90 % of surfaces within the tolerance); ``confidence``
+is that of both (95 %, or split between the looks of a realization budget)."""
+
+from __future__ import annotations
+
+import csv
+import math
+import pathlib
+
+import numpy as np
+
+from validation.judge.compare import NOT_ESTIMATED
+from validation.report import sampling
+from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
+from validation.report.figures import dimensionless
+
+__all__ = ["write_tables", "TABLES"]
+
+#: File name -> header of every table.
+TABLES = {
+    "curves.csv": ["scene", "D", "H", "seed", "n", "model", "point", "converged", "Load", "Area",
+                   "Separation", "Conductance", "contacts", "load_W", "area", "separation_d",
+                   "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap"],
+    "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
+                   "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
+                   "realizations", "reference_band", "reference_band_source", "confidence",
+                   "surfaces90_low", "surfaces90_high"],
+    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict",
+                     "undecided_reason", "verdict_per_surface", "confidence"],
+    "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
+                     "area_fraction_min", "area_fraction_max", "points", "total", "holds",
+                     "fails", "undecided", "reference_band_max", "unconverged",
+                     "reference_field", "holds_per_surface", "fails_per_surface",
+                     "undecided_per_surface"],
+    "findings.csv": ["scene", "D", "H", "finding", "claim", "evidence", "verdict"],
+    "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
+                   "improved_pressure", "gw_stiffness", "effective_stiffness",
+                   "improved_stiffness"],
+}
+TABLES.update(sampling.TABLES)
+
+
+def _sweep(parameter: str, value: float) -> list:
+    """The D and H cells of a row: the swept parameter's value in its column, the other empty
+    (both empty for a measured map; its seed column is the tile index)."""
+    return [value if parameter == name else "" for name in ("D", "H")]
+
+
+def _column(values: dict, name: str, k: int) -> float:
+    array = values.get(name)
+    return math.nan if array is None else float(array[k])
+
+
+def _grid(surface) -> int | str:
+    """The grid column: n, or "rows x columns" of a rectangular tile."""
+    rows, columns = surface.grid
+    return rows if rows == columns else f"{rows}x{columns}"
+
+
+def _curve_rows(analysis) -> list[list]:
+    from validation.judge.compare import converged_points
+
+    result, rows = analysis.result, []
+    for value, realizations in sorted(result.realizations.items()):
+        sweep = _sweep(result.scene.surface.sweep_name, value)
+        for r in realizations:
+            for model, curve in r.curves.items():
+                values = dimensionless(curve, r.sigma, result.scene.surface.L)
+                converged = converged_points(curve)
+                # the mean gap (BEM, Persson) beside the separation d; NaN where not computed
+                gap = np.asarray(curve.extras.get("mean_gap", np.full(curve.load.shape, np.nan)),
+                                 dtype=float)
+                for k in range(curve.load.size):
+                    rows.append([result.scene.name, *sweep, r.task.seed, _grid(r.task.surface), model, k,
+                                 bool(converged[k])] + [_column(values, q, k) for q in
+                                 ("load", "area", "separation", "conductance", "contacts")]
+                                + [float(curve.load[k]), float(curve.area[k]),
+                                   float(curve.separation[k]),
+                                   _column({"s": curve.stiffness}, "s", k),
+                                   _column({"c": curve.conductance}, "c", k), r.sigma,
+                                   gap[k] / r.sigma, gap[k]])
+    return rows
+
+
+def _comparison_rows(analysis) -> dict[str, list[list]]:
+    name, out = analysis.result.scene.name, {"errors.csv": [], "verdicts.csv": [],
+                                             "validity.csv": []}
+    for c in analysis.comparisons:
+        sweep = _sweep(c.parameter, c.value)
+        for (model, quantity), e in c.models.items():
+            band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
+            # a band that could not be estimated is written as such, never as a number
+            cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
+            reasons = [e.reasons(i) for i in range(len(e.tolerances))]
+            nan = np.full(c.load.shape, math.nan)
+            low, high = (nan, nan) if e.surface is None else (e.surface.low, e.surface.high)
+            per_surface = e.surface_verdicts or tuple(np.full(c.load.shape, "") for _ in
+                                                      e.verdicts)
+            for k in range(c.load.size):
+                out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
+                                          c.load[k], c.area_fraction[k], e.interval.mean[k],
+                                          e.interval.low[k], e.interval.high[k],
+                                          e.interval.std[k], int(e.interval.count[k]), cells[k],
+                                          c.band_source.get(e.reference_field, ""),
+                                          c.confidence, low[k], high[k]])
+                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
+                                         why[k], w[k], c.confidence]
+                                        for t, v, why, w in zip(e.tolerances, e.verdicts,
+                                                                reasons, per_surface)]
+            for index, r in enumerate(e.ranges):
+                counts = e.counts(index)
+                surface = (e.surface_counts(index) if e.surface_verdicts
+                           else dict.fromkeys((HOLDS, FAILS, UNDECIDED), ""))
+                out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
+                                            r.load_max, r.area_fraction_min, r.area_fraction_max,
+                                            r.points, r.total, counts[HOLDS], counts[FAILS],
+                                            counts[UNDECIDED],
+                                            float(np.nanmax(band)) if np.any(np.isfinite(band))
+                                            else NOT_ESTIMATED, e.unconverged,
+                                            e.reference_field or quantity, surface[HOLDS],
+                                            surface[FAILS], surface[UNDECIDED]])
+    return out
+
+
+def _theory_rows(analysis) -> list[list]:
+    theory = analysis.result.theory
+    if not theory:
+        return []
+    return [[C, theory["m"], c.separation[k], c.effective_separation[k], c.gw_pressure[k],
+             c.improved_pressure[k], c.gw_stiffness[k], c.effective_stiffness[k],
+             c.improved_stiffness[k]]
+            for C in theory["C"] for c in (theory[C],) for k in range(c.separation.size)]
+
+
+def _cell(value):
+    """Floats with 10 significant digits (beyond any solver's tolerance; halves the files)."""
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.10g}"
+    return value
+
+
+def write_tables(folder: pathlib.Path, analyses) -> list[str]:
+    """Write every non-empty table into ``folder``; returns the names written.
+
+    Floats carry 10 significant digits."""
+    rows: dict[str, list[list]] = {name: [] for name in TABLES}
+    for analysis in analyses:
+        rows["curves.csv"] += _curve_rows(analysis)
+        for name, more in _comparison_rows(analysis).items():
+            rows[name] += more
+        parameter = analysis.result.scene.surface.sweep_name if analysis.findings else ""
+        rows["findings.csv"] += [[analysis.result.scene.name, *_sweep(parameter, value), f.key,
+                                  f.claim, f.evidence, f.verdict]
+                                 for value, found in analysis.findings.items() for f in found]
+        rows["theory.csv"] += _theory_rows(analysis)
+        for name, more in sampling.table_rows(analysis).items():
+            rows[name] += more
+    written = []
+    for name, table in rows.items():
+        if table:
+            with open(pathlib.Path(folder) / name, "w", newline="", encoding="utf-8") as stream:
+                writer = csv.writer(stream)
+                writer.writerow(TABLES[name])
+                writer.writerows([_cell(value) for value in row] for row in table)
+            written.append(name)
+    return written

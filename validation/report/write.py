@@ -1,0 +1,329 @@
+"""The validity report: Markdown, PNG figures and CSV tables in one folder.
+
+``write_report`` compares every surface scene with its reference (:mod:`validation.judge.compare`),
+checks the paper's findings (:mod:`validation.judge.findings`), writes the CSV tables first (so the
+numbers survive whatever the figures do), then ``report.md``: its text from
+:mod:`validation.report.sections`, its figures from :mod:`validation.report.figures` (matplotlib
+imported lazily), placed here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import pathlib
+import pickle
+from dataclasses import dataclass, field, replace
+from functools import partial
+
+import numpy as np
+
+from validation.judge.analysis import Analysis, analyse
+from validation.judge.compare import COMPARED_QUANTITIES, Comparison
+from validation.report.figures import dimensionless
+from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
+from validation.report.sampling import sampling_section
+from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
+                                        holds_section, md_table, surface_text, sweep_member,
+                                        timing, verdict_table)
+from validation.run.cache import Cache, cache_key
+from validation.run.runner import SceneResult
+
+__all__ = ["write_report", "md_table", "dimensionless", "MODEL_LABELS", "QUANTITY_LABELS",
+           "REPORT_FILES", "previous_report"]
+
+#: What a report writes into its folder, and so what it replaces there: its Markdown, figures
+#: and tables.
+REPORT_FILES = ("report.md", "*.png", "*.csv")
+
+
+def previous_report(folder: str | pathlib.Path) -> list[pathlib.Path]:
+    """The files of the previous report in ``folder``, which a new report replaces.
+
+    A report owns the files it writes (:data:`REPORT_FILES`), so that no figure or table of an
+    earlier run survives beside a new one. It writes into a new or empty folder (hidden files
+    aside), or one holding a previous report (a ``report.md``): that report's Markdown, PNG
+    and CSV files are replaced, anything else there is left alone. Any other folder is refused,
+    so that a report never deletes or mixes with files it did not write.
+
+    Raises
+    ------
+    ValueError
+        When ``folder`` is a file, or holds files but no previous report.
+    """
+    folder = pathlib.Path(folder)
+    if not folder.exists():
+        return []
+    if not folder.is_dir():
+        raise ValueError(f"{str(folder)!r} is a file, not a folder for a report")
+    entries = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    if entries and not (folder / "report.md").is_file():
+        shown = ", ".join(entries[:4]) + (f" and {len(entries) - 4} more" if len(entries) > 4
+                                          else "")
+        raise ValueError(f"{str(folder)!r} holds files that are not a report ({shown}); a "
+                         f"report replaces the files of a previous report in its folder, so it "
+                         f"needs a new or empty folder, or one holding only an earlier report")
+    return sorted({path for pattern in REPORT_FILES for path in folder.glob(pattern)
+                   if path.is_file()})
+
+
+# --------------------------------------------------------------------------------------------
+# figures
+
+
+@dataclass
+class _Figures:
+    """Collects the report's figures with their Markdown lines; :meth:`render` draws them.
+
+    Each figure is a job ``draw()`` that returns a matplotlib figure: a picklable callable
+    (partials of module-level functions), so that the figures can be drawn in other processes.
+    """
+
+    folder: pathlib.Path
+    lines: list
+    jobs: list = field(default_factory=list)  # (file name, draw, panels) in report order
+
+    def add(self, draw, name: str, caption: str, panels: int = 1) -> None:
+        """Queue ``draw`` (``panels``: its number of axes, the cost estimate that orders the
+        parallel drawing) and its Markdown lines."""
+        self.jobs.append((name, draw, panels))
+        self.lines += [f"![{caption}]({name})\n", f"*{caption}*\n"]
+
+    def render(self, executor=None, cache_dir=None) -> None:
+        """Draw every figure into the folder: here, or on ``executor`` (a
+        ``concurrent.futures`` executor; the PNG bytes come back and are written here).
+
+        With ``cache_dir``, a figure drawn before from the same job (the pickled ``draw`` with
+        all the data it draws), file name, code and matplotlib version is read from the cache.
+        """
+        cache = Cache(cache_dir)
+        keys = {name: _figure_key(name, draw) for name, draw, _ in self.jobs} if cache.enabled \
+            else {}
+        todo = []
+        for job in self.jobs:
+            stored = cache.load(keys[job[0]]) if keys.get(job[0]) else None
+            if stored is not None and "png" in stored:
+                (self.folder / job[0]).write_bytes(stored["png"].tobytes())
+            else:
+                todo.append(job)
+        for name, data in _drawn(todo, executor):
+            (self.folder / name).write_bytes(data)
+            if keys.get(name):
+                cache.store(keys[name], {"png": np.frombuffer(data, dtype=np.uint8)})
+
+
+def _drawn(jobs: list, executor):
+    """(file name, PNG bytes) of every job, drawn here or on ``executor``."""
+    from validation.report.figures import png
+
+    if executor is None:
+        for name, draw, _ in jobs:
+            yield name, png(draw())
+        return
+    # the costliest figures (most panels) first, so that no worker is left with one at the end
+    order = sorted(jobs, key=lambda job: -job[2])
+    futures = [(name, executor.submit(_png_of, draw)) for name, draw, _ in order]
+    for name, future in futures:
+        yield name, future.result()
+
+
+def _figure_key(name: str, draw) -> str | None:
+    """Cache key of a figure job, None when it cannot be pickled (it is then drawn anyway)."""
+    from importlib.metadata import version
+
+    from validation.run.cache import source_version
+
+    try:
+        job = hashlib.sha256(pickle.dumps(draw, protocol=5)).hexdigest()
+    except (pickle.PicklingError, AttributeError, TypeError):
+        return None
+    return cache_key("figure", source_version(), name=name, job=job, matplotlib=version("matplotlib"))
+
+
+def _png_of(draw) -> bytes:
+    """The PNG bytes of the figure ``draw()`` returns (a top-level function for process pools)."""
+    from validation.report.figures import png
+
+    return png(draw())
+
+
+def _file_suffix(parameter: str, value: float) -> str:
+    return f"-{parameter}{value:g}" if parameter else ""
+
+
+def _against(results, x: str, models, length: float, logx: bool, ax, y: str):
+    from validation.report.figures import plot_against
+
+    return plot_against(ax, results, x, y, models=models, length=length, logx=logx)
+
+
+def _errors(comparison: Comparison, tolerances, ax, quantity: str):
+    from validation.report.figures import plot_errors
+
+    return plot_errors(ax, comparison, quantity, tolerances)
+
+
+def _theory_panel(plot: str, theory: dict, ax, C: float):
+    from validation.report import figures
+
+    return getattr(figures, plot)(ax, theory, C)
+
+
+def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
+    from validation.report.figures import panels_figure
+
+    models = model_order(results[0].curves)
+    # what a run computed and how long it took is not drawn: left out of the figure's cache key
+    results = [replace(r, computed=(), seconds={}) for r in results]
+    L = scene.surface.L
+    conductance = "conductance" in scene.quantities
+    panels = ["area", "load"] + (["conductance"] if conductance else [])
+    # the paper's figures are of WM surfaces: other surfaces get the same plots, not its name
+    paper = scene.surface.family == "wm"
+    members = "tiles" if scene.surface.family == "file" else "realizations"
+    figures.add(partial(panels_figure, partial(_against, results, "separation", models, L, False),
+                        panels),
+                f"{scene.name}-fig4-separation.png",
+                f"Area, load{' and conductance' if conductance else ''} against separation, "
+                f"{sweep_member(scene.surface.sweep_name, value)} "
+                f"({'paper Fig. 4, BEM added; ' if paper else ''}thin lines: {members}; dotted: "
+                f"the BEM against its mean gap ū/σ, the quantity Persson's curve is drawn "
+                f"against).", len(panels))
+    figures.add(partial(panels_figure, partial(_against, results, "load", models, L, True),
+                        panels[::2]),
+                f"{scene.name}-fig5-load.png",
+                f"Area{' and conductance' if conductance else ''} against load, "
+                f"{sweep_member(scene.surface.sweep_name, value)}"
+                f"{' (paper Fig. 5, BEM added)' if paper else ''}.", len(panels[::2]))
+
+
+def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
+    from validation.report.figures import panels_figure, verdict_figure
+
+    quantities = sorted({q for (_, q) in comparison.models}, key=REPORT_QUANTITIES.index)
+    if not quantities:
+        return
+    at, suffix = (f(comparison.parameter, comparison.value) for f in (sweep_member, _file_suffix))
+    figures.add(partial(panels_figure, partial(_errors, comparison, scene.tolerances), quantities,
+                        legend=7),
+                f"{scene.name}-errors{suffix}.png",
+                f"Mean error of each model against the BEM at equal load, {at} "
+                f"(coloured band: 95 % interval over realizations; grey: reference band; dotted "
+                f"red: tolerances).", len(quantities))
+    figures.add(partial(verdict_figure, comparison), f"{scene.name}-verdicts{suffix}.png",
+                f"Verdict per load point, {at}: ✔ holds, ✘ fails, ? undecided.",
+                len(scene.tolerances))
+
+
+def _surface_section(figures: _Figures, analysis: Analysis) -> None:
+    result, lines = analysis.result, figures.lines
+    scene, s = result.scene, result.scene.surface
+    count = len(next(iter(result.realizations.values()), []))
+    lines.append(surface_text(scene, count))
+    if result.refinement is not None:
+        lines.append(f"Reference: {result.refinement.describe(s.sweep_name)}.\n")
+    if result.sequential is not None:
+        lines.append(f"Realizations per {s.sweep_name or 'surface'}: "
+                     f"{result.sequential.describe()}.\n")
+    if not analysis.comparisons:
+        lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
+    for value, results in sorted(result.realizations.items()):
+        comparison = next((c for c in analysis.comparisons if c.value == value), None)
+        lines.append(f"### {sweep_member(s.sweep_name, value)}\n")
+        counts = [r.summit_count for r in results]
+        if any(counts) and comparison is not None:
+            lines.append(f"Summits per realization: {min(counts)}–{max(counts)}; reference area "
+                         f"fraction {100 * comparison.area_fraction[0]:.3g} % – "
+                         f"{100 * comparison.area_fraction[-1]:.3g} % over the load path.\n")
+        if len(s.sweep_values) == 1:
+            _curve_figures(figures, scene, results, value)
+        if comparison is not None:
+            _comparison_figures(figures, scene, comparison)
+            lines.extend(verdict_table(comparison, scene.tolerances))
+    if len(s.sweep_values) > 1 and analysis.comparisons:
+        _validity_map(figures, scene, analysis.comparisons)
+
+
+def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> None:
+    from validation.report.figures import validity_map_figure
+
+    keys = sorted({k for c in comparisons for k in c.models if k[1] in COMPARED_QUANTITIES},
+                  key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
+    if keys:
+        figures.add(partial(validity_map_figure, comparisons, keys=keys,
+                            tolerances=scene.tolerances),
+                    f"{scene.name}-validity-map.png",
+                    "Validity map: |mean error| of each model against the BEM over load and "
+                    f"{scene.surface.sweep_name}; contours at the tolerances "
+                    f"{', '.join(f'{t:g}' for t in sorted(scene.tolerances))} (the legend says "
+                    "which line is which).", len(keys))
+
+
+def _theory_section(figures: _Figures, result: SceneResult) -> None:
+    from validation.report.figures import panels_figure
+
+    theory = result.theory
+    for index, C in enumerate(theory["C"]):
+        figures.add(partial(panels_figure, partial(_theory_panel, "plot_theory_load", theory), [C],
+                            width=5.5),
+                    f"{result.scene.name}-fig{index + 1}-C{C:g}.png",
+                    f"Load against separation, GW and improved GW, C = {C:g} "
+                    f"(paper Fig. {index + 1}).")
+    figures.add(partial(panels_figure, partial(_theory_panel, "plot_theory_stiffness", theory),
+                        list(theory["C"]), width=5.5),
+                f"{result.scene.name}-fig3-stiffness.png",
+                "GW stiffness dW/dd₁ and the true stiffness dW/dd with interaction (paper Fig. 3).",
+                len(theory["C"]))
+    rows = [[f"{C:g}", f"{np.min(theory[C].improved_stiffness / theory[C].effective_stiffness):.3g}",
+             f"{np.max(theory[C].effective_separation - theory[C].separation):.3g}"]
+            for C in theory["C"]]
+    figures.lines += md_table(["C", "smallest ratio of true to GW stiffness dW/dd ÷ dW/dd₁",
+                               "largest separation shift (d₁ − d)/σ"], rows)
+
+
+def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
+                 seconds: float | None = None, mode: str = "", command: str | None = None,
+                 executor=None, cache_dir: str | pathlib.Path | None = None) -> pathlib.Path:
+    """Write the CSV tables, then ``report.md`` with its PNG figures, into ``folder``.
+
+    ``command`` (the command line that produced the results), the package version and the run
+    time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures
+    and tables removed first; a folder holding other files and no report is refused
+    (:func:`previous_report`). The figures are drawn on ``executor`` (a
+    ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here;
+    figures drawn before from the same data are read from ``cache_dir`` when given. Returns the
+    path of ``report.md``.
+    """
+    from validation.report.tables import write_tables
+
+    folder = pathlib.Path(folder)
+    for path in previous_report(folder):
+        path.unlink()
+    folder.mkdir(parents=True, exist_ok=True)
+    analyses = [analyse(result) for result in results]
+    written = write_tables(folder, analyses)
+    figures = _Figures(folder, header(seconds, mode, command))
+    figures.lines += holds_section(analyses)
+    figures.lines += findings_section(analyses)
+    figures.lines += sampling_section(analyses)
+    for analysis in analyses:
+        scene = analysis.result.scene
+        figures.lines += [f"## {scene.title}\n",
+                          f"Scene `{scene.name}` ({scene.source}). {scene.description.strip()}\n"]
+        if scene.kind == "theory":
+            _theory_section(figures, analysis.result)
+            continue
+        _surface_section(figures, analysis)
+        figures.lines += timing(analysis.result)
+    figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
+    path = folder / "report.md"
+    try:
+        figures.render(executor, cache_dir)
+    except BaseException:
+        # a report cut short (Ctrl-C, a failed figure) still marks its folder as a report's, so
+        # that the same command replaces it (previous_report) instead of refusing the folder
+        path.write_text("# Report not finished\n\nThe figures were not all drawn; the tables are "
+                        "complete. Run the same command again.\n", encoding="utf-8")
+        raise
+    path.write_text("\n".join(figures.lines) + "\n", encoding="utf-8")
+    return path
+

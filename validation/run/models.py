@@ -1,0 +1,333 @@
+"""The model registry: the one place that maps a scene's model names to model factories.
+
+Scene parsing (which names are allowed), the runner (what to build and cache), the report
+(labels and plot styles) and the benchmark look models up here and nowhere else. A model is
+added by one module that implements the :class:`bem.ContactModel` contract and one call::
+
+    register("persson", _persson, label="Persson", needs_summits=False, contacts="none",
+             reference_fields={"separation": "mean_gap"})
+
+The contract test catalogue (``tests/test_contract.py``) runs over every registered model.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from bem.model import ContactModel
+
+__all__ = ["ModelInputs", "ModelEntry", "register", "unregister", "entry", "names", "default_names", "build",
+           "labels", "styles", "reference_names", "reference_among", "reference_fields"]
+
+
+class ModelInputs:
+    """What a factory may use to build a model for one surface (realization).
+
+    Parameters
+    ----------
+    spacing : float
+        Grid step of the heights [length].
+    nominal_area : float
+        Nominal contact area L^2 [length^2].
+    heights : array or callable, optional
+        The heights [length], or a function making them on first use (the runner makes a
+        surface only when a result that needs it is not cached).
+    summits : asperity.Summits or callable, optional
+        The summits, or a function finding them; default: found on the heights.
+    e_star : float
+        Composite modulus E* [pressure].
+    m : float
+        Interaction factor of the improved GW theory (eq. 2).
+    bem_options : mapping
+        Options of :func:`bem.contact_curve` (``periodic``, ``tol``, ``max_iter``, ...).
+    """
+
+    def __init__(self, *, spacing: float, nominal_area: float, heights=None, summits=None,
+                 e_star: float = 1.0, m: float = 1.0,
+                 bem_options: Mapping[str, Any] | None = None) -> None:
+        self.spacing, self.nominal_area = float(spacing), float(nominal_area)
+        self.e_star, self.m = float(e_star), float(m)
+        self.bem_options = dict(bem_options or {})
+        self._heights, self._summits = heights, summits
+
+    def heights(self) -> np.ndarray:
+        """The height map [length] (made on first call when given as a function)."""
+        if self._heights is None:
+            raise ValueError("this model needs the heights, and none were given")
+        if callable(self._heights):
+            self._heights = self._heights()
+        return self._heights
+
+    def summits(self):
+        """The summits (found on the heights on first call unless given)."""
+        if self._summits is None:
+            import asperity
+
+            self._summits = asperity.find_summits(self.heights(), self.spacing)
+        elif callable(self._summits):
+            self._summits = self._summits()
+        return self._summits
+
+
+@dataclass(frozen=True)
+class ModelEntry:
+    """A registered model.
+
+    Attributes
+    ----------
+    name : str
+        The name scenes use.
+    factory : callable
+        ``factory(inputs: ModelInputs) -> ContactModel``.
+    label : str
+        Name in tables and legends.
+    style : mapping
+        Matplotlib line style of its curves.
+    needs_summits : bool
+        Built on the summits (the runner finds them, and sigma, only when some model needs
+        them).
+    cached : bool
+        Its load paths are expensive and cached by the runner.
+    reference : bool
+        The exact reference the other models are compared with; with a separation path, the
+        other models follow its loads.
+    inverse_consistent : bool
+        ``at_load`` inverts ``at_separation`` (false for an approximation whose load path is
+        solved exactly, like the one-iteration improved GW).
+    contacts : {"asperities", "patches", "none"}
+        What its ``contacts`` counts: asperities in contact (never fewer as the separation
+        falls), connected contact patches (which merge, so the count may fall), or nothing
+        (the theory does not predict a count: ``contacts`` stays None even when asked for).
+    reference_fields : mapping
+        quantity -> the reference's field it is compared with, where that is not the field of
+        the same name (Persson's separation is a mean gap: ``{"separation": "mean_gap"}``).
+    default : bool
+        Part of a scene that does not list its models.
+    settings : callable
+        ``settings(inputs) -> dict``: inputs beyond the surface, E* and the path that determine
+        its results (part of its cache key).
+    """
+
+    name: str
+    factory: Callable[[ModelInputs], ContactModel]
+    label: str
+    style: Mapping[str, Any] = field(default_factory=dict)
+    needs_summits: bool = True
+    cached: bool = False
+    reference: bool = False
+    inverse_consistent: bool = True
+    contacts: str = "asperities"
+    default: bool = True
+    reference_fields: Mapping[str, str] = field(default_factory=dict)
+    settings: Callable[[ModelInputs], dict] = field(default=lambda inputs: {})
+
+
+_REGISTRY: dict[str, ModelEntry] = {}
+
+
+def register(name: str, factory: Callable[[ModelInputs], ContactModel], *, label: str,
+             **attributes: Any) -> ModelEntry:
+    """Register a model under ``name`` (see :class:`ModelEntry` for the attributes)."""
+    if not isinstance(name, str) or not name.isidentifier():
+        raise ValueError(f"name must be an identifier-like string, got {name!r}")
+    if name in _REGISTRY:
+        raise ValueError(f"a model named {name!r} is already registered")
+    item = ModelEntry(name, factory, label, **attributes)
+    if item.contacts not in ("asperities", "patches", "none"):
+        raise ValueError(f"contacts must be 'asperities', 'patches' or 'none', got {item.contacts!r}")
+    _REGISTRY[name] = item
+    return item
+
+
+def unregister(name: str) -> None:
+    """Remove a registered model (for tests and interactive work)."""
+    entry(name)
+    del _REGISTRY[name]
+
+
+def entry(name: str) -> ModelEntry:
+    """The registered model ``name``; ``ValueError`` listing the known names otherwise."""
+    try:
+        return _REGISTRY[name]
+    except KeyError:
+        raise ValueError(f"unknown model {name!r}; registered: {', '.join(_REGISTRY)}") from None
+
+
+def names() -> tuple[str, ...]:
+    """Names of all registered models, in registration order."""
+    return tuple(_REGISTRY)
+
+
+def default_names() -> tuple[str, ...]:
+    """Names of the models a scene uses unless it lists its own."""
+    return tuple(name for name, item in _REGISTRY.items() if item.default)
+
+
+def reference_names() -> tuple[str, ...]:
+    """Names of the reference models."""
+    return tuple(name for name, item in _REGISTRY.items() if item.reference)
+
+
+def reference_among(names) -> str | None:
+    """The one registered reference model among ``names`` (``None`` when there is none).
+
+    Raises ``ValueError`` when ``names`` hold several references: a comparison needs one.
+    """
+    found = [name for name in reference_names() if name in names]
+    if len(found) > 1:
+        raise ValueError(f"several reference models among the curves: {', '.join(found)}; "
+                         "a comparison needs exactly one")
+    return found[0] if found else None
+
+
+def build(name: str, inputs: ModelInputs) -> ContactModel:
+    """The model ``name`` built from ``inputs``; ``TypeError`` if the factory's result does
+    not satisfy :class:`bem.ContactModel`."""
+    model = entry(name).factory(inputs)
+    if not isinstance(model, ContactModel):
+        raise TypeError(f"the factory of model {name!r} returned {type(model).__name__}, "
+                        "which lacks name, at_load or at_separation (bem.ContactModel)")
+    return model
+
+
+class _Attribute(Mapping):
+    """A live, read-only view name -> one attribute of every registered model."""
+
+    def __init__(self, attribute: str) -> None:
+        self._attribute = attribute
+
+    def __getitem__(self, name: str) -> Any:
+        if name not in _REGISTRY:
+            raise KeyError(name)
+        return getattr(_REGISTRY[name], self._attribute)
+
+    def __iter__(self):
+        return iter(list(_REGISTRY))
+
+    def __len__(self) -> int:
+        return len(_REGISTRY)
+
+
+def reference_fields() -> Mapping[str, Mapping[str, str]]:
+    """Model name -> {quantity: reference field it is compared with} (a live view; empty
+    where every quantity is compared with the reference's field of the same name)."""
+    return _Attribute("reference_fields")
+
+
+def labels() -> Mapping[str, str]:
+    """Model name -> label, in registration order (a live view: later registrations show)."""
+    return _Attribute("label")
+
+
+def styles() -> Mapping[str, Mapping[str, Any]]:
+    """Model name -> matplotlib style, in registration order (a live view)."""
+    return _Attribute("style")
+
+
+# --------------------------------------------------------------------------------------------
+# the models of the project
+
+#: Window of the height map's PSD for Persson's theory (:func:`asperity.spectrum.power_spectrum_2d`).
+#: "mirror" keeps h_rms and h'_rms of the map (Hann loses up to a third of h_rms at D = 2.05) and
+#: its mean gap agrees better with the BEM's on WM surfaces (docs/theory.md, section 7).
+PERSSON_WINDOW = "mirror"
+
+def _gw(inputs: ModelInputs):
+    return inputs.summits().greenwood_williamson(inputs.nominal_area, e_star=inputs.e_star)
+
+
+def _improved_gw(inputs: ModelInputs, one_iteration: bool = False):
+    from asperity import ImprovedGreenwoodWilliamson
+
+    exact = inputs.summits().improved_greenwood_williamson(
+        inputs.nominal_area, e_star=inputs.e_star, m=inputs.m)
+    if not one_iteration:
+        return exact
+    return ImprovedGreenwoodWilliamson(exact.density, exact.radius, exact.sigma, mean=exact.mean,
+                                       e_star=exact.e_star, area=exact.area, m=exact.m,
+                                       one_iteration=True)
+
+
+def _discrete(inputs: ModelInputs, interaction: bool = True):
+    from asperity import DiscreteAsperityModel
+
+    return DiscreteAsperityModel(inputs.summits(), e_star=inputs.e_star, interaction=interaction)
+
+
+def _persson(inputs: ModelInputs):
+    # cached although cheap: a cached run then makes no surface at all (the heights are its
+    # only input, and the WM synthesis costs more than the theory)
+    from asperity import Persson
+
+    return Persson.from_heights(inputs.heights(), inputs.spacing, e_star=inputs.e_star,
+                                window=PERSSON_WINDOW)
+
+
+def _bem(inputs: ModelInputs):
+    from bem import BoundaryElementModel
+
+    return BoundaryElementModel(inputs.heights(), inputs.spacing, e_star=inputs.e_star,
+                                **inputs.bem_options)
+
+
+register("gw", _gw, label="original GW", style=dict(color="tab:blue", linestyle="--"))
+register("improved_gw", _improved_gw, label="improved GW",
+         style=dict(color="tab:orange", linestyle="-"), settings=lambda inputs: {"m": inputs.m})
+register("improved_gw_one_iteration", lambda inputs: _improved_gw(inputs, one_iteration=True),
+         label="improved GW (one iteration)", style=dict(color="tab:red", linestyle="-."),
+         inverse_consistent=False, default=False, settings=lambda inputs: {"m": inputs.m})
+register("discrete_no_interaction", lambda inputs: _discrete(inputs, interaction=False),
+         label="discrete (no interaction)", style=dict(color="tab:olive", linestyle=":"),
+         cached=True)
+register("discrete", _discrete, label="discrete (interaction)",
+         style=dict(color="tab:green", linestyle="-"), cached=True)
+register("persson", _persson, label="Persson", style=dict(color="tab:purple", linestyle="-."),
+         needs_summits=False, contacts="none", reference_fields={"separation": "mean_gap"},
+         cached=True, settings=lambda inputs: {"window": PERSSON_WINDOW})
+register("bem", _bem, label="BEM (exact)", style=dict(color="black", linestyle="-", linewidth=2.0),
+         needs_summits=False, cached=True, reference=True, contacts="patches",
+         settings=lambda inputs: {"options": inputs.bem_options})
+
+
+# Theories from the spectral moments m0, m2, m4 of the heights (Nayak, McCool; Bush, Gibson &
+# Thomas), as users apply them to a measured profile: no summit is counted on the map.
+def _spectral_moments(inputs: ModelInputs):
+    from asperity import spectral_moments
+
+    return spectral_moments(inputs.heights(), inputs.spacing,
+                            periodic=bool(inputs.bem_options.get("periodic", False)))
+
+
+def _gw_spectral(inputs: ModelInputs, improved: bool = False):
+    summits = _spectral_moments(inputs).summits()
+    if improved:
+        return summits.improved_greenwood_williamson(inputs.nominal_area, inputs.m, e_star=inputs.e_star)
+    return summits.greenwood_williamson(inputs.nominal_area, e_star=inputs.e_star)
+
+
+def _bgt(inputs: ModelInputs):
+    from asperity import BushGibsonThomas
+
+    moments = _spectral_moments(inputs)
+    return BushGibsonThomas(moments.m0, moments.m2, moments.m4, e_star=inputs.e_star,
+                            area=inputs.nominal_area)
+
+
+def _spectral_settings(inputs: ModelInputs) -> dict:
+    return {"moments": "finite differences", "periodic": bool(inputs.bem_options.get("periodic", False))}
+
+
+# cached although cheap, like Persson: a cached run then makes no surface at all
+register("gw_spectral", _gw_spectral, label="GW from the spectrum",
+         style=dict(color="tab:cyan", linestyle="--"), needs_summits=False, cached=True,
+         settings=_spectral_settings)
+register("improved_gw_spectral", lambda inputs: _gw_spectral(inputs, improved=True),
+         label="improved GW from the spectrum", style=dict(color="tab:brown", linestyle="-"),
+         needs_summits=False, cached=True,
+         settings=lambda inputs: {**_spectral_settings(inputs), "m": inputs.m})
+register("bgt", _bgt, label="Bush-Gibson-Thomas", style=dict(color="tab:pink", linestyle="-."),
+         needs_summits=False, cached=True, settings=_spectral_settings)

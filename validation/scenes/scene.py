@@ -1,0 +1,314 @@
+"""Scenes: declarative descriptions of what to compute and compare.
+
+A scene names a surface family and its parameters, realizations, material, a load path, the
+models and quantities to compute, the boundary-element settings and the error tolerances at
+which a model is said to hold. Scenes are data: the built-in ones are TOML files shipped in
+``validation/scenes/``, and any user file path works the same way (:mod:`validation.scenes.reader`
+reads them).
+
+The dataclasses below, with :class:`SurfaceSpec` (:mod:`validation.surfaces.spec`), are the
+single source of the rules and the defaults: each validates itself in ``__post_init__`` (so
+``dataclasses.replace(scene, realizations=-2)`` raises too; the field checks are in
+:mod:`validation.scenes.checks`) and its field defaults are the defaults of the file format. A
+file's tables and keys map onto them::
+
+    name, title, description, kind      -> Scene (kind "surface", or "theory" for Figs. 1-3)
+    [surface]  family, and the keys of the family (FAMILY_KEYS)   -> SurfaceSpec
+               wm: D rms_slope G gamma M n_max L n
+               self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
+                            window L n
+               file: path physical_size file_unit unit detrend resample square tiles, and
+                     every other keyword of read_topography (fill channel reader ...)
+    [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
+    [material]  e_star                  -> Scene.e_star
+    [loads]  quantity min max count spacing                -> LoadPath
+    [models]  use m                     -> Scene.models (registered names), Scene.m
+    [quantities]  use                   -> Scene.quantities
+    [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
+    [tolerances]  levels                -> Scene.tolerances
+    [sampling]  factors                 -> Scene.sampling (surface scenes)
+    [quick]  realizations n count       -> QuickSettings
+    [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
+
+Every key is optional except the surface's sweep parameter (``D`` of a WM surface, ``hurst``
+of a self-affine one) and amplitude (``rms_slope`` or ``G``; ``rms_slope`` or ``rms_height``),
+or a measured map's ``path`` (relative to the scene file's folder). A measured map's
+realizations are its tiles: a file scene has no ``[realizations]`` table. Invalid
+values raise :class:`SceneError` (a ``ValueError``) naming the key (and, from a file, the
+file).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import MISSING, dataclass, field, fields, replace
+
+from validation.run import models as _models
+from validation.scenes import checks as check
+from validation.scenes.checks import SceneError, SceneWarning
+from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
+
+__all__ = [
+    "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
+    "SceneError", "SceneWarning", "scene_warnings", "MODELS", "QUANTITIES", "KINDS", "FAMILIES",
+    "FAMILY_KEYS", "SWEEPS", "MIN_TILE", "defaults",
+]
+
+#: Models a scene uses unless it lists its own (any registered name may be listed:
+#: :func:`validation.run.models.names`).
+MODELS = _models.default_names()
+#: Quantities a scene may ask for.
+QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
+#: Kinds of scene.
+KINDS = ("surface", "theory")
+#: Fewest grid points per side of a coarser sampling (``[sampling] factors``).
+MIN_SAMPLED_GRID = 16
+
+#: Path defaults by controlled quantity (the only place they are written).
+_PATH_DEFAULTS = {"load": dict(min=1e-5, max=1e-2, spacing="log"),
+                  "separation": dict(min=0.0, max=3.0, spacing="linear")}
+
+
+@dataclass(frozen=True)
+class LoadPath:
+    """The load path, dimensionless: ``Load = W/(E* L^2)`` or ``Separation = d/sigma``.
+
+    ``min``, ``max`` and ``spacing`` left as ``None`` take the defaults of the quantity:
+    Load 1e-5 to 1e-2, logarithmic; Separation 0 to 3, linear.
+    """
+
+    quantity: str = "load"
+    min: float | None = None
+    max: float | None = None
+    count: int = 16
+    spacing: str | None = None
+
+    def __post_init__(self) -> None:
+        check.choice(self, "quantity", tuple(_PATH_DEFAULTS))
+        for key, default in _PATH_DEFAULTS[self.quantity].items():
+            if getattr(self, key) is None:
+                object.__setattr__(self, key, default)
+        check.choice(self, "spacing", ("log", "linear"))
+        check.number(self, "min", above=0.0 if self.quantity == "load" else None)
+        check.number(self, "max")
+        check.integer(self, "count", 1)
+        if self.max <= self.min:
+            check.fail(self, "max", f"must be greater than min = {self.min:g}")
+        if self.spacing == "log" and self.min <= 0:
+            check.fail(self, "min", "must be > 0 with logarithmic spacing")
+
+    def values(self) -> tuple[float, ...]:
+        """The points of the path, increasing."""
+        if self.count == 1:
+            return (self.min,)
+        if self.spacing == "log":
+            ratio = math.log(self.max / self.min)
+            return tuple(self.min * math.exp(ratio * k / (self.count - 1))
+                         for k in range(self.count))
+        step = (self.max - self.min) / (self.count - 1)
+        return tuple(self.min + step * k for k in range(self.count))
+
+
+@dataclass(frozen=True)
+class BemSettings:
+    """Boundary-element settings of a scene (``reference_error``: every BEM curve carries a
+    per-point estimate of its own discretisation error, from the same path on half the grid,
+    :func:`bem.contact_curve` ``error_estimate``)."""
+
+    periodic: bool = False
+    tol: float = 1e-8
+    max_iter: int = 2000
+    reference_error: bool = True
+    # finest grid of the refined reference where its band decides (validation.run.refine);
+    # None: never refined
+    max_grid: int | None = None
+
+    def __post_init__(self) -> None:
+        check.flag(self, "periodic")
+        check.number(self, "tol", above=0.0)
+        if self.tol > 0.1:
+            check.fail(self, "tol", f"must be <= 0.1, got {self.tol!r}")
+        check.integer(self, "max_iter", 1)
+        check.flag(self, "reference_error")
+        if self.max_grid is not None:
+            check.integer(self, "max_grid", 8)
+
+
+@dataclass(frozen=True)
+class TheorySpec:
+    """GW vs improved GW in dimensionless form (the paper's Figs. 1-3): interaction parameters
+    C = eta sqrt(A R sigma) (eq. 4), factor m, reduced separations (d - mu_s)/sigma."""
+
+    C: tuple[float, ...] = (5.0, 50.0)
+    m: float = 1.0
+    separation_min: float = -2.0
+    separation_max: float = 4.0
+    count: int = 200
+
+    def __post_init__(self) -> None:
+        check.numbers(self, "C", above=0.0)
+        check.number(self, "m", at_least=0.0)
+        check.number(self, "separation_min")
+        check.number(self, "separation_max")
+        check.integer(self, "count", 2)
+        if self.separation_max <= self.separation_min:
+            check.fail(self, "separation_max", "must be greater than separation_min")
+
+
+@dataclass(frozen=True)
+class QuickSettings:
+    """What quick mode changes: fewer realizations, a coarser grid, fewer load points."""
+
+    realizations: int = 3
+    n: int = 128
+    count: int = 10
+
+    def __post_init__(self) -> None:
+        check.integer(self, "realizations", 1)
+        check.integer(self, "n", 16)
+        check.integer(self, "count", 1)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene. Build it with :func:`load_scene` or :func:`parse_scene`, or directly."""
+
+    name: str
+    kind: str = "surface"
+    title: str = ""
+    description: str = ""
+    surface: SurfaceSpec | None = None
+    realizations: int = 25
+    seed: int = 0
+    # budget of the sequential plan (validation.run.sequential); None: the planned ones only
+    max_realizations: int | None = None
+    e_star: float = 1.0
+    loads: LoadPath = field(default_factory=LoadPath)
+    models: tuple[str, ...] = MODELS
+    m: float = 1.0
+    quantities: tuple[str, ...] = ("area", "load", "separation", "conductance", "contacts")
+    bem: BemSettings = field(default_factory=BemSettings)
+    tolerances: tuple[float, ...] = (0.05, 0.2)
+    quick: QuickSettings = field(default_factory=QuickSettings)
+    theory: TheorySpec | None = None
+    sampling: tuple[int, ...] = (1,)
+    source: str = "<memory>"
+
+    def __post_init__(self) -> None:
+        check.choice(self, "kind", KINDS)
+        for key in ("name", "title", "description", "source"):
+            if not isinstance(getattr(self, key), str):
+                check.fail(self, key, f"must be a string, got {getattr(self, key)!r}")
+        check.integer(self, "realizations", 1)
+        check.integer(self, "seed", 0)
+        check.number(self, "e_star", above=0.0)
+        check.number(self, "m", at_least=0.0)
+        check.names(self, "models", _models.names())
+        check.names(self, "quantities", QUANTITIES)
+        check.numbers(self, "tolerances", above=0.0)
+        self._check_parts()
+        self._check_sampling()
+
+    def _check_parts(self) -> None:
+        parts = dict(surface=SurfaceSpec, loads=LoadPath, bem=BemSettings, quick=QuickSettings,
+                     theory=TheorySpec)
+        for key, kind in parts.items():
+            value = getattr(self, key)
+            if value is not None and not isinstance(value, kind):
+                check.fail(self, key, f"must be a {kind.__name__}, got {type(value).__name__}")
+        if self.kind == "surface" and self.surface is None:
+            check.fail(self, "surface", "is required in a surface scene")
+        if self.kind == "theory" and self.theory is None:
+            check.fail(self, "theory", "is required in a theory scene")
+        if self.kind == "surface" and self.theory is not None:
+            check.fail(self, "theory", "belongs only in a scene with kind = \"theory\"")
+        family = self.surface.family if self.surface is not None else "wm"
+        if family != "wm" and self.bem.periodic:
+            check.fail(self, "bem.periodic", f"must be false for a {family} surface (its "
+                       "window is not periodic)")
+        grid = self.bem.max_grid
+        if grid is not None and family != "file" and grid < self.surface.n:
+            check.fail(self, "bem.max_grid", f"must be at least the surface grid n = "
+                       f"{self.surface.n}, got {grid!r}")
+        if family == "file":  # the tiles of a measured map are its realizations
+            object.__setattr__(self, "realizations", self.surface.tiles)
+        elif self.kind == "surface" and self.bem.reference_error:
+            # the reference band comes from the same surface on every second grid point, which
+            # covers the same window only on an even grid (a measured map's tiles are made even)
+            for key, n in (("surface.n", self.surface.n), ("quick.n", self.quick.n)):
+                if n % 2:
+                    check.fail(self, key, f"must be even when bem.reference_error = true (the "
+                               f"BEM's error band is estimated on every second grid point, "
+                               f"which spans the same window only on an even grid); use "
+                               f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
+                               f"band: every verdict then stays undecided)")
+        if self.max_realizations is not None:
+            if family == "file":
+                check.fail(self, "max_realizations", "cannot be set for a measured map (its "
+                           "realizations are its tiles; there are no more)")
+            check.integer(self, "max_realizations", self.realizations)
+
+    def _check_sampling(self) -> None:
+        """``sampling``: sampling intervals as multiples k of the grid step, 1 (the grid itself,
+        the one the BEM solves) among them; every coarser sampling takes every k-th point of
+        the grid (:mod:`validation.run.sampling`), so k divides the grid and leaves at least
+        :data:`MIN_SAMPLED_GRID` points per side, and a model fitted to summits must be listed."""
+        check.integers(self, "sampling", 1)
+        if 1 not in self.sampling:
+            check.fail(self, "sampling", f"must list 1 (the scene's own grid, the one the BEM "
+                       f"solves) beside the coarser factors, got {list(self.sampling)!r}")
+        if len(self.sampling) == 1:
+            return
+        if self.kind == "theory":
+            check.fail(self, "sampling", "belongs only in a surface scene")
+        summit_models = [m for m in _models.names() if _models.entry(m).needs_summits]
+        if not set(self.models) & set(summit_models):
+            check.fail(self, "sampling", f"needs a model fitted to summits among the models "
+                       f"(one of {', '.join(summit_models)}); the scene lists "
+                       f"{', '.join(self.models)}")
+        grid = self.surface.grid
+        for factor in self.sampling:
+            if any(side % factor for side in grid) or min(grid) // factor < MIN_SAMPLED_GRID:
+                shape = " x ".join(map(str, grid))
+                check.fail(self, "sampling", f"factor {factor} must divide the {shape} grid "
+                           f"and leave at least {MIN_SAMPLED_GRID} points per side")
+
+    def quick_version(self) -> "Scene":
+        """The scene as the quick default report runs it."""
+        if self.kind == "theory":
+            return self
+        surface = self.surface if self.surface.family == "file" else \
+            replace(self.surface, n=min(self.surface.n, self.quick.n))
+        loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
+        realizations = min(self.realizations, self.quick.realizations)
+        # the budget shrinks in proportion: the same number of looks at the same ratios
+        budget = None if self.max_realizations is None else max(realizations, math.ceil(
+            self.max_realizations * realizations / self.realizations))
+        # the finest grid stays as set: it bounds what one refined solve costs, so a quick run
+        # on a coarser grid refines up to it where the full run, at that grid, may not
+        return replace(self, surface=surface, loads=loads, realizations=realizations,
+                       max_realizations=budget)
+
+
+def scene_warnings(scene: Scene) -> list[str]:
+    """What a valid scene will not give although it seems to ask for it (one message each):
+    verdicts need a confidence interval, so at least two realizations."""
+    if scene.kind != "surface" or scene.realizations >= 2 \
+            or not set(scene.models) & set(_models.reference_names()):
+        return []
+    change = ("surface.tiles = 4 (2 x 2 tiles as realizations)" if scene.surface.family == "file"
+              else "[realizations] count = 2 or more")
+    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: the "
+            f"95 % interval of a mean error needs at least 2, so every verdict will be "
+            f"undecided; set {change}"]
+
+
+def defaults(kind: type) -> dict:
+    """Field defaults of a scene dataclass (the format's defaults), by field name."""
+    out = {}
+    for f in fields(kind):
+        if f.default_factory is not MISSING:
+            out[f.name] = f.default_factory()
+        elif f.default is not MISSING:
+            out[f.name] = f.default
+    return out

@@ -1,0 +1,3 @@
+"""Rough surfaces: Weierstrass-Mandelbrot (:mod:`~validation.surfaces.wm`), self-affine spectra,
+measured height maps, the `[surface]` table of a scene (:mod:`~validation.surfaces.spec`) and the
+families that turn it into heights (:mod:`~validation.surfaces.families`)."""

@@ -1,0 +1,240 @@
+"""Weierstrass-Mandelbrot rough surfaces and their statistics.
+
+The surface is eq. (11)-(12) of Ciavarella, Greenwood & Paggi (2008) (Yan & Komvopoulos /
+Ausloos-Berman form; docs/theory.md, "Weierstrass-Mandelbrot surfaces")::
+
+    z(x, y) = B sum_{m=1..M} sum_{n=0..n_max} gamma^{(D-3) n}
+              [cos phi_mn - cos(2 pi gamma^n (x cos(pi m/M) + y sin(pi m/M)) / L + phi_mn)]
+    B = L (G/L)^{D-2} (ln gamma / M)^{1/2}
+
+Fast evaluation
+---------------
+Each term is a plane wave. With k = 2 pi gamma^n / L, c = cos(pi m / M), s = sin(pi m / M),
+``cos(k c x + k s y + phi) = cos(k c x) cos(k s y + phi) - sin(k c x) sin(k s y + phi)``,
+so the whole double sum is one matrix product of an (n x 2T) matrix of functions of y with a
+(2T x n) matrix of functions of x (T = M (n_max + 1) terms): O(T n) trigonometric evaluations
+and one BLAS product instead of T full-grid cosines.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from asperity.spectral_summits import height_derivatives
+
+from bem import checks
+
+__all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics"]
+
+
+def _check_integer(name: str, value: int, minimum: int) -> int:
+    return checks.integer(name, value, minimum=minimum)
+
+
+def _check_length(name: str, value: float) -> float:
+    return checks.supported_magnitude(name, checks.positive(name, value))
+
+
+def _check_wm_parameters(D: float, L: float, gamma: float, M: int, n_max: int = 0):
+    """Checked (D, L, gamma, M) of eqs. (11)-(12); gamma**n_max must stay representable."""
+    M = _check_integer("M", M, 1)
+    D = checks.real_number("D", D, minimum=2.0, exclusive=True, maximum=3.0,
+                           exclusive_maximum=True)
+    gamma = checks.real_number("gamma", gamma, minimum=1.0, exclusive=True)
+    L = _check_length("L", L)
+    if n_max * math.log10(gamma) > 30.0:
+        raise ValueError(f"gamma**n_max must be <= 1e30 (the frequency range of the surface), "
+                         f"got gamma = {gamma!r}, n_max = {n_max}")
+    return D, L, gamma, M
+
+
+def wm_amplitude(G: float, *, D: float, L: float = 1.0, gamma: float = 1.5, M: int = 10) -> float:
+    """Amplitude prefactor B of eq. (12): ``B = L (G/L)^(D-2) (ln gamma / M)^(1/2)`` [length].
+
+    Parameters are those of :func:`wm_surface`: G > 0 and L > 0 [length], 2 < D < 3,
+    gamma > 1, M >= 1 an integer.
+
+    Raises
+    ------
+    ValueError, TypeError
+        For a parameter outside those ranges (naming it).
+    """
+    D, L, gamma, M = _check_wm_parameters(D, L, gamma, M)
+    G = _check_length("G", G)
+    return L * (G / L) ** (D - 2.0) * math.sqrt(math.log(gamma) / M)
+
+
+def _unit_wm(n: int, D: float, L: float, gamma: float, M: int, phases: np.ndarray) -> np.ndarray:
+    """Eq. (11) with B = 1, mean not yet removed; shape (n, n), row index y, column index x."""
+    n_max = phases.shape[1] - 1
+    coordinate = np.arange(n) * (L / n)
+    angles = np.pi * np.arange(1, M + 1) / M                       # (M,)
+    wavenumbers = 2.0 * np.pi * gamma ** np.arange(n_max + 1) / L  # (n_max+1,)
+    weights = gamma ** ((D - 3.0) * np.arange(n_max + 1))          # (n_max+1,)
+    kx = (np.cos(angles)[:, None] * wavenumbers[None, :]).ravel()  # (T,)
+    ky = (np.sin(angles)[:, None] * wavenumbers[None, :]).ravel()
+    phase = phases.ravel()
+    weight = np.broadcast_to(weights[None, :], (M, n_max + 1)).ravel()
+    x_arg = coordinate[None, :] * kx[:, None]                      # (T, n) functions of x
+    y_arg = coordinate[:, None] * ky[None, :] + phase[None, :]     # (n, T) functions of y
+    left = np.concatenate((np.cos(y_arg) * weight, -np.sin(y_arg) * weight), axis=1)  # (n, 2T)
+    right = np.concatenate((np.cos(x_arg), np.sin(x_arg)), axis=0)                     # (2T, n)
+    heights = left @ right                                         # sum_t w_t cos(kx x + ky y + phi)
+    np.subtract(np.sum(weight * np.cos(phase)), heights, out=heights)
+    return heights
+
+
+def wm_surface(
+    n: int,
+    *,
+    D: float,
+    G: float | None = None,
+    rms_slope: float | None = None,
+    L: float = 1.0,
+    gamma: float = 1.5,
+    M: int = 10,
+    n_max: int = 8,
+    seed: int | np.random.Generator | None = None,
+    phases: np.ndarray | None = None,
+    slope_grid: int | None = None,
+) -> np.ndarray:
+    """Sample a Weierstrass-Mandelbrot surface, eqs. (11)-(12), on an n x n grid.
+
+    Parameters
+    ----------
+    n : int
+        Grid points per side (>= 2). Heights are sampled at ``x_i = i L / n`` and
+        ``y_j = j L / n``, i, j = 0..n-1; the returned array is indexed ``heights[j, i]``
+        (row index j is y, column index i is x). The grid spacing is ``L / n``.
+    D : float
+        Fractal dimension, 2 < D < 3.
+    G : float, optional
+        Amplitude scale [length] of eq. (12). Exactly one of ``G`` and ``rms_slope`` is given.
+    rms_slope : float, optional
+        Target rms gradient ``sqrt(<|grad z|^2>)`` [-] of the sampled surface, as measured by
+        :func:`surface_statistics` (non-periodic finite differences). The surface is linear in
+        its amplitude B, so it is computed with B = 1 and scaled exactly.
+    L : float
+        Sample length [length]; the window L x L is the nominal contact area.
+    gamma : float
+        Frequency density, > 1.
+    M : int
+        Number of superposed ridges, >= 1.
+    n_max : int
+        Highest frequency index, >= 0.
+    seed : int or numpy.random.Generator, optional
+        Seed of ``numpy.random.default_rng`` for the phases phi_mn, drawn uniformly in
+        [0, 2 pi) with shape (M, n_max + 1) (row m-1, column n).
+    phases : array_like, optional
+        Phases phi_mn [rad] of shape (M, n_max + 1); overrides ``seed`` so that any surface can
+        be reproduced exactly.
+    slope_grid : int, optional
+        With ``rms_slope``: the grid (points per side, default ``n``) on which the rms gradient
+        is measured to fix the amplitude. The measured slope depends slightly on the grid, so
+        to sample *one* continuous surface on several grids (a mesh-convergence study, as in
+        benchmarks/bench_bem.py and bench_area.py) give them all the same ``slope_grid``.
+
+    Returns
+    -------
+    numpy.ndarray
+        Heights [length], shape (n, n), with their mean removed. The surface is not periodic.
+
+    Raises
+    ------
+    ValueError
+        For parameters outside the ranges above, both or neither of ``G``/``rms_slope``,
+        non-finite values, or phases of the wrong shape.
+    """
+    n = _check_integer("n", n, 2)
+    slope_grid = n if slope_grid is None else _check_integer("slope_grid", slope_grid, 3)
+    n_max = _check_integer("n_max", n_max, 0)
+    D, L, gamma, M = _check_wm_parameters(D, L, gamma, M, n_max)
+    checks.supported_magnitude("L / n (the grid spacing)", L / max(n, slope_grid))
+    if (G is None) == (rms_slope is None):
+        raise ValueError("give exactly one of G (amplitude scale) and rms_slope (rms gradient)")
+    if G is not None:
+        G = _check_length("G", G)
+    else:
+        rms_slope = checks.supported_magnitude("rms_slope", checks.positive("rms_slope",
+                                                                            rms_slope))
+
+    rng = checks.random_generator("seed", seed)
+    if phases is None:
+        phases = rng.uniform(0.0, 2.0 * np.pi, size=(M, n_max + 1))
+    else:
+        phases = checks.real_array("phases", phases)
+        if phases.shape != (M, n_max + 1):
+            raise ValueError(
+                f"phases must have shape (M, n_max + 1) = {(M, n_max + 1)}, got {phases.shape}"
+            )
+        if not np.all(np.isfinite(phases)):
+            raise ValueError("phases must be finite")
+
+    heights = _unit_wm(n, D, L, gamma, M, phases)
+    heights -= heights.mean()
+    if G is not None:
+        heights *= wm_amplitude(G, D=D, L=L, gamma=gamma, M=M)
+    else:
+        unit = heights if slope_grid == n else _unit_wm(slope_grid, D, L, gamma, M, phases)
+        unit_slope = surface_statistics(unit, L / slope_grid).rms_gradient
+        if not unit_slope > 0.0:
+            raise ValueError("the surface is flat on this grid; rms_slope cannot be reached")
+        heights *= rms_slope / unit_slope
+    return heights
+
+
+@dataclass(frozen=True)
+class SurfaceStatistics:
+    """Statistics of a sampled height map (see :func:`surface_statistics`)."""
+
+    rms_height: float
+    rms_gradient: float
+    rms_curvature: float
+    m0: float
+    m2: float
+    m4: float
+    nayak: float
+
+
+def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = False
+                       ) -> SurfaceStatistics:
+    """Height, slope and curvature statistics of a height map.
+
+    Derivatives are central finite differences: ``z_x = (z[i+1] - z[i-1]) / (2 dx)`` and
+    ``z_xx = (z[i+1] - 2 z[i] + z[i-1]) / dx^2`` over the interior points (rows and columns
+    1..n-2), or over all points with wrap-around when ``periodic``.
+
+    Returns
+    -------
+    SurfaceStatistics
+        * ``rms_height`` = sqrt(m0), heights about their mean [length];
+        * ``rms_gradient`` = sqrt(<z_x^2 + z_y^2>) [-];
+        * ``rms_curvature`` = sqrt(<((z_xx + z_yy)/2)^2>), the rms mean curvature [1/length];
+        * Nayak's profile spectral moments, averaged over the x and y directions:
+          ``m0 = <z^2>``, ``m2 = (<z_x^2> + <z_y^2>)/2``, ``m4 = (<z_xx^2> + <z_yy^2>)/2``;
+        * ``nayak`` = m0 m4 / m2^2 (bandwidth parameter alpha).
+    """
+    heights = checks.height_map("heights", heights)
+    checks.supported_magnitude("max |heights|", float(np.max(np.abs(heights))))
+    spacing = checks.supported_magnitude("spacing", checks.positive("spacing", spacing))
+    periodic = checks.flag("periodic", periodic)
+
+    z = heights - heights.mean()
+    z_x, z_y, z_xx, z_yy = height_derivatives(z, spacing, periodic=periodic)
+    m0 = float(np.mean(z * z))
+    mean_x2, mean_y2 = float(np.mean(z_x * z_x)), float(np.mean(z_y * z_y))
+    m2 = 0.5 * (mean_x2 + mean_y2)
+    m4 = 0.5 * (float(np.mean(z_xx * z_xx)) + float(np.mean(z_yy * z_yy)))
+    mean_curvature = 0.5 * (z_xx + z_yy)
+    return SurfaceStatistics(
+        rms_height=math.sqrt(m0),
+        rms_gradient=math.sqrt(mean_x2 + mean_y2),
+        rms_curvature=math.sqrt(float(np.mean(mean_curvature * mean_curvature))),
+        m0=m0,
+        m2=m2,
+        m4=m4,
+        nayak=m0 * m4 / m2**2 if m2 > 0 else math.inf,
+    )
