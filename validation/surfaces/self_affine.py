@@ -181,20 +181,24 @@ def self_affine_surface(
         raise ValueError(f"short_cutoff must be < rolloff = {rolloff:g}, got {short_cutoff!r}")
 
     rng = checks.random_generator("seed", seed)
+    # synthesised in units of L (every length / L), then scaled: slopes do not change when
+    # x, y and z are scaled together, and no intermediate leaves the supported magnitudes
+    unit = spacing / L
     noise = np.fft.rfft2(rng.standard_normal((grid, grid)))
-    q_y = 2.0 * np.pi * np.fft.fftfreq(grid, d=spacing)
-    q_x = 2.0 * np.pi * np.fft.rfftfreq(grid, d=spacing)
+    q_y = 2.0 * np.pi * np.fft.fftfreq(grid, d=unit)
+    q_x = 2.0 * np.pi * np.fft.rfftfreq(grid, d=unit)
     q = np.hypot(q_y[:, None], q_x[None, :])
-    noise *= np.sqrt(self_affine_spectrum(q, hurst=hurst, long_cutoff=long_cutoff,
-                                          rolloff=rolloff, short_cutoff=short_cutoff))
+    noise *= np.sqrt(self_affine_spectrum(q, hurst=hurst, long_cutoff=long_cutoff / L,
+                                          rolloff=rolloff / L, short_cutoff=short_cutoff / L))
     heights = np.fft.irfft2(noise, s=(grid, grid))[:n, :n]
     heights -= heights.mean()
-    statistics = surface_statistics(heights, spacing, periodic=window is None)
+    statistics = surface_statistics(heights, unit, periodic=window is None)
     measured = statistics.rms_height if rms_slope is None else statistics.rms_gradient
     if not measured > 0.0:
         raise ValueError("the surface is flat on this grid: widen the band between "
                          "short_cutoff and long_cutoff")
-    heights *= target / measured
+    heights *= (target / measured) * (L if rms_height is None else 1.0)
+    checks.supported_magnitude("L (the heights it gives)", float(np.max(np.abs(heights))))
     return heights
 
 
