@@ -27,9 +27,9 @@ half-space product of the search direction; the displacement of the pressure is 
 exactly, ``u <- c (u - tau K t + K e)``, where e are the changes the projection ``p >= 0`` and
 the entering pixels make: by direct sums of influence coefficients when they touch a few pixels
 (:attr:`bem.HalfSpace.direct_source_limit`), otherwise by a full product of p, which is also
-made every 50 iterations and at the end. Element-wise work runs in place on preallocated arrays;
-inner products use numpy's reductions, not BLAS, whose spinning threads stall the FFT threads
-(:mod:`bem.constrained_cg`).
+made every 50 iterations and at the end. The fields of the contact set live on it alone, one value
+per contact pixel, scattered into and gathered from the FFT buffers; inner products use numpy's
+reductions, not BLAS, whose spinning threads stall the FFT threads (:mod:`bem.constrained_cg`).
 
 Grid-independent iteration counts (default, ``preconditioned=True``): the gap on the contact set
 is preconditioned by the inverse half-space symbol ``(E*/2)|q|`` restricted to the contact set
