@@ -42,10 +42,14 @@ follows by Barber's analogy, ``C rho = 2 S / E*``.
 
 from __future__ import annotations
 
+import dataclasses
+
+import numpy as np
 from numpy.typing import ArrayLike
 
 from bem import checks
 from bem.checks import points as check_points
+from bem.checks import positive
 from bem.continuation import follow_path
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.model import check_quantities, empty_curve
@@ -53,6 +57,7 @@ from bem.model import check_quantities, empty_curve
 from asperity.discrete_assembly import assemble
 from asperity.discrete_path import PathSolver
 from asperity.discrete_result import ValidityWarning, build_curve
+from asperity.leakage import rigid_gaussian_aperture
 from asperity.summits import Summits
 
 __all__ = ["DiscreteAsperityModel", "ValidityWarning", "DISCRETE_QUANTITIES"]
@@ -87,6 +92,11 @@ class DiscreteAsperityModel:
         Newton iterations per (sub-)step, >= 1.
     method : {"auto", "fft", "direct"}
         How interaction sums are evaluated (:class:`asperity.interaction.PointForceInteraction`).
+    height_rms : float, optional
+        rms of the surface heights [length], used only by ``leakage``: the effective hydraulic
+        aperture of the rigid gap ``max(d - z, 0)``, z ~ N(0, s^2), at the model's own
+        separation d (docs/theory.md, eq. L5). Default: s = the standard deviation of the
+        summit heights (ddof = 0, as in the GW fit), the only height spread the model carries.
 
     Notes
     -----
@@ -98,7 +108,7 @@ class DiscreteAsperityModel:
 
     def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
                  m: float | None = None, tol: float = 1e-10, max_iter: int = 50,
-                 method: str = "auto") -> None:
+                 method: str = "auto", height_rms: float | None = None) -> None:
         tol = checks.real_number("tol", tol, minimum=0.0, exclusive=True, maximum=1.0,
                                  exclusive_maximum=True)
         max_iter = checks.integer("max_iter", max_iter, minimum=1)
@@ -111,6 +121,7 @@ class DiscreteAsperityModel:
         self.tol = tol
         self.max_iter = int(max_iter)
         self.operator = self.problem.operator
+        self.height_rms = None if height_rms is None else positive("height_rms", height_rms)
 
     @property
     def name(self) -> str:
@@ -137,7 +148,9 @@ class DiscreteAsperityModel:
             Which of :data:`DISCRETE_QUANTITIES` to compute. Separation, load, area and mean
             pressure are always returned; "contacts" counts asperities in contact;
             "stiffness"/"conductance" cost one more Krylov solve per point; "holm_greenwood"
-            evaluates eq. (6) over the contact spots.
+            evaluates eq. (6) over the contact spots; "leakage" is the effective hydraulic
+            aperture of the rigid gap at the solved separation (eq. L5, no interaction
+            correction to the gap).
 
         Returns
         -------
@@ -167,7 +180,8 @@ class DiscreteAsperityModel:
             points.ravel(), solver.start(),
             lambda previous, d: solver.separation_step(previous, d, want_tangent=tangents),
             control="separation")
-        return build_curve(self.problem, solutions, want, self.tol).reshaped(points.shape)
+        return self._with_leakage(build_curve(self.problem, solutions, want, self.tol),
+                                  want).reshaped(points.shape)
 
     def at_load(self, load: ArrayLike, *, quantities=CURVE_QUANTITIES) -> ContactCurve:
         """Solve the discrete model at given total loads W [force] (>= 0, any shape).
@@ -186,7 +200,22 @@ class DiscreteAsperityModel:
         states = follow_path(points.ravel(), (solver.start(), 0.0), solver.load_step,
                              control="load")
         solutions = [solution for solution, _ in states]
-        return build_curve(self.problem, solutions, want, self.tol).reshaped(points.shape)
+        return self._with_leakage(build_curve(self.problem, solutions, want, self.tol),
+                                  want).reshaped(points.shape)
+
+    @property
+    def gap_rms(self) -> float:
+        """s [length] of the rigid gap behind ``leakage``: ``height_rms``, else the standard
+        deviation of the summit heights."""
+        if self.height_rms is not None:
+            return self.height_rms
+        return float(np.std(self.summits.height))      # 0 for one summit: a flat surface
+
+    def _with_leakage(self, curve: ContactCurve, want: frozenset) -> ContactCurve:
+        if "leakage" not in want:
+            return curve
+        return dataclasses.replace(curve, leakage=rigid_gaussian_aperture(curve.separation,
+                                                                          self.gap_rms))
 
     def _empty_curve(self, want: frozenset) -> ContactCurve:
         return empty_curve(self.summits.area, self.e_star, want & set(CURVE_QUANTITIES),

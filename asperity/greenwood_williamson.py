@@ -13,7 +13,10 @@ reduced separation is ``h = (d - mu_s)/sigma``. E* [pressure] is the composite m
 
 * contacts ``N F_0(h)`` (an expectation, not an integer), real area ``pi N R sigma F_1(h)``,
 * load ``W = (4/3) W_ref F_3/2(h)`` (eq. 1 times A),
-* stiffness ``S = -dW/dd = 2 W_ref F_1/2(h) / sigma``, conductance ``2 S / E*`` (Barber).
+* stiffness ``S = -dW/dd = 2 W_ref F_1/2(h) / sigma``, conductance ``2 S / E*`` (Barber),
+* leakage: the effective hydraulic aperture of the rigid gap ``max(d - z, 0)`` over Gaussian
+  heights z ~ N(0, s^2), s = ``height_rms`` or else sigma (docs/theory.md, eq. L5); improved GW
+  evaluates it at d1 (the paper: "d1 is a measure of the leakage").
 
 Improved GW (eq. 2): the mean pressure lowers every summit by ``m p_nom sqrt(A) / E*``, i.e.
 ``m W / (E* sqrt(A))``. With the effective separation ``d1 = d + m W/(E* sqrt A)`` every
@@ -42,6 +45,7 @@ from bem.model import check_quantities
 from bem.warnings import ConvergenceWarning
 
 from asperity.dimensionless import interaction_parameter as _interaction_parameter
+from asperity.leakage import rigid_gaussian_aperture
 from asperity.gw_functions import (
     _check_distribution,
     gw_integrals,
@@ -93,6 +97,7 @@ class _SummitHeightTheory:
     e_star: float = 1.0
     area: float = 1.0
     distribution: str = "gaussian"
+    height_rms: float | None = None
 
     def __post_init__(self) -> None:
         # magnitudes in the supported range (checks.SUPPORTED_MAGNITUDE), so that products
@@ -100,6 +105,9 @@ class _SummitHeightTheory:
         for name in ("density", "radius", "sigma", "e_star", "area"):
             object.__setattr__(self, name, checks.contact_number(name, getattr(self, name),
                                                                  minimum=0.0, exclusive=True))
+        if self.height_rms is not None:
+            object.__setattr__(self, "height_rms", checks.contact_number(
+                "height_rms", self.height_rms, minimum=0.0, exclusive=True))
         largest = checks.SUPPORTED_MAGNITUDE[1]     # an offset: any small value is fine
         mean = checks.real_number("mean", self.mean, minimum=-largest, maximum=largest)
         object.__setattr__(self, "mean", mean)
@@ -149,10 +157,17 @@ class _SummitHeightTheory:
             log_target = np.log(load) - math.log(self.reference_load) + math.log(0.75)
         return inverse_log_gw_integral(1.5, log_target, self.distribution)
 
+    @property
+    def gap_rms(self) -> float:
+        """s [length]: the spread of the heights in the rigid gap of ``leakage``, the surface's
+        ``height_rms`` when given, else sigma (the only height spread GW theory carries)."""
+        return self.sigma if self.height_rms is None else self.height_rms
+
     def _curve(self, separation: np.ndarray, quantities: dict[str, np.ndarray],
-               want: frozenset[str], load: np.ndarray | None = None,
-               **extras: np.ndarray) -> ContactCurve:
+               want: frozenset[str], load: np.ndarray | None = None, *,
+               gap_separation: np.ndarray | None = None, **extras: np.ndarray) -> ContactCurve:
         load = quantities["load"] if load is None else load
+        gap_separation = separation if gap_separation is None else gap_separation
         stiffness = quantities.get("stiffness")
         extras.setdefault("converged", np.ones(np.shape(load), dtype=bool))
         return ContactCurve(
@@ -161,6 +176,8 @@ class _SummitHeightTheory:
             contacts=quantities.get("contacts") if "contacts" in want else None,
             stiffness=stiffness if "stiffness" in want else None,
             conductance=2.0 * stiffness / self.e_star if "conductance" in want else None,
+            leakage=(rigid_gaussian_aperture(gap_separation, self.gap_rms) if "leakage" in want
+                     else None),
             extras=extras)
 
 
@@ -185,6 +202,9 @@ class GreenwoodWilliamson(_SummitHeightTheory):
         Nominal contact area A = L^2 [length^2].
     distribution : {"gaussian", "exponential"}, keyword-only
         Summit-height law (see :func:`asperity.gw_integral`).
+    height_rms : float, optional, keyword-only
+        rms of the surface heights [length], used only by ``leakage``: the rigid gap
+        ``max(d - z, 0)`` with z ~ N(0, height_rms^2). Default: sigma.
 
     Raises
     ------
@@ -208,7 +228,8 @@ class GreenwoodWilliamson(_SummitHeightTheory):
 
         Returns a :class:`bem.ContactCurve` (:class:`bem.ContactModel` contract) with
         separation, load, area and mean_pressure (W/A), and, if in ``quantities``, contacts,
-        stiffness (S = -dW/dd) and conductance (2S/E*). Extras: ``converged`` (all True).
+        stiffness (S = -dW/dd), conductance (2S/E*) and leakage (h_eff of the rigid gap at d,
+        eq. L5). Extras: ``converged`` (all True).
         """
         d = _separations(separation)
         want = check_quantities(quantities)
@@ -254,7 +275,9 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
 
     The curves carry extras ``effective_separation`` (d1 [length]) and ``gw_stiffness`` (S1,
     the GW stiffness dW/dd1 [force/length]); ``stiffness`` is the true dW/dd from
-    ``1/S = 1/S1 + m/(E* sqrt A)``.
+    ``1/S = 1/S1 + m/(E* sqrt A)``. ``leakage`` is that of GW theory's rigid gap evaluated at
+    d1 instead of d (docs/theory.md, eq. L5): at equal load it equals GW's, at equal d it is
+    larger.
     """
 
     _: KW_ONLY
@@ -279,7 +302,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         """The plain GW theory with the same summits (no interaction)."""
         return GreenwoodWilliamson(self.density, self.radius, self.sigma, mean=self.mean,
                                    e_star=self.e_star, area=self.area,
-                                   distribution=self.distribution)
+                                   distribution=self.distribution, height_rms=self.height_rms)
 
     @property
     def interaction_compliance(self) -> float:
@@ -293,7 +316,8 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
         effective = self.mean + self.sigma * h1
         if "stiffness" not in quantities:
             return self._curve(separation, quantities, want, load=load,
-                               effective_separation=effective, **extras)
+                               gap_separation=effective, effective_separation=effective,
+                               **extras)
         gw_stiffness = quantities["stiffness"]
         compliance = self.interaction_compliance
         if one_iteration_h is None:
@@ -305,7 +329,7 @@ class ImprovedGreenwoodWilliamson(_SummitHeightTheory):
             at_d = self._gw_quantities(one_iteration_h, frozenset({"stiffness"}))["stiffness"]
             with np.errstate(invalid="ignore"):
                 quantities["stiffness"] = gw_stiffness * (1.0 - compliance * at_d)
-        return self._curve(separation, quantities, want, load=load,
+        return self._curve(separation, quantities, want, load=load, gap_separation=effective,
                            effective_separation=effective, gw_stiffness=gw_stiffness, **extras)
 
     def effective_reduced_separation(self, h: ArrayLike) -> tuple[np.ndarray, np.ndarray]:

@@ -63,7 +63,7 @@ __all__ = ["PERSSON_QUANTITIES", "YANG_PERSSON_GAMMA", "Persson", "separation_ke
 
 #: Quantities :class:`Persson` can compute (``contacts`` is not predicted by the theory).
 PERSSON_QUANTITIES = ("separation", "load", "area", "stiffness", "conductance",
-                      "mean_pressure")
+                      "mean_pressure", "leakage")
 
 #: The correction factor gamma of Yang & Persson (2008); gamma = 1 is Persson (2007).
 YANG_PERSSON_GAMMA = 0.42
@@ -286,7 +286,9 @@ class Persson:
         """Contact curve at total loads W [force] (any shape; W = 0 gives mean gap +inf).
 
         ``separation`` is the mean gap u-bar (P5); area (P3); stiffness S = -dW/du-bar (P8);
-        conductance 2 S / E* (P9); mean_pressure W/A. ``contacts`` is None (not predicted).
+        conductance 2 S / E* (P9); mean_pressure W/A; leakage, the effective-medium aperture of
+        Persson's gap distribution (docs/theory.md, eqs. L2 and L6), with the extra
+        ``leakage_two_phase`` (eq. L4). ``contacts`` is None (not predicted).
         Extras: ``mean_gap`` (= separation), ``converged`` (all True).
 
         ``quantities`` (names from :data:`PERSSON_QUANTITIES`; "contacts" is accepted and left
@@ -391,9 +393,13 @@ class Persson:
         area = self.nominal_area * special.erf(x_top)
         if converged is None:
             converged = np.ones(shape, dtype=bool)
+        extras = {"mean_gap": gap, "converged": converged}
+        if "leakage" in names:
+            from asperity.persson_gaps import persson_leakage
+            extras.update(persson_leakage(self, pressure, gap))
         return ContactCurve(
             separation=gap, load=load, area=area, mean_pressure=pressure,
             nominal_area=self.nominal_area, e_star=self.e_star,
             stiffness=stiffness if "stiffness" in names else None,
             conductance=conductance if "conductance" in names else None,
-            extras={"mean_gap": gap, "converged": converged})
+            leakage=extras.pop("leakage", None), extras=extras)

@@ -107,6 +107,18 @@ class IsotropicSpectrum:
         """integral_{q_L}^{q_1} q^order C(q) dq [length^(3 - order)]."""
         return float(np.sum(self._piece_moments(real_number("order", order))))
 
+    def cumulative_moment(self, order: int, wavevector: ArrayLike) -> np.ndarray:
+        """integral_{q_L}^q q'^order C(q') dq' at each q (clipped to [q_L, q_1]), closed form
+        on each piece [length^(3 - order)]."""
+        q_all, c_all = self.wavevector, self.psd
+        q = np.clip(np.asarray(wavevector, dtype=float), q_all[0], q_all[-1])
+        below = np.concatenate(([0.0], np.cumsum(self._piece_moments(order))))
+        piece = np.clip(np.searchsorted(q_all, q, side="right") - 1, 0, q_all.size - 2)
+        q_k = q_all[piece]
+        span = np.log(q / q_k)
+        b = self.exponents[piece] + order + 1
+        return below[piece] + c_all[piece] * q_k ** (order + 1) * span * _expm1_over(b * span)
+
     def cumulative_fourth_moment(self) -> np.ndarray:
         """m(q_k) = integral_{q_L}^{q_k} q^3 C dq at every sample (m(q_L) = 0) [length^0]."""
         return np.concatenate(([0.0], np.cumsum(self._piece_moments(3))))

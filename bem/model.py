@@ -12,9 +12,9 @@ The contract
 * Shapes follow numpy: a scalar gives 0-d fields, an array of shape s gives fields of shape s
   (empty arrays give empty curves). Points may come in any order; results are in the caller's
   order.
-* ``quantities`` (any of :data:`bem.CURVE_QUANTITIES`): ``contacts``, ``stiffness`` and
-  ``conductance`` are computed only when asked for (otherwise ``None``); separation, load,
-  area and mean pressure are always filled.
+* ``quantities`` (any of :data:`bem.CURVE_QUANTITIES`): ``contacts``, ``stiffness``,
+  ``conductance`` and ``leakage`` are computed only when asked for (otherwise ``None``);
+  separation, load, area and mean pressure are always filled.
 * ``curve.extras["converged"]`` is a bool array of the curve's shape for every model (all True
   for closed forms). Non-convergence is flagged there and warned
   (:class:`bem.ConvergenceWarning`), never raised.
@@ -89,7 +89,8 @@ def empty_curve(nominal_area: float, e_star: float, quantities: Iterable[str],
     ``converged`` extra an empty bool array and each name in ``extras`` an empty float array."""
     want = check_quantities(quantities)
     empty = np.empty(0)
-    optional = {q: (empty if q in want else None) for q in ("contacts", "stiffness", "conductance")}
+    optional = {q: (empty if q in want else None)
+                for q in CURVE_QUANTITIES if q not in ALWAYS_FILLED}
     values = {name: empty for name in extras}
     values["converged"] = np.empty(0, dtype=bool)
     return ContactCurve(separation=empty, load=empty, area=empty, mean_pressure=empty,
