@@ -206,7 +206,7 @@ def test_improved_gw_differs_from_gw_exactly_by_d1():
 
 @pytest.fixture(scope="module")
 def surface():
-    from validation.surfaces import wm_surface
+    from validation.surfaces.wm import wm_surface
 
     heights = wm_surface(64, D=2.3, rms_slope=0.1, seed=3)
     return heights, 1.0 / 64
