@@ -14,7 +14,8 @@ and only when needed:
   separations in units of sigma are);
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
-  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked for.
+  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked
+  for, leakage (the BEM's Reynolds solves on its gaps) only when leakage is.
 
 Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
 Persson) are cached (:mod:`validation.run.cache`) under keys that hash exactly their inputs plus
@@ -45,8 +46,8 @@ from validation.run.progress import Progress
 from validation.scenes.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces.families import surface_heights, surface_identity
 
-__all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
-           "run_scenes", "Progress"]
+__all__ = ["RealizationTask", "RealizationResult", "SceneResult", "model_quantities",
+           "plan_scene", "run_realization", "run_scenes", "Progress"]
 
 def __getattr__(name: str):
     # ASPERITY_MODELS was a fixed list; the registry now says which models need summits.
@@ -67,7 +68,8 @@ _SOURCE_VERSION: str | None = None
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
                                  "run/cost.py", "report/figures.py", "judge/findings.py",
                                  "report/labels.py", "run/progress.py", "report/write.py",
-                                 "report/sections.py", "report/tables.py", "judge/verdicts.py"})
+                                 "report/sections.py", "report/tables.py", "judge/verdicts.py",
+                                 "judge/sealing.py", "report/sealing_figures.py"})
 
 
 def _version() -> str:
@@ -197,6 +199,19 @@ def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
     return "stiffness" in quantities or "conductance" in quantities
 
 
+def _needs_leakage(quantities: tuple[str, ...]) -> bool:
+    return "leakage" in quantities
+
+
+def model_quantities(quantities: tuple[str, ...]) -> tuple[str, ...]:
+    """What every model of a task is asked for, from the scene's quantities: the load path,
+    area and contact counts always (counts are cheap); stiffness and conductance when either
+    is asked for (one stiffness solve gives both); leakage only when asked for."""
+    return (("area", "load", "separation", "contacts")
+            + (("stiffness", "conductance") if _needs_stiffness(quantities) else ())
+            + (("leakage",) if _needs_leakage(quantities) else ()))
+
+
 @dataclass
 class _Log:
     """What one realization computed (cache hits excluded) and each model's wall time."""
@@ -243,11 +258,11 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     """One model's curve along the path; expensive models from or into the cache (a cache
     hit costs 0 s and is not logged)."""
     key = None
-    stiffness = _needs_stiffness(quantities)
+    stiffness, leakage = _needs_stiffness(quantities), _needs_leakage(quantities)
     if item.cached:
         key = cache_key(item.name, _version(), surface=_surface_inputs(log.task),
-                        e_star=inputs.e_star, stiffness=stiffness, **item.settings(inputs),
-                        **path)
+                        e_star=inputs.e_star, stiffness=stiffness, leakage=leakage,
+                        **item.settings(inputs), **path)
         cached = cache.load(key, decode=_curve_from_arrays)
         if cached is not None:
             log.seconds[item.name] = 0.0
@@ -264,6 +279,8 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
         cache.store(key, _curve_arrays(curve))
         if stiffness:
             log.did(f"{item.name}-stiffness")
+        if leakage:
+            log.did(f"{item.name}-leakage")
     return curve
 
 
@@ -273,11 +290,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)
     sigma = math.nan if summits is None else float(np.std(summits.height))
-    # Contact counts are cheap and always computed; stiffness solves only when asked for. The
-    # cache keys hold this flag, not the scene's quantity list, so that listing "contacts" or
-    # "stiffness" instead of "conductance" reuses the same solves.
-    quantities = ("area", "load", "separation", "contacts") + (
-        ("stiffness", "conductance") if _needs_stiffness(task.quantities) else ())
+    # The cache keys hold the stiffness and leakage flags, not the scene's quantity list, so
+    # that listing "contacts" or "stiffness" instead of "conductance" reuses the same solves.
+    quantities = model_quantities(task.quantities)
     values = np.array(task.loads.values())
     nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
     loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None

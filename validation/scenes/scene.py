@@ -55,8 +55,10 @@ __all__ = [
 #: Models a scene uses unless it lists its own (any registered name may be listed:
 #: :func:`validation.run.models.names`).
 MODELS = _models.default_names()
-#: Quantities a scene may ask for.
-QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
+#: Quantities a scene may ask for. ``leakage`` (the effective hydraulic aperture h_eff of the
+#: gap, docs/theory.md section 10) is computed only by scenes that list it: it costs the BEM a
+#: Reynolds solve per load point.
+QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness", "leakage")
 #: Kinds of scene.
 KINDS = ("surface", "theory")
 
