@@ -116,7 +116,7 @@ _SURFACE_KINDS = dict(
     L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
     rolloff="number", short_cutoff="number", window="integer", path="string",
     physical_size="any", file_unit="string", unit="string", detrend="string", resample="string",
-    square="string", tiles="integer")
+    square="string", tiles="integer", wavelength="number", sides="numbers")
 #: Keys a family needs in a file: each entry is one key, or alternatives (one of them).
 _SURFACE_REQUIRED = {"wm": ("D", ("rms_slope", "G")),
                      "self-affine": ("hurst", ("rms_slope", "rms_height")), "file": ("path",)}
