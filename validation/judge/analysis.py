@@ -1,5 +1,6 @@
 """One scene judged: its results with the comparisons against the reference and the paper's
-findings, by sweep value (D, H)."""
+findings, by sweep value (D, H, L), and the findings that span the sweep (the size sweep's
+sealing claim, finding g)."""
 
 from __future__ import annotations
 
@@ -7,30 +8,44 @@ from dataclasses import dataclass, field
 
 from validation.judge.compare import Comparison, compare_realizations
 from validation.judge.findings import Finding, check_findings
+from validation.judge.sealing import SizeCollapse, d1_measures_leakage, sealing_size
 from validation.run import models
 from validation.run.runner import SceneResult
+from validation.surfaces.spec import SIDES_SWEEP
 
 __all__ = ["Analysis", "analyse"]
 
 
 @dataclass(frozen=True)
 class Analysis:
-    """One scene's results with its comparisons and findings, by sweep value (D, H)."""
+    """One scene's results with its comparisons and findings, by sweep value (D, H, L);
+    ``scene_findings`` span the sweep (finding g over the sizes of a size sweep, whose
+    numbers are ``size_collapse``)."""
 
     result: SceneResult
     comparisons: list[Comparison] = field(default_factory=list)
     findings: dict[float, list[Finding]] = field(default_factory=dict)
+    scene_findings: list[Finding] = field(default_factory=list)
+    size_collapse: SizeCollapse | None = None
 
 
 def analyse(result: SceneResult) -> Analysis:
-    """Compare every sweep value (D, H) of a surface scene with the reference (the BEM) and
-    check the paper's findings; a scene without a reference model gets no comparison."""
+    """Compare every sweep value (D, H, L) of a surface scene with the reference (the BEM) and
+    check the paper's findings; a scene without a reference model gets no comparison. Scenes
+    that ask for leakage get finding (f) per sweep value; a size sweep also finding (g)."""
     scene = result.scene
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
         return Analysis(result)
     comparisons, findings = [], {}
+    leakage = "leakage" in scene.quantities
     for value, realizations in sorted(result.realizations.items()):
         comparison = compare_realizations(realizations, tolerances=scene.tolerances)
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
-    return Analysis(result, comparisons, findings)
+        if leakage:
+            findings[value].append(d1_measures_leakage(realizations, max(scene.tolerances)))
+    scene_findings, collapse = [], None
+    if leakage and scene.surface.sweep_name == SIDES_SWEEP[1]:
+        finding, collapse = sealing_size(result.realizations, scene.m, max(scene.tolerances))
+        scene_findings.append(finding)
+    return Analysis(result, comparisons, findings, scene_findings, collapse)
