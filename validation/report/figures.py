@@ -25,7 +25,7 @@ __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_l
 
 VERDICT_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
 #: Axis label of each swept surface parameter (validation.scenes.scene.SWEEPS).
-SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H"}
+SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H", "L": "nominal side L"}
 
 
 def pyplot():
@@ -44,7 +44,8 @@ def subplots(*args, **kwargs):
 
 def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
     """The paper's dimensionless arrays of a curve (:func:`asperity.dimensionless`), by name,
-    plus the contact count and the reduced stiffness S sigma / (E* L^2) when computed."""
+    plus the contact count, the reduced stiffness S sigma / (E* L^2) and the leakage
+    h_eff / sigma when computed."""
     from asperity import dimensionless as reduce
 
     reduced = reduce(curve, sigma, length)
@@ -56,6 +57,8 @@ def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
         out["contacts"] = np.asarray(curve.contacts, dtype=float)
     if "mean_gap" in curve.extras:
         out["mean_gap"] = np.asarray(curve.extras["mean_gap"], dtype=float) / sigma
+    if curve.leakage is not None:
+        out["leakage"] = np.asarray(curve.leakage, dtype=float) / sigma
     return out
 
 
