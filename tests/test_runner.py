@@ -192,3 +192,18 @@ def test_leakage_is_asked_for_only_by_scenes_that_list_it(tmp_path, monkeypatch)
     asked.clear()
     run_scenes([leaky], cache_dir=str(tmp_path), progress=False)
     assert asked == []
+
+
+def test_tasks_that_differ_only_in_quantities_run_once_with_the_union():
+    plain = tiny(**{"quantities.use": ["area", "load", "separation"],
+                    "models.use": ["gw", "bem"]})
+    leaky = replace(plain, name="leaky", quantities=("area", "load", "separation", "leakage"))
+    first, second = run_scenes([plain, leaky], progress=False)
+    log = computed([first])
+    assert log == computed([second]) and sum(e.startswith("bem ") for e in log) == 2
+    for one, other in zip(first.realizations[2.3], second.realizations[2.3]):
+        # each scene keeps its own task (its comparisons follow its quantities) ...
+        assert one.task.quantities == plain.quantities
+        assert other.task.quantities == leaky.quantities
+        # ... and both read the same curves, computed once with the leakage
+        assert one.curves is other.curves and one.curves["gw"].leakage is not None

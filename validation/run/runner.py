@@ -23,7 +23,8 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
-different scenes run once.
+different scenes run once, and so do tasks that differ only in their quantities (with the
+union of them).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from __future__ import annotations
 import math
 import time
 from concurrent.futures import Executor, Future, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable, Iterable
 
 import numpy as np
@@ -348,6 +349,21 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
     return results
 
 
+def _merged_tasks(tasks: Iterable[RealizationTask]) -> dict[RealizationTask, RealizationTask]:
+    """Task -> the task run for it: tasks that differ only in their quantities run once, with
+    the union of the quantities (a scene that asks for leakage and one that does not share the
+    same realizations, and the first pays for the leakage of both)."""
+    groups: dict[RealizationTask, list[RealizationTask]] = {}
+    for task in tasks:
+        groups.setdefault(replace(task, quantities=()), []).append(task)
+    run_for = {}
+    for key, group in groups.items():
+        union = tuple(dict.fromkeys(q for task in group for q in task.quantities))
+        run = group[0] if all(t == group[0] for t in group) else replace(key, quantities=union)
+        run_for.update((task, run) for task in group)
+    return run_for
+
+
 def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                cache_dir: str | None = None, progress: bool = True, stream=None
                ) -> list[SceneResult]:
@@ -379,9 +395,13 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                          f"repeated: {', '.join(duplicates)}")
     started = time.perf_counter()
     plans = [plan_scene(scene, cache_dir=cache_dir) for scene in scenes]
-    unique = schedule(dict.fromkeys(task for tasks in plans for task in tasks))
-    results = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
-                         if progress and unique else None)
+    run_for = _merged_tasks(task for tasks in plans for task in tasks)
+    unique = schedule(dict.fromkeys(run_for.values()))
+    done = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
+                      if progress and unique else None)
+    # each scene sees its own task (so its own quantities) beside the shared curves
+    results = {task: done[run] if run == task else replace(done[run], task=task)
+               for task, run in run_for.items()}
     out = []
     for scene, plan in zip(scenes, plans):
         if scene.kind == "theory":
