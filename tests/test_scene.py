@@ -175,3 +175,8 @@ def test_nested_windows_are_one_surface():
     assert 0.8 < factor < 1.25
     assert surface_identity(small, 3) != surface_identity(large, 3)
 
+
+
+def test_paper_scenes_ask_for_leakage():
+    for name in ("paper-wm-d205", "paper-wm-d295"):
+        assert "leakage" in load_scene(name).quantities
