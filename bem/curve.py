@@ -17,6 +17,10 @@ Units and conventions (docs/theory.md, "Conventions used everywhere")
 * ``conductance`` = 2 S / E* [length]: the constriction conductance times the resistivity rho
   (C rho, Barber's analogy).
 * ``mean_pressure`` = W / A_nominal [pressure].
+* ``leakage`` h_eff [length]: effective hydraulic aperture of the gap, the uniform gap that
+  leaks as much, ``Q = W h_eff^3 dp / (12 mu L)``; for the BEM the exact Reynolds flow through
+  its gap (:func:`bem.flow.leakage_aperture`: mean leak rate of flow along x and along y), 0
+  once the contact seals.
 
 Fields a model did not compute (not asked for) are ``None``; separation, load, area and
 mean_pressure are always filled. Every field has the shape of the separations or loads asked for
@@ -61,7 +65,7 @@ __all__ = ["ContactCurve", "CURVE_QUANTITIES"]
 
 #: The quantities a contact curve may carry, in the order they are tabulated.
 CURVE_QUANTITIES = ("separation", "load", "area", "contacts", "stiffness", "conductance",
-                    "mean_pressure")
+                    "mean_pressure", "leakage")
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +76,7 @@ class ContactCurve:
     ----------
     separation, load, area, mean_pressure : array_like
         See the module docstring for units. All arrays share one shape.
-    contacts, stiffness, conductance : array_like or None
+    contacts, stiffness, conductance, leakage : array_like or None
         ``None`` when the model was not asked for them.
     nominal_area : float
         Nominal contact area A = L^2 [length^2].
@@ -91,6 +95,7 @@ class ContactCurve:
     contacts: np.ndarray | None = None
     stiffness: np.ndarray | None = None
     conductance: np.ndarray | None = None
+    leakage: np.ndarray | None = None
     extras: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self) -> None:

@@ -56,7 +56,7 @@ import scipy.sparse.linalg
 from bem import checks
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["FLOW_DIRECTIONS", "hydraulic_aperture", "spanning_cells"]
+__all__ = ["FLOW_DIRECTIONS", "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
 
 #: Directions of the pressure drop: along x (columns, axis 1) or y (rows, axis 0) of ``gap[j, i]``.
 FLOW_DIRECTIONS = ("x", "y")
@@ -291,3 +291,22 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
         return math.nan
     rows, columns = conductivity.shape
     return largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows))
+
+
+def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
+    """h_eff of a gap for flow along x and along y, averaged by leak rate [length].
+
+    ``((h_x^3 + h_y^3) / 2)^(1/3)`` with h_x, h_y from :func:`hydraulic_aperture`: the aperture
+    of the mean of the two leak rates (Q ~ h_eff^3), which on an isotropic surface estimates the
+    same h_eff as either direction with half the variance from the surface's random layout
+    (docs/theory.md, eq. T36). Zero only when neither direction leaks. This is the ``leakage``
+    of a boundary-element :class:`bem.ContactCurve`.
+
+    Parameters
+    ----------
+    gap, spacing, periodic
+        As in :func:`hydraulic_aperture`.
+    """
+    cubes = [hydraulic_aperture(gap, spacing, direction=direction, periodic=periodic) ** 3
+             for direction in FLOW_DIRECTIONS]
+    return float(np.cbrt(0.5 * (cubes[0] + cubes[1])))

@@ -105,7 +105,8 @@ def empty_curve(nominal_area: float, e_star: float, quantities: Iterable[str],
     ``converged`` extra an empty bool array and each name in ``extras`` an empty float array."""
     want = check_quantities(quantities)
     empty = np.empty(0)
-    optional = {q: (empty if q in want else None) for q in ("contacts", "stiffness", "conductance")}
+    optional = {q: (empty if q in want else None)
+                for q in ("contacts", "stiffness", "conductance", "leakage")}
     values = {name: empty for name in extras}
     values["converged"] = np.empty(0, dtype=bool)
     return ContactCurve(separation=empty, load=empty, area=empty, mean_pressure=empty,

@@ -69,6 +69,8 @@ def test_shapes_and_dtypes_follow_numpy(case, shape, control):
         if name == "contacts" and item.contacts == "none":
             assert value is None                    # a theory that predicts no count
             continue
+        if name == "leakage" and value is None and model.name != "bem":
+            continue                                # asperity leakage: where a theory adds it
         assert value.shape == shape and value.dtype == np.float64, name
     converged = curve.extras["converged"]
     assert converged.shape == shape and converged.dtype == bool
