@@ -83,6 +83,8 @@ def test_shapes_and_dtypes_follow_numpy(case, shape, control):
             # e.g. a theory that predicts no count (an empty curve may carry an empty array)
             assert value is None or value.shape == shape == (0,)
             continue
+        if name == "leakage" and value is None and model.name != "bem":
+            continue                                # asperity leakage: where a theory adds it
         assert value.shape == shape and value.dtype == np.float64, name
     converged = curve.extras["converged"]
     assert converged.shape == shape and converged.dtype == bool
