@@ -19,10 +19,9 @@ from validation.surfaces.wm import wm_surface
 N = 32
 E_STAR = 2.0
 OPTIONAL = ("contacts", "stiffness", "conductance", "leakage")
-#: Registered models that do not (yet) predict ``leakage``: it stays None even when asked for.
-#: The BEM's leakage (the Reynolds flow through its gap) comes with bem.flow; empty this set
-#: when it does.
-WITHOUT_LEAKAGE = {"bem"}
+#: Registered models that do not predict ``leakage``: it stays None even when asked for (none:
+#: the BEM's is the Reynolds flow through its gap, bem.flow).
+WITHOUT_LEAKAGE: set[str] = set()
 
 
 def predicts(item, name: str) -> bool:

@@ -134,7 +134,8 @@ def d1_measures_leakage(results, tolerance: float, reference_model: str | None =
     closer_d1, closer_d = _paired_decision(magnitude["d"] - magnitude["d1"])
     strip = np.where(closer_d1, HOLDS, np.where(closer_d, FAILS, UNDECIDED))
     parts = []
-    for name, rule in (("d", "GW's rule"), ("d1", "improved GW's rule")):
+    m = results[0].task.m
+    for name, rule in (("d", "GW's rule"), ("d1", f"improved GW's rule, m = {m:g}")):
         stack = np.vstack(errors[name])
         sealed = int(np.sum(np.isinf(magnitude[name])))
         holds = classify(confidence_interval(stack), 0.0, tolerance)
@@ -271,7 +272,7 @@ def sealing_size(by_side: dict, m: float, tolerance: float,
               (("d", collapse.spread_d), ("d1", collapse.spread_d1))}
     sides = ", ".join(f"{s:g}" for s in collapse.sides)
     evidence = (f"BEM on windows of side {sides} ({len(collapse.seeds)} realization(s) each), "
-                f"at {LEVELS} leakage levels h_eff/σ = {collapse.levels[0]:.3g}–"
+                f"d1 = d + {m:g} W/(E*√A), at {LEVELS} leakage levels h_eff/σ = {collapse.levels[0]:.3g}–"
                 f"{collapse.levels[-1]:.3g}: spread of d across sizes {_span(spread['d'])} σ, "
                 f"of d1 {_span(spread['d1'])} σ; at equal leakage d falls with the size (a "
                 f"larger area needs a deeper approach) at {int(deeper.sum())} of {LEVELS} "
