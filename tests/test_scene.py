@@ -177,6 +177,22 @@ def test_nested_windows_are_one_surface():
 
 
 
-def test_paper_scenes_ask_for_leakage():
+def test_paper_scenes_ask_for_leakage_and_the_default_report_has_the_size_scene():
+    from validation.cli import DEFAULT_SCENES
+
     for name in ("paper-wm-d205", "paper-wm-d295"):
         assert "leakage" in load_scene(name).quantities
+    assert "sealing-size" in DEFAULT_SCENES
+
+
+def test_quick_mode_may_leave_out_quantities():
+    scene = load_scene("paper-wm-d205")
+    assert "leakage" in scene.quantities
+    quick = scene.quick_version()
+    assert "leakage" not in quick.quantities and "conductance" in quick.quantities
+    # the sealing scene keeps its leakage in quick mode (it exists to measure it)
+    assert "leakage" in load_scene("sealing-size").quick_version().quantities
+    data = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
+            "quick": {"quantities": ["area", "flow"]}}
+    with pytest.raises(SceneError, match="quick.quantities"):
+        parse_scene(data)

@@ -171,7 +171,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
         periodic="boolean", tol="number", max_iter="integer", reference_error="boolean"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
-        realizations="integer", n="integer", count="integer"))
+        realizations="integer", n="integer", count="integer", quantities="strings"))
     return parts
 
 

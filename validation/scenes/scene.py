@@ -25,7 +25,7 @@ file's tables and keys map onto them::
     [quantities]  use                   -> Scene.quantities
     [bem]  periodic tol max_iter reference_error           -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
-    [quick]  realizations n count       -> QuickSettings
+    [quick]  realizations n count quantities                -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
 
 Every key is optional except the surface's sweep parameter (``D`` of a WM surface, ``hurst``
@@ -150,16 +150,22 @@ class TheorySpec:
 
 @dataclass(frozen=True)
 class QuickSettings:
-    """What quick mode changes: fewer realizations, a coarser grid, fewer load points."""
+    """What quick mode changes: fewer realizations, a coarser grid, fewer load points, and
+    optionally fewer quantities (``quantities``: those of the quick run, by default the
+    scene's; e.g. leaving out ``leakage``, whose Reynolds solves cost the BEM several times
+    its contact solves)."""
 
     realizations: int = 3
     n: int = 128
     count: int = 10
+    quantities: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         check.integer(self, "realizations", 1)
         check.integer(self, "n", 16)
         check.integer(self, "count", 1)
+        if self.quantities is not None:
+            check.names(self, "quantities", QUANTITIES)
 
 
 @dataclass(frozen=True)
@@ -225,7 +231,9 @@ class Scene:
         surface = self.surface if self.surface.family == "file" else \
             replace(self.surface, n=min(self.surface.n, self.quick.n))
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
-        return replace(self, surface=surface, loads=loads,
+        quantities = self.quantities if self.quick.quantities is None else tuple(
+            q for q in self.quantities if q in self.quick.quantities)
+        return replace(self, surface=surface, loads=loads, quantities=quantities,
                        realizations=min(self.realizations, self.quick.realizations))
 
 
