@@ -39,3 +39,13 @@ from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum  # noqa: 
 
 __all__ += ["Persson", "PERSSON_QUANTITIES", "separation_kernel", "IsotropicSpectrum",
             "radial_power_spectrum"]
+
+# Spectral asperity theories: Nayak's summit statistics from the moments m0, m2, m4 (GW from
+# the spectrum, McCool 1986) and Bush-Gibson-Thomas theory of elliptic summits.
+from asperity.spectral_summits import (  # noqa: E402
+    SpectralMoments, SpectralSummits, spectral_moments, spectral_summits)
+from asperity.hertz_elliptic import hertz_elliptic_factors  # noqa: E402
+from asperity.bush_gibson_thomas import BushGibsonThomas  # noqa: E402
+
+__all__ += ["SpectralMoments", "SpectralSummits", "spectral_moments", "spectral_summits",
+            "hertz_elliptic_factors", "BushGibsonThomas"]

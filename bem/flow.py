@@ -4,18 +4,18 @@ A thin film of incompressible fluid between the deformed surfaces flows, in the 
 (Reynolds) approximation, with the local flux ``q = -g^3 grad p / (12 mu)`` per unit width, where
 g(x, y) is the gap. Mass conservation gives the steady Reynolds equation
 
-    div(g^3 grad p) = 0                                           (docs/theory.md, eq. T33)
+    div(g^3 grad p) = 0                                           (docs/theory.md, eq. T41)
 
 A pressure drop dp over the length L of the field along the flow drives a total flow Q through
 its width W, and the field's effective hydraulic aperture h_eff is the uniform gap that would
-carry the same flow (eq. T34):
+carry the same flow (eq. T42):
 
     Q = W h_eff^3 dp / (12 mu L)
 
 so a uniform gap h gives exactly h, and h_eff = 0 when no fluid path joins inlet and outlet
 (docs/theory.md, "Reynolds leakage through the gap").
 
-Discretisation (finite volumes on the pixel grid, eq. T35): every pixel is a cell of
+Discretisation (finite volumes on the pixel grid, eq. T43): every pixel is a cell of
 conductivity k = g^3; neighbouring cells exchange the flux ``T (p_a - p_b)`` with the
 harmonic-mean face conductance ``T = 2 k_a k_b / (k_a + k_b)`` (zero when either cell is in
 contact, g = 0). For square pixels T does not depend on the spacing, and neither does h_eff.
@@ -230,7 +230,7 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     Solves the steady Reynolds equation div(g^3 grad p) = 0 on the pixel grid for a pressure
     drop dp along ``direction`` and returns the uniform gap that carries the same flow Q,
     ``Q = W h_eff^3 dp / (12 mu L)`` (docs/theory.md, "Reynolds leakage through the gap",
-    eqs. T33-T36; discretisation and boundary conditions: module docstring). A uniform gap h
+    eqs. T41-T44; discretisation and boundary conditions: module docstring). A uniform gap h
     gives exactly h; a gap varying only along the flow gives exactly
     ``(1 / mean(1/g^3))^(-1/3)``, one varying only across it ``mean(g^3)^(1/3)``.
 
@@ -299,7 +299,7 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
     ``((h_x^3 + h_y^3) / 2)^(1/3)`` with h_x, h_y from :func:`hydraulic_aperture`: the aperture
     of the mean of the two leak rates (Q ~ h_eff^3), which on an isotropic surface estimates the
     same h_eff as either direction with half the variance from the surface's random layout
-    (docs/theory.md, eq. T36). Zero only when neither direction leaks. This is the ``leakage``
+    (docs/theory.md, eq. T44). Zero only when neither direction leaks. This is the ``leakage``
     of a boundary-element :class:`bem.ContactCurve`.
 
     Parameters

@@ -23,9 +23,14 @@ def test_curve_errors_known_values():
     np.testing.assert_allclose(errors["conductance"], [0.0, -0.5, 1.0])
 
 
-def test_curve_errors_need_equal_loads():
-    with pytest.raises(ValueError, match="same loads"):
-        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 3], [1, 1], [1, 1]), 1.0, ("area",))
+def test_a_load_the_model_did_not_reach_is_not_compared():
+    # the second point ended at load 3 where 2 was asked (an unconverged solve): NaN, no error
+    errors = curve_errors(curve([1, 3], [1.1, 1], [1, 1]), curve([1, 2], [1, 1], [1, 1]), 1.0,
+                          ("area",))
+    np.testing.assert_allclose(errors["area"], [0.1, np.nan])
+    with pytest.raises(ValueError, match="same load points"):
+        curve_errors(curve([1, 2], [1, 1], [1, 1]), curve([1, 2, 3], [1, 1, 1], [1, 1, 1]), 1.0,
+                     ("area",))
 
 
 def test_summarise_errors_mean_and_sample_std():
@@ -59,8 +64,10 @@ def test_compare_realizations_on_synthetic_results():
     # separation exactly 0.5 sigma high; a non-converged reference point drops out.
     from validation.judge.compare import compare_realizations
 
-    results = [realization(0, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5]),
-               realization(1, LOAD, 1.3 * AREA, [3.5, 2.5, 1.5], converged=(True, True, False))]
+    exact = {"area_error": np.zeros(3), "separation_error": np.zeros(3)}  # a band of zero
+    results = [realization(0, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5], reference_extras=exact),
+               realization(1, LOAD, 1.3 * AREA, [3.5, 2.5, 1.5], converged=(True, True, False),
+                           reference_extras=exact)]
     comparison = compare_realizations(results, tolerances=(0.25, 0.6))
     area = comparison.models[("gw", "area")]
     np.testing.assert_allclose(area.summary.mean[:2], 0.2)
@@ -78,9 +85,23 @@ def test_compare_realizations_on_synthetic_results():
     assert list(separation.verdicts[0]) == ["fails", "fails", "undecided"]
     assert list(separation.verdicts[1]) == ["holds", "holds", "undecided"]
     assert (separation.ranges[1].first, separation.ranges[1].last) == (0, 1)
-    assert comparison.band_source["separation"] == "not estimated"
+    assert comparison.band_source["separation"].startswith("per-point")
     np.testing.assert_allclose(comparison.area_fraction, AREA)
     np.testing.assert_allclose(comparison.load, LOAD)
+
+
+def test_a_band_not_estimated_is_nan_and_decides_nothing():
+    # the same errors without the reference's own error estimates: the band is unknown, never
+    # zero, so not even the separation's clear 0.5 sigma miss of a 0.25 tolerance is a failure
+    from validation.judge.compare import NOT_ESTIMATED, compare_realizations
+
+    results = [realization(k, LOAD, 1.1 * AREA, [3.5, 2.5, 1.5]) for k in (0, 1)]
+    comparison = compare_realizations(results, tolerances=(0.25, 0.6))
+    separation = comparison.models[("gw", "separation")]
+    assert np.all(np.isnan(separation.band))
+    assert comparison.band_source["separation"] == NOT_ESTIMATED
+    assert all(set(v) == {"undecided"} for v in separation.verdicts)
+    assert not any(r.holds_anywhere for r in separation.ranges)
 
 
 def test_reference_band_from_per_point_error_estimates():
@@ -201,9 +222,10 @@ def test_leakage_error_is_the_log_ratio_and_sealing_disagreements_are_undefined(
     assert not resolved.any()
 
 
-def leak_realizations(model_factor, model_sealed=(), errors=None, count=6):
+def leak_realizations(model_factor, model_sealed=(), errors=(0.0, 0.0, 0.0, 0.0), count=6):
     """Realizations where the model's h_eff is ``model_factor`` times the BEM's (a seeded
-    scatter of 1 % around it), sealed at the point indices ``model_sealed``."""
+    scatter of 1 % around it), sealed at the point indices ``model_sealed``; the BEM's error
+    estimate ``errors`` (default exact; None: not estimated, so its band is unknown)."""
     from types import SimpleNamespace
 
     rng = np.random.default_rng(4)
@@ -223,7 +245,7 @@ def leak_realizations(model_factor, model_sealed=(), errors=None, count=6):
 
 def test_leakage_verdicts_follow_the_log_error_and_the_sealing_rule():
     from validation.judge.compare import compare_realizations
-    from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
+    from validation.judge.verdicts import FAILS, HOLDS, REFERENCE_BAND, UNDECIDED
 
     close = compare_realizations(leak_realizations(1.02), tolerances=(0.05, 0.2))
     entry = close.models[("gw", "leakage")]
@@ -247,6 +269,15 @@ def test_leakage_verdicts_follow_the_log_error_and_the_sealing_rule():
     entry = unsure.models[("gw", "leakage")]
     assert [v[3] for v in entry.verdicts] == [UNDECIDED, UNDECIDED]
     assert entry.sealing[3] == 6 and entry.sealing_resolved[3] == 0
+    # the reasons agree: the BEM's estimate (a finer reference) decides; nothing holds per
+    # surface where some surface's error is infinite
+    assert [entry.reasons(i)[3] for i in range(2)] == [REFERENCE_BAND] * 2
+    assert all(v[3] != HOLDS for v in entry.surface_verdicts)
+    assert all(entry.reasons(i)[3] == "" for i in range(2) for entry in
+               [sealed.models[("gw", "leakage")]])
+    # a BEM without an error estimate: its band is unknown, nothing is decided to hold
+    unknown = compare_realizations(leak_realizations(1.02, errors=None), tolerances=(0.05, 0.2))
+    assert HOLDS not in list(unknown.models[("gw", "leakage")].verdicts[0])
 
 
 def test_leakage_band_is_the_relative_estimate_and_a_sealed_reference_is_exact_only_if_sure():

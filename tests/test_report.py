@@ -50,7 +50,7 @@ def test_report_with_no_converged_bem_point(unconverged, tmp_path):
     assert verdicts and {v["verdict"] for v in verdicts} == {"undecided"}
     bem_rows = [r for r in rows(tmp_path / "curves.csv") if r["model"] == "bem"]
     assert len(bem_rows) == 12 and {r["converged"] for r in bem_rows} == {"False"}
-    assert "`????`" in text and "nowhere" in text and "**0 / 0 /" in text
+    assert "`????`" in text and "undecided: unconverged" in text and "**0 / 0 /" in text
     assert "fewer than two converged BEM realizations" in text  # finding (c) says why
     assert "Command: `python -m validation x`" in text and "run time 0.2 min" in text
 
@@ -104,6 +104,7 @@ def test_publish_replaces_the_previous_report(tmp_path, monkeypatch):
     # the theory scene alone: a published report in seconds, header with the exact command
     folder = tmp_path / "results"
     folder.mkdir()
+    (folder / "report.md").write_text("# an earlier report")
     (folder / "stale-figure.png").write_bytes(b"old")
     (folder / "notes.txt").write_text("kept")
     assert main(["report", "paper-theory", "--publish", str(folder), "--no-cache", "--quiet"]) == 0
@@ -119,7 +120,7 @@ def test_report_only_modules_do_not_compute_results():
     import ast
     import pathlib
 
-    from validation.run.runner import REPORT_ONLY_MODULES
+    from validation.run.cache import REPORT_ONLY_MODULES
 
     package = pathlib.Path(__file__).resolve().parents[1] / "validation"
 
@@ -142,8 +143,9 @@ def test_report_only_modules_do_not_compute_results():
                      for file in files(node.module) | files(f"{node.module}.{alias.name}")}
         # entry points, not result makers
         allowed = {"campaigns/bench.py", "campaigns/stress.py", "__init__.py"}
-        # the progress bar and the task order/ETA never touch a result
-        imported -= {"run/progress.py", "run/cost.py"}
+        # the progress bar, the task order/ETA and the sequential plan (how many realizations
+        # run, never what one computes) never touch a result
+        imported -= {"run/progress.py", "run/cost.py", "run/sequential.py"}
         if name not in allowed:
             assert not imported & REPORT_ONLY_MODULES, (name, imported & REPORT_ONLY_MODULES)
 

@@ -6,8 +6,8 @@ import re
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 THEORY = (ROOT / "docs" / "theory.md").read_text(encoding="utf-8")
 HEADINGS = [line.lstrip("#").strip() for line in THEORY.splitlines() if line.startswith("#")]
-# An equation label is written at the end of its display line: "(T12)", "(P5)", "(L2)" or "(4)".
-LABELS = set(re.findall(r"\(([TPL]?\d+)\)\s*$", THEORY, flags=re.MULTILINE))
+# An equation label is written at the end of its display line: "(T12)", "(P5)", "(L2)", "(S3)" or "(4)".
+LABELS = set(re.findall(r"\(([TPLS]?\d+)\)\s*$", THEORY, flags=re.MULTILINE))
 SOURCES = [path for package in ("asperity", "bem", "validation", "tests")
            for path in sorted((ROOT / package).rglob("*.py"))
            if path.name != pathlib.Path(__file__).name]
@@ -25,7 +25,7 @@ def citations():
 def cited_part(text: str) -> str:
     """The citation itself: up to the first ``)``, ``:``, ``;`` or ``.`` outside quotes, after
     unwrapping equation labels such as ``(11)``."""
-    text = re.sub(r"\(([TPL]?\d+)\)", r"\1", text)
+    text = re.sub(r"\(([TPLS]?\d+)\)", r"\1", text)
     quoted = False
     for index, char in enumerate(text):
         if char == '"':
@@ -41,7 +41,7 @@ def cited_names(text: str) -> list[str]:
 
 
 def cited_equations(text: str) -> list[str]:
-    found = re.findall(r"eqs?\.\s*([TPL]?\d+)(?:\s*-\s*([TPL]?\d+))?", cited_part(text))
+    found = re.findall(r"eqs?\.\s*([TPLS]?\d+)(?:\s*-\s*([TPLS]?\d+))?", cited_part(text))
     return [label for pair in found for label in pair if label]
 
 
@@ -50,6 +50,11 @@ def test_the_theory_page_numbers_the_papers_equations_and_its_own():
     assert {f"T{n}" for n in range(1, 31)} <= LABELS
     assert {f"P{n}" for n in range(1, 10)} <= LABELS           # Persson's theory, section 7
     assert {f"L{n}" for n in range(1, 8)} <= LABELS            # leakage, section 10
+
+
+def test_spectral_citations_are_checked():
+    assert cited_equations(", eqs. S8-S12.") == ["S8", "S12"]
+    assert any("eq. S9" in text for path, text in citations() if path.name == "hertz_elliptic.py")
 
 
 def test_persson_citations_are_checked():

@@ -88,9 +88,10 @@ def test_reference_accuracy_rule():
     # the model agrees exactly, but the reference resolves only 0.02 > 0.05 / 4
     interval = confidence_interval(synthetic([0.0, 0.0], spread=0.001))
     assert list(classify(interval, np.array([0.012, 0.02]), 0.05)) == [HOLDS, UNDECIDED]
-    # an unknown band (NaN) cannot hold, but a clear failure still fails
+    # a band not estimated (NaN) is never zero: neither a hold nor even a clear failure
     interval = confidence_interval(synthetic([0.0, 1.0], spread=0.001))
-    assert list(classify(interval, np.array([np.nan, np.nan]), 0.05)) == [UNDECIDED, FAILS]
+    assert list(classify(interval, np.array([np.nan, np.nan]), 0.05)) == [UNDECIDED, UNDECIDED]
+    assert list(classify(interval, np.array([np.nan, 0.0]), 0.05)) == [UNDECIDED, FAILS]
 
 
 def test_unconverged_realizations_prevent_holds_not_fails():

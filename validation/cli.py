@@ -1,23 +1,30 @@
 """Command line: ``python -m validation {report,list,show,bench,stress}``.
 
-``report`` with no scene runs the default scenes in quick mode (fewer realizations, a coarser
-grid, fewer load points; about three minutes on two cores; the size scene ``sealing-size`` is
-left out); ``--full`` and ``--publish`` run them all as written (the paper's 25 realizations).
+``report`` with no scene runs the default scenes in quick mode (8 realizations of each paper
+scene and 4 per D of the validity map, on 256 x 256 grids with 12 loads, without the leakage:
+the size scene ``sealing-size`` and the paper scenes' leakage are left out; about a minute on two
+cores); ``--full`` and ``--publish`` run them all as written (25 realizations of each paper scene
+and 10 per D of the validity map, on 512 x 512 grids with 16 loads, the leakage included, and
+8 realizations of each window of ``sealing-size`` on 128 x 128 grids with 12 loads).
+Ctrl-C stops a report at once (exit status 130); what was finished stays in the cache, and the
+same command resumes.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
-import pathlib
 import shlex
+import signal
 import sys
+import threading
 import time
+import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 from validation.run.cache import check_directory, default_cache_dir
-from validation.scenes.scene import SceneError
 from validation.scenes.reader import builtin_scenes, load_scene
+from validation.scenes.scene import SceneError, SceneWarning, scene_warnings
 
 #: Scenes of the default report, in report order.
 DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-map", "sealing-size")
@@ -27,27 +34,64 @@ DEFAULT_SCENES = ("paper-theory", "paper-wm-d205", "paper-wm-d295", "validity-ma
 FULL_ONLY_SCENES = ("sealing-size",)
 
 
+#: Exit status of a run stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
+INTERRUPTED = 130
+
+
 def _worker_init(threads: int) -> None:
     # Each worker process gets its share of the cores for its FFTs (read at every operator
     # build, so setting it here, after the worker imported numpy, still takes effect).
     os.environ["ASPERITY_FFT_THREADS"] = str(threads)
+    # Ctrl-C in a terminal reaches the whole process group: the workers leave it to the main
+    # process, which ends them (no traceback per worker, no worker dying between tasks).
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _end_pool(pool: ProcessPoolExecutor) -> None:
+    """Stop a process pool now: queued realizations cancelled, running workers terminated
+    (a realization cut short leaves no cache entry: entries are renamed into place whole)."""
+    workers = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in workers:
+        if process.is_alive():
+            process.terminate()
+    for process in workers:
+        process.join(timeout=5)
 
 
 def _executor(args: argparse.Namespace):
+    """The executor of ``args`` and two ways to end it: ``close()`` after a finished run and
+    ``abort()`` after an interruption (returns at once, nothing left running here)."""
     if args.scheduler:
         try:
             from dask.distributed import Client
         except ImportError:
-            raise SystemExit(
-                "--scheduler needs dask.distributed: pip install 'dask[distributed]'") from None
+            raise SystemExit("--scheduler needs dask.distributed: "
+                             "pip install 'asperity-validation[distributed]'") from None
         client = Client(args.scheduler)
-        return client.get_executor(), client.close
+        # the runner cancels the submitted futures (on the cluster too) before the abort
+        return client.get_executor(), client.close, client.close
     if args.jobs <= 1:
-        return None, lambda: None
+        return None, lambda: None, lambda: None
     cores = os.cpu_count() or 1
     pool = ProcessPoolExecutor(max_workers=args.jobs, initializer=_worker_init,
                                initargs=(max(1, cores // args.jobs),))
-    return pool, pool.shutdown
+    return pool, pool.shutdown, lambda: _end_pool(pool)
+
+
+def _interrupt_once(signum, frame) -> None:
+    """SIGINT handler: the first Ctrl-C interrupts, later ones are ignored while the run shuts
+    down (a second Ctrl-C must not interrupt the shutdown and leave workers behind)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def _interrupted(cache_dir: str | None) -> int:
+    kept = ("nothing was kept (--no-cache)" if cache_dir is None else
+            f"finished realizations are kept in the cache {cache_dir}: the same command "
+            "resumes from there")
+    print(f"\ninterrupted: {kept}", file=sys.stderr)
+    return INTERRUPTED
 
 
 def _load_scene(name: str):
@@ -68,20 +112,30 @@ def _report(args: argparse.Namespace) -> int:
     quick = args.quick or (not args.full and not args.scenes and not args.publish)
     names = args.scenes or [name for name in DEFAULT_SCENES
                             if not (quick and name in FULL_ONLY_SCENES)]
-    scenes = [_load_scene(name) for name in names]
+    with warnings.catch_warnings():
+        # said once below, for the scenes as they will run (quick mode changes them)
+        warnings.simplefilter("ignore", SceneWarning)
+        scenes = [_load_scene(name) for name in names]
     repeated = sorted({s.name for s in scenes if [t.name for t in scenes].count(s.name) > 1})
     if repeated:
         raise SceneError(f"scene names must be unique in one report (they name its files); "
                          f"repeated: {', '.join(repeated)}")
     if args.publish:
-        _clear_published(pathlib.Path(args.publish))
         args.out, args.full = args.publish, not args.quick
     if quick:
         scenes = [scene.quick_version() for scene in scenes]
     mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
+    for message in (m for scene in scenes for m in scene_warnings(scene)):
+        print(f"warning: {message}", file=sys.stderr)
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
     # Fail before any computing: an unwritable report or cache folder is found now, not after.
     try:
+        from validation.report.write import previous_report
+
+        try:
+            previous_report(args.out)  # replaced when the new report is written, not before
+        except ValueError as error:
+            raise ValueError(f"--{'publish' if args.publish else 'out'} {error}") from None
         check_directory(args.out, "--out")
         if cache_dir is not None:
             check_directory(cache_dir, "--cache")
@@ -90,25 +144,22 @@ def _report(args: argparse.Namespace) -> int:
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    executor, close = _executor(args)
+    executor, close, abort = _executor(args)
     start = time.perf_counter()
     try:
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=not args.quiet)
-    finally:
-        close()
+    except KeyboardInterrupt:
+        abort()
+        return _interrupted(cache_dir)
+    except BaseException:
+        abort()
+        raise
+    close()
     seconds = time.perf_counter() - start
     command = "python -m validation " + shlex.join(args.argv)
     path = write_report(results, args.out, seconds=seconds, mode=mode, command=command)
     print(f"report written to {path} ({seconds:.1f} s)")
     return 0
-
-
-def _clear_published(folder: pathlib.Path) -> None:
-    """Remove a previous published report (its Markdown, figures and tables, nothing else), so
-    that no stale figure survives a model that no longer draws it."""
-    for pattern in ("report.md", "*.png", "*.csv"):
-        for path in folder.glob(pattern):
-            path.unlink()
 
 
 def _list(args: argparse.Namespace) -> int:
@@ -146,15 +197,21 @@ def _stress(args: argparse.Namespace) -> int:
     return 1 if failures else 0
 
 
-def main(argv: list[str] | None = None) -> int:
+def build_parser() -> argparse.ArgumentParser:
+    """The command line's parser (its help is the program's documentation of its options)."""
     parser = argparse.ArgumentParser(prog="python -m validation", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     report = sub.add_parser("report", help="run scenes and write the validity report")
     report.add_argument("scenes", nargs="*", metavar="SCENE",
                         help="built-in scene names or scene files (default: the default scenes, quick)")
-    report.add_argument("--out", default="report", help="output folder (default: ./report)")
-    report.add_argument("--full", action="store_true", help="run the scenes as written (25 realizations)")
+    report.add_argument("--out", default="report",
+                        help="output folder (default: ./report): new, empty, or holding an "
+                             "earlier report, whose Markdown, figures and tables are replaced")
+    report.add_argument("--full", action="store_true",
+                        help="run the default scenes as written (25 realizations of each paper "
+                             "scene, 10 per D of the validity map, 8 per window of the size "
+                             "scene) instead of quick")
     report.add_argument("--quick", action="store_true", help="quick mode also for named scenes")
     report.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="worker processes for realizations (default: CPU count; 1 = in-process)")
@@ -163,10 +220,11 @@ def main(argv: list[str] | None = None) -> int:
     cache.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
     report.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="dask.distributed scheduler address; realizations run on that cluster")
-    report.add_argument("--quiet", action="store_true", help="no progress bar")
+    report.add_argument("--quiet", action="store_true",
+                        help="no progress bar (warnings and errors are still printed)")
     report.add_argument("--publish", nargs="?", const="docs/results", default=None, metavar="DIR",
                         help="regenerate the published report in DIR (default docs/results): "
-                             "full mode unless --quick, previous report files replaced")
+                             "full mode unless --quick, the previous report replaced")
     report.set_defaults(handler=_report)
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
@@ -181,10 +239,24 @@ def main(argv: list[str] | None = None) -> int:
     stress.add_argument("--quick", action="store_true", help="small sizes (seconds)")
     stress.add_argument("--out", default="stress-out", help="output folder (default: ./stress-out)")
     stress.set_defaults(handler=_stress)
-    args = parser.parse_args(argv)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
     args.argv = list(sys.argv[1:] if argv is None else argv)
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGINT, _interrupt_once) if main_thread else None
     try:
-        return args.handler(args)
+        status = args.handler(args)
     except SceneError as error:
         print(f"error: {error}", file=sys.stderr)
-        return 2
+        status = 2
+    except KeyboardInterrupt:
+        print("\ninterrupted", file=sys.stderr)
+        status = INTERRUPTED
+    # After an interruption SIGINT stays ignored: a further Ctrl-C while the interpreter
+    # exits would otherwise end it with a traceback instead of the status.
+    if main_thread and status != INTERRUPTED:
+        signal.signal(signal.SIGINT, previous)
+    return status

@@ -74,13 +74,20 @@ def _summits():
 
 
 def _realizations() -> list:
-    """Two duck-typed realization results (a BEM-labelled reference and a GW curve)."""
+    """Three duck-typed realization results (a BEM-labelled reference and a GW curve); the
+    reference carries its own per-point error estimates, as a BEM run with
+    ``error_estimate=True`` does (without them its band is NaN, "not estimated", by design).
+    Three, the fewest with a per-surface tolerance interval (fewer leave it NaN, by design)."""
+    from dataclasses import replace
     from types import SimpleNamespace
 
     curve = _curve()
+    estimates = {f"{name}_error": 0.01 * np.abs(getattr(curve, name))
+                 for name in ("area", "separation", "load")}
+    reference = replace(curve, extras={**curve.extras, **estimates})
     task = SimpleNamespace(seed=0, surface=SimpleNamespace(L=1.0, sweep_name="D"),
                            quantities=("area", "separation"), sweep_value=2.3)
-    return [SimpleNamespace(task=task, curves={"bem": curve, "gw": curve}, sigma=0.01)] * 2
+    return [SimpleNamespace(task=task, curves={"bem": reference, "gw": curve}, sigma=0.01)] * 3
 
 
 def _theories(model, load=(1e-4, 1e-3), separation=(0.0, 0.01)):

@@ -18,9 +18,12 @@ A model may be compared with a different field of the reference than its own qua
 its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
 separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
-At each load point the errors over realizations give a mean, a 95 % Student-t confidence
-interval and, with the reference's own error band, a verdict (holds / fails / undecided;
-:mod:`validation.judge.verdicts`). The validity range at a tolerance is the longest run of "holds".
+At each load point the errors over realizations give a mean, a Student-t confidence interval
+(95 %, or the level of a look of the sequential plan) and, with the reference's own error band,
+a verdict (holds / fails / undecided; :mod:`validation.judge.verdicts`). The validity range at a
+tolerance is the longest run of "holds". Beside it, a verdict on single surfaces from a normal
+tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
+where at least 90 % of surfaces are within the tolerance, with the same confidence.
 """
 
 from __future__ import annotations
@@ -33,15 +36,20 @@ from asperity.leakage import log_aperture_error
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.run import models
+from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
+                                        surface_reasons)
 from validation.judge.verdicts import (
+    CONFIDENCE,
     FAILS,
     HOLDS,
+    REFERENCE_BAND,
     UNDECIDED,
     ErrorInterval,
     ValidityRange,
     classify,
     confidence_interval,
     reference_band,
+    undecided_reasons,
     validity_range,
     verdict_counts,
     verdict_range,
@@ -51,6 +59,7 @@ __all__ = [
     "ABSOLUTE_QUANTITIES",
     "COMPARED_QUANTITIES",
     "LOG_QUANTITIES",
+    "NOT_ESTIMATED",
     "RELATIVE_QUANTITIES",
     "Comparison",
     "ErrorSummary",
@@ -59,6 +68,7 @@ __all__ = [
     "compare_realizations",
     "converged_points",
     "curve_errors",
+    "reached_points",
     "pairwise_errors",
     "sealing_disagreements",
     "summarise_errors",
@@ -71,6 +81,11 @@ RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
 ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
 #: Quantities compared by the logarithm of the ratio (eq. L7): the leakage h_eff.
 LOG_QUANTITIES = ("leakage",)
+#: Largest relative difference between a model's load and the reference's at one point for
+#: the two to be compared (both solve for the same load; far beyond any solver tolerance).
+LOAD_RTOL = 1e-6
+#: Band source of a reference field without error estimates (its band is NaN).
+NOT_ESTIMATED = "not estimated"
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
 COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness", "leakage")
@@ -90,15 +105,35 @@ def converged_points(curve: ContactCurve) -> np.ndarray:
     return np.broadcast_to(np.asarray(flags, dtype=bool), curve.load.shape)
 
 
+def reached_points(model: ContactCurve, reference: ContactCurve, *,
+                   load_rtol: float = LOAD_RTOL) -> np.ndarray:
+    """Boolean array: where ``model`` reached the reference's load (to ``load_rtol``). A model
+    that cannot carry a load (an unconverged solve ending at another load, a load beyond what
+    it can reach) is not compared there: its point is *unreachable*, never an error.
+
+    Raises
+    ------
+    ValueError
+        When the two curves do not have the same number of points.
+    """
+    if model.load.shape != reference.load.shape:
+        raise ValueError(f"model and reference curves must have the same load points, got "
+                         f"{model.load.shape} and {reference.load.shape}")
+    with np.errstate(invalid="ignore"):
+        return np.abs(model.load - reference.load) <= load_rtol * np.abs(reference.load)
+
+
 def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
-                 quantities: tuple[str, ...], *, load_rtol: float = 1e-6,
+                 quantities: tuple[str, ...], *, load_rtol: float = LOAD_RTOL,
                  reference_fields: dict[str, str] | None = None) -> dict[str, np.ndarray]:
     """Errors of ``model`` against ``reference`` at the same loads.
 
     Parameters
     ----------
     model, reference : ContactCurve
-        Curves on the same load points (checked to ``load_rtol``).
+        Curves on the same load points; a point where the model's load differs from the
+        reference's by more than ``load_rtol`` (relative) is unreachable
+        (:func:`reached_points`): NaN error.
     sigma : float
         Standard deviation of the summit heights [length], the unit of separation errors.
     quantities : tuple of str
@@ -110,16 +145,14 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
     -------
     dict of str to ndarray
         One error array per quantity (NaN where the reference value is zero for a relative
-        error, where only one of the two is sealed for the leakage, or where either curve's
-        solver did not converge).
+        error, where only one of the two is sealed for the leakage, where either curve's solver did
+        not converge, or where the model did not reach the reference's load).
     """
     sigma, quantities = checks.curve_error_arguments(
         sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES + LOG_QUANTITIES)
-    if model.load.shape != reference.load.shape or not np.allclose(
-            model.load, reference.load, rtol=load_rtol, atol=0.0):
-        raise ValueError("model and reference curves must be evaluated at the same loads")
+    reached = reached_points(model, reference, load_rtol=load_rtol)
     fields = reference_fields or {}
-    unconverged = ~(converged_points(model) & converged_points(reference))
+    unconverged = ~(converged_points(model) & converged_points(reference) & reached)
     errors: dict[str, np.ndarray] = {}
     for name in quantities:
         got, want = _field(model, name), _field(reference, fields.get(name, name))
@@ -153,7 +186,7 @@ def sealing_disagreements(model: ContactCurve, reference: ContactCurve,
     -------
     disagree, resolved : ndarray of bool
         Per point: one of the two is sealed and the other not (points where either solver did
-        not converge excluded); and, among those, the points where the reference's own error
+        not converge, or the model did not reach the reference's load, excluded); and, among those, the points where the reference's own error
         estimate ``extras[field + "_error"]`` (absolute, h_eff units; taken as 0 when absent)
         cannot change its state: it is sealed with a zero estimate, or open by more than the
         estimate (``h > error``).
@@ -162,7 +195,8 @@ def sealing_disagreements(model: ContactCurve, reference: ContactCurve,
     shape = reference.load.shape
     if got is None or want is None:
         return np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool)
-    counted = converged_points(model) & converged_points(reference)
+    counted = (converged_points(model) & converged_points(reference)
+               & reached_points(model, reference))
     disagree = counted & ((got == 0) != (want == 0))
     estimate = reference.extras.get(f"{reference_field}_error")
     error = np.zeros(shape) if estimate is None else np.abs(np.asarray(estimate, dtype=float))
@@ -208,12 +242,19 @@ class ModelComparison:
     quantity: str
     summary: ErrorSummary
     ranges: tuple[ValidityRange, ...]
-    unconverged: int = 0  # (realization, load) points where the model or the BEM did not converge
+    # (realization, load) points where the model or the BEM did not converge, or the model did
+    # not reach the reference's load (``unreachable`` of them)
+    unconverged: int = 0
     interval: ErrorInterval | None = None
     band: np.ndarray | None = None                    # reference band per point
     verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
     tolerances: tuple[float, ...] = ()
     reference_field: str = ""                         # the reference field compared with
+    complete: np.ndarray | None = None                # where every realization converged
+    unreachable: int = 0                              # points the model did not reach
+    surface: SurfaceInterval | None = None            # tolerance interval of single surfaces
+    surface_verdicts: tuple[np.ndarray, ...] = ()     # per tolerance: holds per surface or not
+    surface_ranges: tuple[ValidityRange, ...] = ()    # per tolerance: longest run per surface
     # leakage only, per point: realizations where exactly one of model and reference is sealed
     # (all of them, and those the reference's error estimate resolves); None for other fields
     sealing: np.ndarray | None = None
@@ -222,6 +263,42 @@ class ModelComparison:
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
         return verdict_counts(self.verdicts[index])
+
+    def surface_counts(self, index: int) -> dict[str, int]:
+        """Points that hold, fail and are undecided per surface at ``tolerances[index]``."""
+        return verdict_counts(self.surface_verdicts[index])
+
+    def surface_reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided per surface at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.tolerance.surface_reasons`)."""
+        if self.surface is None or self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return self._sealing_reasons(
+            surface_reasons(self.surface, band, self.tolerances[index],
+                            count=self.interval.count, complete=self.complete),
+            self.surface_verdicts[index])
+
+    def reasons(self, index: int) -> np.ndarray:
+        """Why each point is undecided at ``tolerances[index]`` ("" where decided;
+        :func:`validation.judge.verdicts.undecided_reasons`)."""
+        if self.interval is None:
+            return np.full(np.shape(self.verdicts[index]), "")
+        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        return self._sealing_reasons(
+            undecided_reasons(self.interval, band, self.tolerances[index],
+                              complete=self.complete),
+            self.verdicts[index])
+
+    def _sealing_reasons(self, reasons: np.ndarray, verdicts: np.ndarray) -> np.ndarray:
+        """Reasons that agree with the verdicts where the leakage's sealing rule decided them:
+        none where a resolved disagreement fails the point, the reference band where the
+        reference's own estimate cannot tell whether it seals (a finer grid decides)."""
+        if self.sealing is None:
+            return reasons
+        reasons = np.where(np.asarray(verdicts) == UNDECIDED, reasons, "")
+        return np.where((np.asarray(verdicts) == UNDECIDED) & (self.sealing > 0),
+                        REFERENCE_BAND, reasons)
 
 
 @dataclass(frozen=True)
@@ -241,6 +318,7 @@ class Comparison:
     models: dict[tuple[str, str], ModelComparison]
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
+    confidence: float = CONFIDENCE  # of every interval and verdict (validation.run.sequential)
 
     @property
     def D(self) -> float:
@@ -252,7 +330,8 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
     """Reference band of one field per point, and where it came from.
 
     Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
-    over realizations of |error| in the comparison's measure. Otherwise zero ("not estimated").
+    over realizations of |error| in the comparison's measure. Otherwise NaN, "not estimated":
+    an unknown band is never taken as zero (every verdict against it is undecided).
     """
     curves = [r.curves[reference_model] for r in results]
     points = curves[0].load.shape
@@ -267,7 +346,7 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
         else:
             scale = np.vstack([_field(c, field_name) for c in curves])
         return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
-    return np.zeros(points), "not estimated"
+    return np.full(points, np.nan), NOT_ESTIMATED
 
 
 def _log_band(absolute: np.ndarray, reference: np.ndarray) -> np.ndarray:
@@ -294,11 +373,13 @@ def _sealing_counts(results, model: str, reference_model: str, field_name: str
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
-                      area_fraction, tolerances, field_name) -> ModelComparison:
-    interval = confidence_interval(errors)
+                      area_fraction, tolerances, field_name, confidence) -> ModelComparison:
+    interval = confidence_interval(errors, confidence)
+    reached = np.vstack([reached_points(r.curves[model], r.curves[reference_model])
+                         for r in results])
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
-                                 for r in results]), axis=0)
+                                 for r in results]) & reached, axis=0)
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
     sealing = resolved = None
     if quantity in LOG_QUANTITIES:
@@ -307,17 +388,31 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
         sealing, resolved = _sealing_counts(results, model, reference_model, field_name)
         verdicts = tuple(np.where(resolved > 0, FAILS, np.where(sealing > 0, UNDECIDED, v))
                          for v in verdicts)
+    surface = surface_interval(interval.mean, interval.std, interval.count,
+                               confidence=confidence)
+    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                             for tol in tolerances)
+    if sealing is not None:
+        # an infinite error of some surface: per surface, nothing holds where sealing disagrees
+        surface_verdicts = tuple(np.where((sealing > 0) & (v == HOLDS), UNDECIDED, v)
+                                 for v in surface_verdicts)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
+    surface_ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
+                           for v, tol in zip(surface_verdicts, tolerances))
     summary = summarise_errors(quantity, list(errors))
     return ModelComparison(model, quantity, summary, ranges,
                            _unconverged(results, model, reference_model), interval, band,
-                           verdicts, tuple(tolerances), field_name, sealing, resolved)
+                           verdicts, tuple(tolerances), field_name, complete,
+                           int(np.count_nonzero(~reached)), surface, surface_verdicts,
+                           surface_ranges, sealing, resolved)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
     return sum(int(np.count_nonzero(~(converged_points(r.curves[model])
-                                      & converged_points(r.curves[reference_model]))))
+                                      & converged_points(r.curves[reference_model])
+                                      & reached_points(r.curves[model],
+                                                       r.curves[reference_model]))))
                for r in results)
 
 
@@ -335,7 +430,8 @@ def _is_realization(item) -> bool:
 
 
 def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: str | None = None,
-                         reference_fields: dict[str, dict[str, str]] | None = None) -> Comparison:
+                         reference_fields: dict[str, dict[str, str]] | None = None,
+                         confidence: float = CONFIDENCE) -> Comparison:
     """Compare every model with the reference over the realizations of one sweep value (D, H).
 
     Parameters
@@ -349,6 +445,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.run.models.reference_fields`).
+    confidence : float
+        Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
+        sequential plan's, :mod:`validation.run.sequential`; default 95 %).
 
     Notes
     -----
@@ -365,6 +464,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if reference_fields is not None and not isinstance(reference_fields, dict):
         raise checks.InputTypeError(f"reference_fields must be a dict (model -> {{quantity: "
                                     f"field}}) or None, got {type(reference_fields).__name__}")
+    confidence = checks.real_number("confidence", confidence, minimum=0.0, exclusive=True,
+                                    maximum=1.0, exclusive_maximum=True)
     if not results:
         raise ValueError("results holds no realizations to compare")
     first = results[0]
@@ -393,7 +494,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             field_name = own.get(name, name)
             entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
-                area_fraction, tolerances, field_name)
+                area_fraction, tolerances, field_name, confidence)
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
                       load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()})
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)

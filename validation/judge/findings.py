@@ -67,7 +67,8 @@ as independent samples, so the interval is approximate).
 (d) Improved GW against the discrete model with interaction, within the scene's largest
 tolerance, every quantity by majority (original GW beside it for contrast).
 (e) Not tested in the paper: the asperity model with the most points that hold against the BEM
-at the largest tolerance (ties: smaller median |mean error|), and the loads where none holds."""
+at the largest tolerance (ties: smaller median |mean error|), and the loads where none holds,
+which include those where none could be decided (the verdict tables say which)."""
 
 
 @dataclass(frozen=True)
@@ -211,10 +212,11 @@ def improved_follows_discrete(results, tolerance: float) -> Finding:
 
 
 def _runs_text(load: np.ndarray, mask: np.ndarray) -> str:
+    """The loads where ``mask`` is true, as runs ("1e-05–0.0001, 0.01"; "" where nowhere)."""
     edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
     starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
     return ", ".join(f"{load[a]:.2g}" if a == b else f"{load[a]:.2g}–{load[b]:.2g}"
-                     for a, b in zip(starts, stops)) or "nowhere"
+                     for a, b in zip(starts, stops))
 
 
 def closest_models(comparison: Comparison) -> Finding:
@@ -241,7 +243,9 @@ def closest_models(comparison: Comparison) -> Finding:
         what = "" if best.reference_field in ("", quantity) else f", {best.reference_field}"
         closest = (f"{model_label(best.model)} ({held} of {none.size} points{what} hold within "
                    f"{tolerance:g})" if held else f"no model holds within {tolerance:g} anywhere")
-        parts.append(f"{quantity}: {closest}; none holds at Load {_runs_text(comparison.load, none)}")
+        where = (f"none holds at Load {_runs_text(comparison.load, none)}" if none.any()
+                 else "at every load at least one holds")
+        parts.append(f"{quantity}: {closest}; {where}")
     return Finding("e", claim, "; ".join(parts) or "no comparison", NEW)
 
 

@@ -15,9 +15,10 @@ The interval widened by the band, ``[m_k - h_k - b_k, m_k + h_k + b_k]``, decide
 
 * **holds** where it lies inside ``[-tol, tol]``, the reference resolves the question
   (``b_k <= tol / 4``, the reference-accuracy rule) and every realization converged;
-* **fails** where it lies wholly outside ``[-tol, tol]``;
+* **fails** where it lies wholly outside ``[-tol, tol]`` and the band is known;
 * **undecided** otherwise (interval straddles a bound, too few realizations, the reference
-  band is above a quarter of the tolerance, or no converged realization).
+  band is above a quarter of the tolerance or was not estimated (NaN: an unknown band is
+  never taken as zero), or no converged realization).
 
 A validity range is the longest contiguous run of points that hold.
 """
@@ -36,13 +37,17 @@ __all__ = [
     "FAILS",
     "HOLDS",
     "REFERENCE_ACCURACY",
+    "REFERENCE_BAND",
     "SYMBOLS",
+    "TOO_FEW_REALIZATIONS",
+    "UNCONVERGED",
     "UNDECIDED",
     "ErrorInterval",
     "ValidityRange",
     "classify",
     "confidence_interval",
     "reference_band",
+    "undecided_reasons",
     "validity_range",
     "verdict_counts",
     "verdict_range",
@@ -50,6 +55,9 @@ __all__ = [
 ]
 
 HOLDS, FAILS, UNDECIDED = "holds", "fails", "undecided"
+#: Why a point is undecided (:func:`undecided_reasons`), in the report's words.
+REFERENCE_BAND, TOO_FEW_REALIZATIONS, UNCONVERGED = ("reference band", "too few realizations",
+                                                     "unconverged")
 #: One character per verdict, for tables and figures.
 SYMBOLS = {HOLDS: "✔", FAILS: "✘", UNDECIDED: "?"}
 #: Confidence level of the interval over realizations.
@@ -143,7 +151,7 @@ def classify(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
     interval : ErrorInterval
         Mean error and confidence half-width per point.
     band : array, shape (points,) or scalar
-        Reference band per point (>= 0; NaN means unknown and prevents "holds").
+        Reference band per point (>= 0; NaN means not estimated: the point is undecided).
     tolerance : float
         Error bound (> 0), relative or in units of sigma.
     complete : bool array, shape (points,), optional
@@ -155,16 +163,40 @@ def classify(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
     mean = np.asarray(interval.mean, dtype=float)
     band = np.broadcast_to(np.asarray(band, dtype=float), mean.shape)
     complete = np.ones(mean.shape, bool) if complete is None else np.asarray(complete, bool)
-    widened = interval.half_width + np.nan_to_num(band, nan=0.0)
+    widened = interval.half_width + band
     low, high = mean - widened, mean + widened
     with np.errstate(invalid="ignore"):
-        fails = np.isfinite(mean) & ((low > tolerance) | (high < -tolerance))
-        resolved = np.isfinite(band) & (band <= REFERENCE_ACCURACY * tolerance)
+        # NaN (unknown) means or bands make both comparisons false: undecided
+        fails = (low > tolerance) | (high < -tolerance)
+        resolved = band <= REFERENCE_ACCURACY * tolerance
         holds = (low >= -tolerance) & (high <= tolerance) & resolved & complete
     verdict = np.full(mean.shape, UNDECIDED, dtype="<U9")
     verdict[holds] = HOLDS
     verdict[fails] = FAILS
     return verdict
+
+
+def undecided_reasons(interval: ErrorInterval, band: np.ndarray, tolerance: float, *,
+                      complete: np.ndarray | None = None) -> np.ndarray:
+    """Why each undecided point is undecided ("" where a point holds or fails).
+
+    * :data:`UNCONVERGED`: no realization converged there, or the point would hold but a
+      realization did not converge;
+    * :data:`REFERENCE_BAND`: the point would be decided against an exact reference (band 0)
+      but the band is not estimated or above a quarter of the tolerance (a finer reference
+      grid decides it);
+    * :data:`TOO_FEW_REALIZATIONS`: otherwise: the confidence interval straddles a bound, or
+      fewer than two realizations give one (more realizations decide it).
+    """
+    verdict = classify(interval, band, tolerance, complete=complete)
+    undecided = verdict == UNDECIDED
+    exact = classify(interval, np.zeros(np.shape(verdict)), tolerance)
+    if_complete = classify(interval, band, tolerance)
+    reasons = np.full(verdict.shape, "", dtype=f"<U{len(TOO_FEW_REALIZATIONS)}")
+    reasons[undecided] = TOO_FEW_REALIZATIONS
+    reasons[undecided & (exact != UNDECIDED)] = REFERENCE_BAND
+    reasons[undecided & ((if_complete == HOLDS) | (np.asarray(interval.count) == 0))] = UNCONVERGED
+    return reasons
 
 
 def verdict_counts(verdicts: np.ndarray) -> dict[str, int]:

@@ -24,6 +24,11 @@ __all__ = ["pyplot", "subplots", "dimensionless", "show_no_data", "plot_theory_l
            "plot_validity_map", "panels_figure", "verdict_figure", "validity_map_figure"]
 
 VERDICT_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
+#: Line of each tolerance contour of the validity map, smallest tolerance first: told apart by
+#: colour and dash, and each visible on both ends of the viridis colour map.
+CONTOUR_STYLES = (dict(colors="white", linestyles="solid", linewidths=1.4),
+                  dict(colors="tab:red", linestyles="dashed", linewidths=1.4),
+                  dict(colors="black", linestyles="dotted", linewidths=1.4))
 #: Axis label of each swept surface parameter (validation.scenes.scene.SWEEPS).
 SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H", "L": "nominal side L"}
 
@@ -255,8 +260,9 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
                          cmap="viridis")
     drawn = [mesh]
     if len(values) > 1 and not np.ma.is_masked(error):
-        drawn.append(ax.contour(load, values, error, levels=sorted(tolerances), colors="white",
-                                linewidths=1.0))
+        for tolerance, style in zip(sorted(tolerances), CONTOUR_STYLES):
+            if np.nanmin(error) < tolerance < np.nanmax(error):  # only contours that exist
+                drawn.append(ax.contour(load, values, error, levels=[tolerance], **style))
     ax.set_xscale("log")
     ax.set_xlabel(QUANTITY_LABELS["load"])
     parameter = comparisons[0].parameter
@@ -265,12 +271,21 @@ def plot_validity_map(ax, comparisons: list[Comparison], model: str, quantity: s
     return drawn
 
 
+#: Legend entries that still fit inside the first panel; a longer legend goes beside the panels.
+LEGEND_INSIDE = 6
+
+
 def panels_figure(draw, panels: list, *, width: float = 5.0, height: float = 4.0, legend=8):
-    """One row of panels, ``draw(ax, panel)`` each; legend on the first panel."""
+    """One row of panels, ``draw(ax, panel)`` each; the first panel's legend on it, or beside
+    the row when it has more than :data:`LEGEND_INSIDE` entries (so that it hides no curve)."""
     fig, axes = subplots(1, len(panels), figsize=(width * len(panels), height), squeeze=False)
     for ax, panel in zip(axes[0], panels):
         draw(ax, panel)
-    if axes[0][0].get_legend_handles_labels()[0]:
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    if len(handles) > LEGEND_INSIDE:
+        fig.set_figwidth(fig.get_figwidth() + 2.6)
+        fig.legend(handles, labels, loc="outside right upper", fontsize=legend)
+    elif handles:
         axes[0][0].legend(fontsize=legend)
     return fig
 
@@ -288,19 +303,41 @@ def verdict_figure(comparison: Comparison):
     return fig
 
 
+#: Most models side by side in a validity map; more go one per row.
+MAP_COLUMNS = 5
+
+
 def validity_map_figure(comparisons: list[Comparison], keys: list, tolerances):
-    """``|mean error|`` over Load and the swept parameter: rows quantities, columns models."""
+    """``|mean error|`` over Load and the swept parameter: rows quantities, columns models (rows
+    models, columns quantities when there are more than :data:`MAP_COLUMNS` models)."""
     models = list(dict.fromkeys(k[0] for k in keys))
     quantities = list(dict.fromkeys(k[1] for k in keys))
-    fig, axes = subplots(len(quantities), len(models),
-                         figsize=(3.6 * len(models), 3.0 * len(quantities)), squeeze=False)
-    meshes = [plot_validity_map(axes[i][j], comparisons, m, q, tolerances)[0]
-              for i, q in enumerate(quantities) for j, m in enumerate(models)]
+    by_model = len(models) > MAP_COLUMNS
+    rows, columns = (models, quantities) if by_model else (quantities, models)
+    fig, axes = subplots(len(rows), len(columns), squeeze=False,
+                         figsize=((4.2 if by_model else 3.6) * len(columns), 3.0 * len(rows)))
+    meshes = [plot_validity_map(axes[i][j], comparisons, *((r, c) if by_model else (c, r)),
+                                tolerances)[0]
+              for i, r in enumerate(rows) for j, c in enumerate(columns)]
     for ax in axes[:-1].ravel():
         ax.set_xlabel("")
     for ax in axes[:, 1:].ravel():
         ax.set_ylabel("")
     mesh = next((m for m in meshes if hasattr(m, "get_cmap")), None)
     if mesh is not None:
-        fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)")
+        fig.colorbar(mesh, ax=axes, label="|mean error| (relative, or /σ for separation)",
+                     **(dict(location="bottom", fraction=0.015, aspect=60) if by_model else {}))
+    _contour_legend(fig, tolerances)
     return fig
+
+
+def _contour_legend(fig, tolerances) -> None:
+    """One legend entry per tolerance contour (:data:`CONTOUR_STYLES`), above the panels."""
+    from matplotlib.lines import Line2D
+
+    handles = [Line2D([], [], color=style["colors"], linestyle=style["linestyles"],
+                      linewidth=style["linewidths"], label=f"|mean error| = {tolerance:g}")
+               for tolerance, style in zip(sorted(tolerances), CONTOUR_STYLES)]
+    legend = fig.legend(handles=handles, loc="outside upper center", ncols=len(handles),
+                        fontsize=8, title="tolerance contours", title_fontsize=8)
+    legend.get_frame().set_facecolor("0.6")  # white and black lines both stand out on grey

@@ -49,7 +49,11 @@ def compared_label(quantity: str, reference_field: str = "") -> str:
 
 
 def model_label(model: str) -> str:
-    """The report's name of a model (its key when it has none)."""
+    """The report's name of a model (its key when it has none); a model at a coarser sampling
+    interval (``"gw@2h"``, :mod:`validation.run.sampling`) as ``"original GW at 2h"``."""
+    base, at, interval = model.partition("@")
+    if at and base in MODEL_LABELS:
+        return f"{MODEL_LABELS[base]} at {interval}"
     return MODEL_LABELS.get(model, model)
 
 

@@ -11,16 +11,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from validation.judge.compare import ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, Comparison
-from validation.report.labels import compared_label, model_label, model_order, model_rank
+from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, NOT_ESTIMATED,
+                                      Comparison)
 from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
-                                 verdict_strip)
+                                       verdict_strip)
+from validation.report.labels import compared_label, model_label, model_order, model_rank
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
     from validation.run.runner import SceneResult
 
-__all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_section",
+__all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_cell", "holds_section",
            "findings_section", "verdict_table", "surface_text", "timing"]
 
 #: Quantities in the report's order: the compared ones, then the contact counts (shown, never
@@ -63,11 +64,11 @@ def _git_commit() -> str:
 
 def header(seconds, mode, command) -> list[str]:
     import bem.fft
-    from validation.run.runner import _version
+    from validation.run.cache import source_version
 
     commit = _git_commit()
     run = [f"Command: `{command}`" if command else "",
-           f"asperity-validation {_version()}" + (f" ({commit})" if commit else ""),
+           f"asperity-validation {source_version()}" + (f" ({commit})" if commit else ""),
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
            f"mode: {mode}" if mode else ""]
     return [
@@ -106,47 +107,131 @@ def header(seconds, mode, command) -> list[str]:
         "the point is **undecided** (?). A validity range is the longest run of ✔. Contact "
         "counts are plotted but not judged: the BEM counts connected contact patches, the "
         "asperity models asperities in contact.\n",
+        "**Two readings: on the mean and per surface.** The verdict above is on the *mean* "
+        "error over realizations. The verdict **per surface** asks whether the model holds on "
+        "single surfaces: it holds per surface where, with the same confidence, at least 90 % "
+        "of surfaces have an error within the tolerance (the normal tolerance interval "
+        "m ± k₂ s of 90 % content, widened by the reference band, inside ± the tolerance); it "
+        "fails per surface where, with that confidence, more than 10 % of surfaces miss "
+        '(docs/theory.md, "Per-surface validity"). A scene with a realization budget looks '
+        "at its data up to three times, adding realizations while cells are undecided, and "
+        "splits the 5 % between the looks (in proportion to their realizations) so that it "
+        "holds over all of them "
+        '(docs/theory.md, "Sequential realizations").\n',
     ]
 
 
+def holds_cell(entry, index: int | None = None, load_format: str = ".1e", *,
+               per_surface: bool = False) -> str:
+    """Where one model holds in one quantity at ``tolerances[index]`` (default the largest),
+    on the mean error or, with ``per_surface``, on single surfaces: its validity range; else
+    "fails everywhere", or why it could not be decided (the undecided points' reasons,
+    :func:`validation.judge.verdicts.undecided_reasons`,
+    :func:`validation.judge.tolerance.surface_reasons`, most frequent first), never a bare
+    "nowhere" that hides which."""
+    if entry is None or not entry.ranges or (per_surface and not entry.surface_ranges):
+        return "–"
+    index = int(np.argmax(entry.tolerances)) if index is None else index
+    found = (entry.surface_ranges if per_surface else entry.ranges)[index]
+    if found.holds_anywhere:
+        return found.describe(load_format)
+    counts = entry.surface_counts(index) if per_surface else entry.counts(index)
+    if counts[FAILS] == found.total:
+        return "fails everywhere"
+    reasons = [r for r in (entry.surface_reasons(index) if per_surface
+                           else entry.reasons(index)) if r]
+    why = " / ".join(sorted(set(reasons), key=lambda r: (-reasons.count(r), r)))
+    if not counts[FAILS]:
+        return f"undecided: {why}"
+    return f"nowhere: fails at {counts[FAILS]} of {found.total} points, undecided at " \
+           f"{counts[UNDECIDED]} ({why})"
+
+
+def _holds_cells(entry, quantity: str) -> str:
+    """:func:`holds_cell` on the mean and per surface, prefixed with the reference field where
+    it is not the quantity's."""
+    if entry is None or not entry.ranges:
+        return "–"
+    cell = f"mean: {holds_cell(entry)}"
+    if entry.surface_ranges:
+        cell += f"; per surface: {holds_cell(entry, per_surface=True)}"
+    what = compared_label(quantity, entry.reference_field)
+    return cell if what == compared_label(quantity) else f"{what}: {cell}"
+
+
+def _largest_tolerance(comparisons) -> float:
+    return max(max(c.models[k].tolerances) for c in comparisons for k in c.models
+               if c.models[k].tolerances)
+
+
+#: What decides an undecided cell, printed under the summary.
+_ADVICE = ("*Undecided* says why: **reference band**: the BEM's own error is unknown or above a "
+           "quarter of the tolerance (a finer grid decides it: a larger `surface.n`, or "
+           "`[bem] max_grid` to solve again on finer grids where the band decides), and for the "
+           "leakage where model and BEM disagree about sealing but the BEM's estimate cannot "
+           "tell whether it seals; **too few "
+           "realizations**: the interval straddles the tolerance (more realizations decide it: "
+           "`[realizations] count`, or a budget `[realizations] max` spent where cells are "
+           "undecided; a scene needs at least 2, a per-surface verdict 3); **unconverged**: a "
+           "solver did not converge there, or a model did not reach the load (unreachable: past "
+           "full contact, or an unconverged solve that ended at another load); the verdict "
+           "tables count these points.")
+
+
+def _sweep_holds(analysis: Analysis) -> list[str]:
+    """The summary of a scene that sweeps a parameter: one column per swept value."""
+    comparisons = analysis.comparisons
+    keys = sorted({k for c in comparisons for k in c.models if k[1] in COMPARED_QUANTITIES},
+                  key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
+    if not keys:
+        return []
+    scene = analysis.result.scene
+    header = ["model", "quantity"] + [sweep_member(c.parameter, c.value) for c in comparisons]
+    rows = [[model_label(m), q] + [_holds_cells(c.models.get((m, q)), q) for c in comparisons]
+            for m, q in keys]
+    return ([f"Scene `{scene.name}`, per {comparisons[0].parameter} (within "
+             f"{_largest_tolerance(comparisons):g}):\n"] + md_table(header, rows))
+
+
 def holds_section(analyses: list[Analysis]) -> list[str]:
-    """One table for every model: where it holds, per surface and quantity, at the largest
-    tolerance (asperity models and Persson's theory side by side)."""
+    """Where every model holds, per surface and quantity, at the largest tolerance (asperity
+    models and Persson's theory side by side): one table for the scenes of one surface, and
+    one per scene that sweeps a parameter (a column per swept value)."""
     columns = [c for a in analyses for c in a.comparisons
                if len(a.result.scene.surface.sweep_values) == 1]
-    if not columns:
+    sweeps = [a for a in analyses if a.comparisons and len(a.result.scene.surface.sweep_values) > 1]
+    if not columns and not sweeps:
         return []
-    keys = {k for c in columns for k in c.models if k[1] in COMPARED_QUANTITIES}
-    quantities = sorted({q for _, q in keys}, key=COMPARED_QUANTITIES.index)
-    names = model_order({m for m, _ in keys})
-    header, rows = ["model"], {m: [model_label(m)] for m in names}
-    for comparison in columns:
-        for quantity in quantities:
-            header.append(f"{quantity}, {sweep_member(comparison.parameter, comparison.value)}")
-            for model in names:
-                entry = comparison.models.get((model, quantity))
-                if entry is None or not entry.ranges:
-                    rows[model].append("–")
-                    continue
-                index = int(np.argmax(entry.tolerances))
-                what = compared_label(quantity, entry.reference_field)
-                cell = entry.ranges[index].describe(".1e")
-                rows[model].append(cell if what == compared_label(quantity) else f"{what}: {cell}")
-    tolerance = max(max(c.models[k].tolerances) for c in columns for k in c.models
-                    if c.models[k].tolerances)
-    return (["## Where each theory holds\n",
-             f"Load range (longest run of ✔, with the BEM's area fraction over it) within the "
-             f"tolerance {tolerance:g} (relative for area and conductance, in units of σ for "
-             "separation, ln of the ratio for leakage); the asperity models are judged by the separation d, Persson's theory "
-             "by the mean gap ū, each against the BEM's own field of that name. Per-point "
-             "verdicts and the other tolerances are in the sections below and in "
-             "`validity.csv`.\n"]
-            + md_table(header, list(rows.values())))
+    lines = ["## Where each theory holds\n"]
+    if columns:
+        keys = {k for c in columns for k in c.models if k[1] in COMPARED_QUANTITIES}
+        quantities = sorted({q for _, q in keys}, key=COMPARED_QUANTITIES.index)
+        names = model_order({m for m, _ in keys})
+        header, rows = ["model"], {m: [model_label(m)] for m in names}
+        for comparison in columns:
+            for quantity in quantities:
+                header.append(f"{quantity}, {sweep_member(comparison.parameter, comparison.value)}")
+                for model in names:
+                    rows[model].append(_holds_cells(comparison.models.get((model, quantity)),
+                                                    quantity))
+        lines += ([f"Load range (longest run of ✔, with the BEM's area fraction over it) within "
+                   f"the tolerance {_largest_tolerance(columns):g} (relative for area and "
+                   "conductance, in units of σ for separation, ln of the ratio for leakage), in "
+                   "two readings: **mean**, the "
+                   "mean error over realizations within the tolerance; **per surface**, at least "
+                   "90 % of single surfaces within it; both at 95 % confidence overall. The "
+                   "asperity models are judged by the separation d, Persson's theory by the mean "
+                   "gap ū, each against the BEM's own field of that name. Per-point verdicts and "
+                   "the other tolerances are in the sections below and in `validity.csv`.\n"]
+                  + md_table(header, list(rows.values())))
+    for analysis in sweeps:
+        lines += _sweep_holds(analysis)
+    return lines + [_ADVICE + "\n"]
 
 
 def findings_section(analyses: list[Analysis]) -> list[str]:
     from validation.judge import findings as module
-    from validation.judge import sealing
+    from validation.judge import sampling, sealing
 
     chosen = [a for a in analyses
               if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
@@ -173,10 +258,22 @@ def findings_section(analyses: list[Analysis]) -> list[str]:
                  for f in analysis.scene_findings]
     lines += md_table(["finding", "surface", "numbers that decide it", "verdict"], rows)
     keys = {row[0][1] for row in rows}
-    rules = (module.RULES + ("\n" + sealing.RULES if keys & {"f", "g"} else ""))
+    rules = (module.RULES + ("\n" + sealing.RULES if keys & {"f", "g"} else "")
+             + "\n" + sampling.RULE)
     parts = rules.replace("\n(", "\n\n(").split("\n\n")
     parts = [part for part in parts if not part.startswith("(") or part[1] in keys]
     return lines + [" ".join(part.split()) + "\n" for part in parts]
+
+
+def _band_cell(band: np.ndarray | None, quantity: str) -> str:
+    """The largest reference band of a row; "not estimated" where it is unknown (NaN), never a
+    number standing in for it."""
+    band = np.full(1, np.nan) if band is None else np.asarray(band, dtype=float)
+    known = np.isfinite(band)
+    if not known.any():
+        return NOT_ESTIMATED
+    text = _percent_or_sigma(float(np.max(band[known])), quantity)
+    return text if known.all() else f"{text} ({NOT_ESTIMATED} at {np.count_nonzero(~known)} of {band.size} points)"
 
 
 def _verdict_rows(comparison: Comparison) -> list[list[str]]:
@@ -186,14 +283,21 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
     for key in keys:
         entry = comparison.models[key]
         cells = [model_label(entry.model), compared_label(entry.quantity, entry.reference_field)]
-        for index, rng in enumerate(entry.ranges):
+        for index in range(len(entry.ranges)):
             counts = entry.counts(index)
             cells += [f"`{verdict_strip(entry.verdicts[index])}`",
-                      f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}", rng.describe()]
-        band = entry.band if entry.band is not None else np.array([np.nan])
-        cells.append(_percent_or_sigma(float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                       else np.nan, entry.quantity))
-        cells.append(str(entry.unconverged) if entry.unconverged else "–")
+                      f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}",
+                      holds_cell(entry, index, ".2e")]
+            if entry.surface_verdicts:
+                single = entry.surface_counts(index)
+                cells += [f"`{verdict_strip(entry.surface_verdicts[index])}`",
+                          f"{single[HOLDS]} / {single[FAILS]} / {single[UNDECIDED]}"]
+            else:
+                cells += ["–", "–"]
+        cells.append(_band_cell(entry.band, entry.quantity))
+        unreachable = getattr(entry, "unreachable", 0)
+        cells.append((f"{entry.unconverged}" + (f" ({unreachable} unreachable)" if unreachable
+                                                 else "")) if entry.unconverged else "–")
         rows.append(cells)
     return rows
 
@@ -201,14 +305,21 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
 def verdict_table(comparison: Comparison, tolerances) -> list[str]:
     header = ["model", "quantity"]
     for t in tolerances:
-        header += [f"verdicts within {t:g}, low → high load", "✔ / ✘ / ?", "holds (Load range)"]
-    header += ["reference band (max)", "unconverged points"]
+        header += [f"mean: verdicts within {t:g}, low → high load", "mean ✔ / ✘ / ?",
+                   "mean holds (Load range)", f"per surface: verdicts within {t:g}",
+                   "per surface ✔ / ✘ / ?"]
+    header += ["reference band (max)", "unconverged or unreachable points"]
     rows = _verdict_rows(comparison)
     totals = [verdict_counts(np.concatenate([e.verdicts[i] for e in comparison.models.values()]))
               for i in range(len(tolerances))] if comparison.models else []
+    single = [verdict_counts(np.concatenate([e.surface_verdicts[i] for e in
+                                             comparison.models.values() if e.surface_verdicts]
+                                            or [np.array([], str)]))
+              for i in range(len(tolerances))] if comparison.models else []
     total_row = ["**all**", ""]
-    for counts in totals:
-        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", ""]
+    for counts, alone in zip(totals, single):
+        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", "",
+                      "", f"**{alone[HOLDS]} / {alone[FAILS]} / {alone[UNDECIDED]}**"]
     sources = "; ".join(f"{q}: {s}" for q, s in comparison.band_source.items())
     sealing = [f"{model_label(e.model)} at {int(np.count_nonzero(e.sealing))} point(s) "
                f"({int(e.sealing.sum())} realization(s), {int(e.sealing_resolved.sum())} "
@@ -217,7 +328,9 @@ def verdict_table(comparison: Comparison, tolerances) -> list[str]:
     note = ([f"Disagreements about sealing (one of model and BEM sealed, h_eff = 0): "
              f"{'; '.join(sealing)}.\n"] if sealing else [])
     return ([f"Verdicts per load point ({SYMBOLS[HOLDS]} holds, {SYMBOLS[FAILS]} fails, "
-             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ). Reference "
+             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ), on the mean "
+             f"error and per surface (at least 90 % of surfaces), at "
+             f"{100 * comparison.confidence:.4g} % confidence. Reference "
              f"band: {sources or 'not estimated'}.\n"]
             + md_table(header, rows + ([total_row + ["", ""]] if totals else [])) + note)
 

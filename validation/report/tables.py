@@ -1,6 +1,11 @@
 """The report's CSV tables: every curve, every error with its interval and verdicts, every
 validity range and every finding. Written before any figure, so the numbers of a run survive
-whatever the figures do."""
+whatever the figures do.
+
+Two readings of every cell: ``verdict`` on the mean error over realizations
+(:mod:`validation.judge.verdicts`) and ``verdict_per_surface`` on single surfaces
+(:mod:`validation.judge.tolerance`: at least 90 % of surfaces within the tolerance); ``confidence``
+is that of both (95 %, or split between the looks of a realization budget)."""
 
 from __future__ import annotations
 
@@ -10,8 +15,10 @@ import pathlib
 
 import numpy as np
 
-from validation.report.figures import dimensionless
+from validation.judge.compare import NOT_ESTIMATED
+from validation.report import sampling
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
+from validation.report.figures import dimensionless
 
 __all__ = ["write_tables", "TABLES"]
 
@@ -23,19 +30,22 @@ TABLES = {
                    "Leakage", "leakage", "leakage_error"],
     "errors.csv": ["scene", "D", "H", "L", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
-                   "realizations", "reference_band", "reference_band_source",
-                   "sealing_disagreements", "sealing_resolved"],
+                   "realizations", "reference_band", "reference_band_source", "confidence",
+                   "surfaces90_low", "surfaces90_high", "sealing_disagreements",
+                   "sealing_resolved"],
     "verdicts.csv": ["scene", "D", "H", "L", "model", "quantity", "point", "Load", "tolerance",
-                     "verdict"],
+                     "verdict", "undecided_reason", "verdict_per_surface", "confidence"],
     "validity.csv": ["scene", "D", "H", "L", "model", "quantity", "tolerance", "load_min",
                      "load_max", "area_fraction_min", "area_fraction_max", "points", "total",
                      "holds", "fails", "undecided", "reference_band_max", "unconverged",
-                     "reference_field", "sealing_disagreements"],
+                     "reference_field", "holds_per_surface", "fails_per_surface",
+                     "undecided_per_surface", "sealing_disagreements"],
     "findings.csv": ["scene", "D", "H", "L", "finding", "claim", "evidence", "verdict"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
 }
+TABLES.update(sampling.TABLES)
 
 
 def _sweep(surface) -> list:
@@ -104,24 +114,36 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
             sealing = [("", "")] * c.load.size if e.sealing is None else \
                 [(int(a), int(b)) for a, b in zip(e.sealing, e.sealing_resolved)]
+            # a band that could not be estimated is written as such, never as a number
+            cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
+            reasons = [e.reasons(i) for i in range(len(e.tolerances))]
+            nan = np.full(c.load.shape, math.nan)
+            low, high = (nan, nan) if e.surface is None else (e.surface.low, e.surface.high)
+            per_surface = e.surface_verdicts or tuple(np.full(c.load.shape, "") for _ in
+                                                      e.verdicts)
             for k in range(c.load.size):
                 out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
                                           c.load[k], c.area_fraction[k], e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
-                                          e.interval.std[k], int(e.interval.count[k]), band[k],
+                                          e.interval.std[k], int(e.interval.count[k]), cells[k],
                                           c.band_source.get(e.reference_field, ""),
-                                          *sealing[k]])
-                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k]]
-                                        for t, v in zip(e.tolerances, e.verdicts)]
+                                          c.confidence, low[k], high[k], *sealing[k]])
+                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
+                                         why[k], w[k], c.confidence]
+                                        for t, v, why, w in zip(e.tolerances, e.verdicts,
+                                                                reasons, per_surface)]
             for index, r in enumerate(e.ranges):
                 counts = e.counts(index)
+                surface = (e.surface_counts(index) if e.surface_verdicts
+                           else dict.fromkeys((HOLDS, FAILS, UNDECIDED), ""))
                 out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
                                             r.load_max, r.area_fraction_min, r.area_fraction_max,
                                             r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
-                                            else math.nan, e.unconverged,
-                                            e.reference_field or quantity,
+                                            else NOT_ESTIMATED, e.unconverged,
+                                            e.reference_field or quantity, surface[HOLDS],
+                                            surface[FAILS], surface[UNDECIDED],
                                             "" if e.sealing is None else int(np.sum(e.sealing))])
     return out
 
@@ -160,6 +182,8 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
                                   f.claim, f.evidence, f.verdict]
                                  for f in analysis.scene_findings]
         rows["theory.csv"] += _theory_rows(analysis)
+        for name, more in sampling.table_rows(analysis).items():
+            rows[name] += more
     written = []
     for name, table in rows.items():
         if table:

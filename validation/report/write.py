@@ -18,13 +18,48 @@ from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
 from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
+from validation.report.sampling import sampling_section
 from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,
                                         timing, verdict_table)
 from validation.run.runner import SceneResult
 
-__all__ = ["write_report", "md_table", "dimensionless", "MODEL_LABELS",
-           "QUANTITY_LABELS"]
+__all__ = ["write_report", "md_table", "dimensionless", "MODEL_LABELS", "QUANTITY_LABELS",
+           "REPORT_FILES", "previous_report"]
+
+#: What a report writes into its folder, and so what it replaces there: its Markdown, figures
+#: and tables.
+REPORT_FILES = ("report.md", "*.png", "*.csv")
+
+
+def previous_report(folder: str | pathlib.Path) -> list[pathlib.Path]:
+    """The files of the previous report in ``folder``, which a new report replaces.
+
+    A report owns the files it writes (:data:`REPORT_FILES`), so that no figure or table of an
+    earlier run survives beside a new one. It writes into a new or empty folder (hidden files
+    aside), or one holding a previous report (a ``report.md``): that report's Markdown, PNG
+    and CSV files are replaced, anything else there is left alone. Any other folder is refused,
+    so that a report never deletes or mixes with files it did not write.
+
+    Raises
+    ------
+    ValueError
+        When ``folder`` is a file, or holds files but no previous report.
+    """
+    folder = pathlib.Path(folder)
+    if not folder.exists():
+        return []
+    if not folder.is_dir():
+        raise ValueError(f"{str(folder)!r} is a file, not a folder for a report")
+    entries = sorted(p.name for p in folder.iterdir() if not p.name.startswith("."))
+    if entries and not (folder / "report.md").is_file():
+        shown = ", ".join(entries[:4]) + (f" and {len(entries) - 4} more" if len(entries) > 4
+                                          else "")
+        raise ValueError(f"{str(folder)!r} holds files that are not a report ({shown}); a "
+                         f"report replaces the files of a previous report in its folder, so it "
+                         f"needs a new or empty folder, or one holding only an earlier report")
+    return sorted({path for pattern in REPORT_FILES for path in folder.glob(pattern)
+                   if path.is_file()})
 
 
 # --------------------------------------------------------------------------------------------
@@ -57,18 +92,23 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
     L = results[0].task.surface.L
     conductance = "conductance" in scene.quantities
     panels = ["area", "load"] + (["conductance"] if conductance else [])
+    # the paper's figures are of WM surfaces: other surfaces get the same plots, not its name
+    paper = scene.surface.family == "wm"
+    members = "tiles" if scene.surface.family == "file" else "realizations"
     figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "separation", y,
                                                          models=models, length=L), panels),
                 f"{scene.name}-fig4-separation.png",
                 f"Area, load{' and conductance' if conductance else ''} against separation, "
-                f"{sweep_member(scene.surface.sweep_name, value)} (paper Fig. 4, BEM added; thin "
-                f"lines: realizations; dotted: the BEM against its mean gap ū/σ, the quantity "
-                f"Persson's curve is drawn against).")
+                f"{sweep_member(scene.surface.sweep_name, value)} "
+                f"({'paper Fig. 4, BEM added; ' if paper else ''}thin lines: {members}; dotted: "
+                f"the BEM against its mean gap ū/σ, the quantity Persson's curve is drawn "
+                f"against).")
     figures.add(panels_figure(lambda ax, y: plot_against(ax, results, "load", y, models=models,
                                                          length=L, logx=True), panels[::2]),
                 f"{scene.name}-fig5-load.png",
                 f"Area{' and conductance' if conductance else ''} against load, "
-                f"{sweep_member(scene.surface.sweep_name, value)} (paper Fig. 5, BEM added).")
+                f"{sweep_member(scene.surface.sweep_name, value)}"
+                f"{' (paper Fig. 5, BEM added)' if paper else ''}.")
     if "leakage" in scene.quantities:
         from validation.report.sealing_figures import leakage_figure
 
@@ -77,7 +117,8 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
                     f"Leakage: the effective hydraulic aperture h_eff/σ against load and against "
                     f"separation, {sweep_member(scene.surface.sweep_name, value)} (thin lines: "
                     f"realizations; grey: the BEM ± its error estimate; GW, improved GW and the "
-                    f"discrete model: the rigid gap at d, d₁ and the discrete model's own d, "
+                    f"discrete model: the rigid gap at d, d₁ and the discrete model's own d; "
+                    f"the theories from the spectral moments: the rigid gap of rms √m₀; all "
                     f"drawn against their separation d; Persson: its gap distribution, against "
                     f"its mean gap; docs/theory.md section 10).")
 
@@ -104,6 +145,11 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
     scene, s = result.scene, result.scene.surface
     count = len(next(iter(result.realizations.values()), []))
     lines.append(surface_text(scene, count))
+    if result.refinement is not None:
+        lines.append(f"Reference: {result.refinement.describe(s.sweep_name)}.\n")
+    if result.sequential is not None:
+        lines.append(f"Realizations per {s.sweep_name or 'surface'}: "
+                     f"{result.sequential.describe()}.\n")
     if not analysis.comparisons:
         lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
     for value, results in sorted(result.realizations.items()):
@@ -142,8 +188,9 @@ def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> No
         figures.add(validity_map_figure(comparisons, keys, scene.tolerances),
                     f"{scene.name}-validity-map.png",
                     "Validity map: |mean error| of each model against the BEM over load and "
-                    f"{scene.surface.sweep_name}; "
-                    f"white contours at the tolerances {', '.join(f'{t:g}' for t in scene.tolerances)}.")
+                    f"{scene.surface.sweep_name}; contours at the tolerances "
+                    f"{', '.join(f'{t:g}' for t in sorted(scene.tolerances))} (the legend says "
+                    "which line is which).")
 
 
 def _theory_section(figures: _Figures, result: SceneResult) -> None:
@@ -172,17 +219,22 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     """Write the CSV tables, then ``report.md`` with its PNG figures, into ``folder``.
 
     ``command`` (the command line that produced the results), the package version and the run
-    time ``seconds`` head the report. Returns the path of ``report.md``.
+    time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures
+    and tables removed first; a folder holding other files and no report is refused
+    (:func:`previous_report`). Returns the path of ``report.md``.
     """
     from validation.report.tables import write_tables
 
     folder = pathlib.Path(folder)
+    for path in previous_report(folder):
+        path.unlink()
     folder.mkdir(parents=True, exist_ok=True)
     analyses = [analyse(result) for result in results]
     written = write_tables(folder, analyses)
     figures = _Figures(folder, header(seconds, mode, command))
     figures.lines += holds_section(analyses)
     figures.lines += findings_section(analyses)
+    figures.lines += sampling_section(analyses)
     for analysis in analyses:
         scene = analysis.result.scene
         figures.lines += [f"## {scene.title}\n",

@@ -10,6 +10,12 @@ rejected by the caller's decoder because an array is missing) is treated as abse
 and recomputed. Temporary files left by a killed writer are removed once they are an hour old
 (a younger one may belong to a writer still at work). Failing to *write* an entry warns
 (:class:`CacheWarning`) and never stops a computation: the cache only saves time.
+
+What keys and entries of the runner's results hold is here too: the source version every key
+includes (:func:`source_version`), a contact curve as named arrays and back
+(:func:`curve_arrays`, :func:`curve_from_arrays`) and whether a path entry holds the stiffness
+solves (:func:`needs_stiffness`) and its leakage (:func:`needs_leakage`), and what every model
+is asked for (:func:`model_quantities`).
 """
 
 from __future__ import annotations
@@ -29,7 +35,12 @@ from typing import Any, Callable, TypeVar
 
 import numpy as np
 
-__all__ = ["Cache", "CacheWarning", "cache_key", "check_directory", "default_cache_dir"]
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+
+__all__ = ["Cache", "CacheWarning", "REPORT_ONLY_MODULES", "cache_key", "check_directory",
+           "curve_arrays", "curve_from_arrays", "default_cache_dir", "model_quantities",
+           "needs_leakage", "needs_stiffness",
+           "source_version"]
 
 _CHECKSUM = "__checksum__"
 _KEY = "__key__"
@@ -210,3 +221,82 @@ class Cache:
             if temporary is not None:
                 pathlib.Path(temporary).unlink(missing_ok=True)
             raise
+
+
+# --------------------------------------------------------------------------------------------
+# what the runner's entries hold
+
+_SOURCE_VERSION: str | None = None
+#: Modules that only read results (comparison, verdicts, findings, figures, tables, command
+#: line, how many realizations run): editing them leaves every cached result valid, so they are
+#: not part of its hash. Paths relative to the ``validation`` folder.
+REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
+                                 "run/cost.py", "report/figures.py", "judge/findings.py",
+                                 "report/labels.py", "run/progress.py", "report/write.py",
+                                 "report/sections.py", "report/tables.py", "judge/verdicts.py",
+                                 "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
+                                 "report/sampling.py", "judge/sealing.py",
+                                 "report/sealing_figures.py"})
+
+
+def source_version() -> str:
+    """Package version plus a hash of the three packages' sources: results cached by one state
+    of the code are never read back by another (a fixed bug does not survive in the cache)."""
+    global _SOURCE_VERSION
+    if _SOURCE_VERSION is None:
+        from validation._version import __version__
+
+        digest = hashlib.sha256()
+        root = pathlib.Path(__file__).resolve().parents[2]
+        for package in ("asperity", "bem", "validation"):
+            for path in sorted((root / package).rglob("*.py")):
+                name = path.relative_to(root / package).as_posix()
+                if package == "validation" and name in REPORT_ONLY_MODULES:
+                    continue
+                digest.update(name.encode())
+                digest.update(path.read_bytes())
+        _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
+    return _SOURCE_VERSION
+
+
+def curve_arrays(curve: ContactCurve) -> dict[str, np.ndarray]:
+    """A contact curve as named arrays for :meth:`Cache.store` (its per-point numeric extras
+    as ``extra:<name>``)."""
+    arrays = {name: getattr(curve, name) for name in CURVE_QUANTITIES
+              if getattr(curve, name) is not None}
+    arrays["nominal_area"] = np.array(curve.nominal_area)
+    arrays["e_star"] = np.array(curve.e_star)
+    for name, value in curve.extras.items():
+        value = np.asarray(value)
+        if value.ndim == 1 and value.shape == curve.load.shape and value.dtype.kind in "fiub":
+            arrays[f"extra:{name}"] = value
+    return arrays
+
+
+def curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
+    """The contact curve of :func:`curve_arrays` (a decoder for :meth:`Cache.load`)."""
+    kwargs = {name: arrays[name] for name in CURVE_QUANTITIES if name in arrays}
+    extras = {name[6:]: value for name, value in arrays.items() if name.startswith("extra:")}
+    return ContactCurve(nominal_area=float(arrays["nominal_area"]), e_star=float(arrays["e_star"]),
+                        extras=extras, **kwargs)
+
+
+def needs_stiffness(quantities) -> bool:
+    """Whether a path is solved with its stiffness (asked for by stiffness or conductance); the
+    cache keys hold this flag, not the quantity list, so either name reuses the same solves."""
+    return "stiffness" in quantities or "conductance" in quantities
+
+
+def needs_leakage(quantities) -> bool:
+    """Whether a path is solved with its leakage (the BEM's Reynolds solves on its gaps); the
+    cache keys hold this flag too."""
+    return "leakage" in quantities
+
+
+def model_quantities(quantities) -> tuple[str, ...]:
+    """What every model of a task is asked for, from the scene's quantities: the load path,
+    area and contact counts always (counts are cheap); stiffness and conductance when either
+    is asked for (one stiffness solve gives both); leakage only when asked for."""
+    return (("area", "load", "separation", "contacts")
+            + (("stiffness", "conductance") if needs_stiffness(quantities) else ())
+            + (("leakage",) if needs_leakage(quantities) else ()))

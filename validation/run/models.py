@@ -291,3 +291,43 @@ register("persson", _persson, label="Persson", style=dict(color="tab:purple", li
 register("bem", _bem, label="BEM (exact)", style=dict(color="black", linestyle="-", linewidth=2.0),
          needs_summits=False, cached=True, reference=True, contacts="patches",
          settings=lambda inputs: {"options": inputs.bem_options})
+
+
+# Theories from the spectral moments m0, m2, m4 of the heights (Nayak, McCool; Bush, Gibson &
+# Thomas), as users apply them to a measured profile: no summit is counted on the map.
+def _spectral_moments(inputs: ModelInputs):
+    from asperity import spectral_moments
+
+    return spectral_moments(inputs.heights(), inputs.spacing,
+                            periodic=bool(inputs.bem_options.get("periodic", False)))
+
+
+def _gw_spectral(inputs: ModelInputs, improved: bool = False):
+    summits = _spectral_moments(inputs).summits()
+    if improved:
+        return summits.improved_greenwood_williamson(inputs.nominal_area, inputs.m, e_star=inputs.e_star)
+    return summits.greenwood_williamson(inputs.nominal_area, e_star=inputs.e_star)
+
+
+def _bgt(inputs: ModelInputs):
+    from asperity import BushGibsonThomas
+
+    moments = _spectral_moments(inputs)
+    return BushGibsonThomas(moments.m0, moments.m2, moments.m4, e_star=inputs.e_star,
+                            area=inputs.nominal_area)
+
+
+def _spectral_settings(inputs: ModelInputs) -> dict:
+    return {"moments": "finite differences", "periodic": bool(inputs.bem_options.get("periodic", False))}
+
+
+# cached although cheap, like Persson: a cached run then makes no surface at all
+register("gw_spectral", _gw_spectral, label="GW from the spectrum",
+         style=dict(color="tab:cyan", linestyle="--"), needs_summits=False, cached=True,
+         settings=_spectral_settings)
+register("improved_gw_spectral", lambda inputs: _gw_spectral(inputs, improved=True),
+         label="improved GW from the spectrum", style=dict(color="tab:brown", linestyle="-"),
+         needs_summits=False, cached=True,
+         settings=lambda inputs: {**_spectral_settings(inputs), "m": inputs.m})
+register("bgt", _bgt, label="Bush-Gibson-Thomas", style=dict(color="tab:pink", linestyle="-."),
+         needs_summits=False, cached=True, settings=_spectral_settings)

@@ -15,7 +15,9 @@ and only when needed:
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
   (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked
-  for, leakage (the BEM's Reynolds solves on its gaps) only when leakage is.
+  for, leakage (the BEM's Reynolds solves on its gaps) only when leakage is;
+* with ``[sampling] factors``, the models fitted to summits again on every k-th grid point, at
+  the reference's loads (:mod:`validation.run.sampling`; the BEM is not solved again).
 
 Summits and the paths of models registered as ``cached`` (the BEM, the discrete models,
 Persson) are cached (:mod:`validation.run.cache`) under keys that hash exactly their inputs plus
@@ -24,7 +26,10 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
 different scenes run once, and so do tasks that differ only in their quantities (with the
-union of them).
+union of them). Then a scene with a reference, where its cells are undecided, gets a finer
+reference where the band decides (``[bem] max_grid``, :mod:`validation.run.refine`) and more
+realizations, look by look (``[realizations] max``, :mod:`validation.run.sequential`); its
+result records both and why they stopped.
 """
 
 from __future__ import annotations
@@ -38,12 +43,16 @@ from typing import Callable, Iterable
 import numpy as np
 
 from bem import checks
-from bem.curve import CURVE_QUANTITIES, ContactCurve
-from validation.run import models
-from validation.run.cache import Cache, cache_key
+from bem.curve import ContactCurve
+from validation.run import models, sampling
+from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
+                                  model_quantities, needs_leakage, needs_stiffness,
+                                  source_version)
 from validation.run.models import ModelInputs
 from validation.run.cost import remaining_seconds, schedule
 from validation.run.progress import Progress
+from validation.run.refine import solve_jobs
+from validation.run.sequential import RefinementRecord, SequentialRecord, decide_scene
 from validation.scenes.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces.families import surface_heights, surface_identity
 
@@ -62,40 +71,6 @@ def __getattr__(name: str):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-_SOURCE_VERSION: str | None = None
-#: Modules that only read results (comparison, verdicts, findings, figures, tables, command
-#: line): editing them leaves every cached result valid, so they are not part of its hash.
-#: Paths relative to the ``validation`` folder.
-REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
-                                 "run/cost.py", "report/figures.py", "judge/findings.py",
-                                 "report/labels.py", "run/progress.py", "report/write.py",
-                                 "report/sections.py", "report/tables.py", "judge/verdicts.py",
-                                 "judge/sealing.py", "report/sealing_figures.py"})
-
-
-def _version() -> str:
-    """Package version plus a hash of the three packages' sources: results cached by one state
-    of the code are never read back by another (a fixed bug does not survive in the cache)."""
-    global _SOURCE_VERSION
-    if _SOURCE_VERSION is None:
-        import hashlib
-        import pathlib
-
-        from validation._version import __version__
-
-        digest = hashlib.sha256()
-        root = pathlib.Path(__file__).resolve().parents[2]
-        for package in ("asperity", "bem", "validation"):
-            for path in sorted((root / package).rglob("*.py")):
-                name = path.relative_to(root / package).as_posix()
-                if package == "validation" and name in REPORT_ONLY_MODULES:
-                    continue
-                digest.update(name.encode())
-                digest.update(path.read_bytes())
-        _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
-    return _SOURCE_VERSION
-
-
 @dataclass(frozen=True)
 class RealizationTask:
     """Everything one realization needs; hashable, so identical tasks run once."""
@@ -109,6 +84,7 @@ class RealizationTask:
     quantities: tuple[str, ...]
     bem: BemSettings
     cache_dir: str | None = None
+    sampling: tuple[int, ...] = (1,)   # sampling intervals in grid steps (Scene.sampling)
 
     @property
     def sweep_value(self) -> float:
@@ -138,6 +114,8 @@ class RealizationResult:
     summit_count: int
     computed: tuple[str, ...]     # log of computations actually done (cache hits excluded)
     seconds: dict[str, float]     # wall time per model (0 for a cache hit)
+    # the summit-fitted models at every sampling interval of task.sampling (finest first)
+    sampled: tuple[sampling.Sampled, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -149,6 +127,8 @@ class SceneResult:
     realizations: dict[float, list[RealizationResult]] = field(default_factory=dict)
     theory: dict | None = None
     seconds: float = 0.0  # wall time from the start of the run until this scene was complete
+    sequential: SequentialRecord | None = None  # the looks taken (scenes with a reference)
+    refinement: RefinementRecord | None = None  # the finer reference where its band decides
 
 
 # --------------------------------------------------------------------------------------------
@@ -167,50 +147,15 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
             tasks.append(RealizationTask(surface=surface, seed=seed, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=scene.bem,
-                                         cache_dir=cache_dir))
+                                         cache_dir=cache_dir, sampling=scene.sampling))
     return tasks
 
 
 # --------------------------------------------------------------------------------------------
 # one realization
 
-def _curve_arrays(curve: ContactCurve) -> dict[str, np.ndarray]:
-    arrays = {name: getattr(curve, name) for name in CURVE_QUANTITIES if getattr(curve, name) is not None}
-    arrays["nominal_area"] = np.array(curve.nominal_area)
-    arrays["e_star"] = np.array(curve.e_star)
-    for name, value in curve.extras.items():
-        value = np.asarray(value)
-        if value.ndim == 1 and value.shape == curve.load.shape and value.dtype.kind in "fiub":
-            arrays[f"extra:{name}"] = value
-    return arrays
-
-
-def _curve_from_arrays(arrays: dict[str, np.ndarray]) -> ContactCurve:
-    kwargs = {name: arrays[name] for name in CURVE_QUANTITIES if name in arrays}
-    extras = {name[6:]: value for name, value in arrays.items() if name.startswith("extra:")}
-    return ContactCurve(nominal_area=float(arrays["nominal_area"]), e_star=float(arrays["e_star"]),
-                        extras=extras, **kwargs)
-
-
 def _surface_inputs(task: RealizationTask) -> dict:
     return surface_identity(task.surface, task.seed)
-
-
-def _needs_stiffness(quantities: tuple[str, ...]) -> bool:
-    return "stiffness" in quantities or "conductance" in quantities
-
-
-def _needs_leakage(quantities: tuple[str, ...]) -> bool:
-    return "leakage" in quantities
-
-
-def model_quantities(quantities: tuple[str, ...]) -> tuple[str, ...]:
-    """What every model of a task is asked for, from the scene's quantities: the load path,
-    area and contact counts always (counts are cheap); stiffness and conductance when either
-    is asked for (one stiffness solve gives both); leakage only when asked for."""
-    return (("area", "load", "separation", "contacts")
-            + (("stiffness", "conductance") if _needs_stiffness(quantities) else ())
-            + (("leakage",) if _needs_leakage(quantities) else ()))
 
 
 @dataclass
@@ -244,7 +189,7 @@ def _summits(task: RealizationTask, cache: Cache, log: _Log, heights):
     if not (any(models.entry(name).needs_summits for name in task.models)
             or task.loads.quantity == "separation"):
         return None
-    key = cache_key("summits", _version(), surface=_surface_inputs(task))
+    key = cache_key("summits", source_version(), surface=_surface_inputs(task))
     summits = cache.load(key, decode=asperity.summits_from_arrays)
     if summits is not None:
         return summits
@@ -259,12 +204,12 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     """One model's curve along the path; expensive models from or into the cache (a cache
     hit costs 0 s and is not logged)."""
     key = None
-    stiffness, leakage = _needs_stiffness(quantities), _needs_leakage(quantities)
+    stiffness, leakage = needs_stiffness(quantities), needs_leakage(quantities)
     if item.cached:
-        key = cache_key(item.name, _version(), surface=_surface_inputs(log.task),
+        key = cache_key(item.name, source_version(), surface=_surface_inputs(log.task),
                         e_star=inputs.e_star, stiffness=stiffness, leakage=leakage,
                         **item.settings(inputs), **path)
-        cached = cache.load(key, decode=_curve_from_arrays)
+        cached = cache.load(key, decode=curve_from_arrays)
         if cached is not None:
             log.seconds[item.name] = 0.0
             return cached
@@ -277,7 +222,7 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     log.seconds[item.name] = time.perf_counter() - start
     log.did(item.name)
     if key is not None:
-        cache.store(key, _curve_arrays(curve))
+        cache.store(key, curve_arrays(curve))
         if stiffness:
             log.did(f"{item.name}-stiffness")
         if leakage:
@@ -291,8 +236,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)
     sigma = math.nan if summits is None else float(np.std(summits.height))
-    # The cache keys hold the stiffness and leakage flags, not the scene's quantity list, so
-    # that listing "contacts" or "stiffness" instead of "conductance" reuses the same solves.
+    # Contact counts are cheap and always computed; stiffness and leakage solves only when
+    # asked for. The cache keys hold these flags, not the scene's quantity list, so that
+    # listing "contacts" or "stiffness" instead of "conductance" reuses the same solves.
     quantities = model_quantities(task.quantities)
     values = np.array(task.loads.values())
     nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
@@ -301,9 +247,9 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                          heights=heights, summits=summits, e_star=task.e_star, m=task.m,
                          bem_options=dict(periodic=task.bem.periodic, tol=task.bem.tol,
                                           max_iter=task.bem.max_iter,
-                                          # the half grid must cover the same window
-                                          error_estimate=task.bem.reference_error
-                                          and not any(side % 2 for side in task.surface.grid)))
+                                          # an even grid along both sides: the scene
+                                          # checks it (a measured map's tiles are made even)
+                                          error_estimate=task.bem.reference_error))
     curves: dict[str, ContactCurve] = {}
     # The reference first: on a separation path the other models follow its loads.
     for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
@@ -312,11 +258,15 @@ def run_realization(task: RealizationTask) -> RealizationResult:
         curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
         if item.reference and loads is None:
             loads = curves[name].load
+    path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
+    sampled = sampling.sample_realization(
+        task, heights, summits, inputs, curves, cache, log, version=source_version(),
+        curve=lambda item, at: _model_curve(item, at, path, quantities, cache, log))
     return RealizationResult(
         task=task, curves=curves, sigma=sigma,
         summit_mean=math.nan if summits is None else float(np.mean(summits.height)),
         summit_count=0 if summits is None else int(np.size(summits.height)),
-        computed=tuple(log.computed), seconds=log.seconds)
+        computed=tuple(log.computed), seconds=log.seconds, sampled=sampled)
 
 
 # --------------------------------------------------------------------------------------------
@@ -338,14 +288,23 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
                                     time.perf_counter() - started) if pending else 0.0
             bar.advance(task.describe(), eta=eta)
 
-    if executor is None:
-        for task in tasks:
-            finished(task, run_realization(task))
-    else:
-        futures: dict[Future, RealizationTask] = {executor.submit(run_realization, t): t
-                                                  for t in tasks}
-        for future in as_completed(futures):
-            finished(futures[future], future.result())
+    futures: dict[Future, RealizationTask] = {}
+    try:
+        if executor is None:
+            for task in tasks:
+                finished(task, run_realization(task))
+        else:
+            futures = {executor.submit(run_realization, t): t for t in tasks}
+            for future in as_completed(futures):
+                finished(futures[future], future.result())
+    except BaseException:
+        # interrupted (Ctrl-C) or a realization failed: nothing queued may start any more
+        for future in futures:
+            future.cancel()
+        raise
+    finally:
+        if bar:
+            bar.close()
     return results
 
 
@@ -413,4 +372,35 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             by_value.setdefault(task.sweep_value, []).append(results[task])
         out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
+    # after the planned realizations: a finer reference, then more realizations, where cells
+    # are undecided (scene by scene)
+    for index, result in enumerate(out):
+        records = _decide(result, executor, cache_dir, progress, stream)
+        if records is not None:
+            out[index] = replace(result, refinement=records[0], sequential=records[1],
+                                 seconds=time.perf_counter() - started)
     return out
+
+
+def _decide(result: SceneResult, executor: Executor | None, cache_dir: str | None,
+            progress: bool, stream) -> tuple[RefinementRecord, SequentialRecord] | None:
+    """:func:`validation.run.sequential.decide_scene` on a scene's result (its realizations
+    extended in place) with this run's executor, cache and progress bars; None for a scene
+    without a BEM reference (nothing to decide)."""
+    scene = result.scene
+    if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
+        return None
+
+    def run(count: int) -> list[RealizationResult]:
+        known = {r.task for value in result.realizations.values() for r in value}
+        tasks = [t for t in plan_scene(replace(scene, realizations=count), cache_dir=cache_dir)
+                 if t not in known]
+        done = _run_tasks(tasks, executor, Progress(len(tasks), stream=stream)
+                          if progress and tasks else None)
+        return [done[task] for task in tasks]  # in seed order
+
+    def solve(jobs: list) -> list:
+        return solve_jobs(jobs, executor, cache_dir,
+                          Progress(len(jobs), stream=stream) if progress and jobs else None)
+
+    return decide_scene(scene, result.realizations, run, solve)

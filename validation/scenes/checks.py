@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["SceneError", "fail", "number", "integer", "flag", "numbers", "names", "choice"]
+__all__ = ["SceneError", "SceneWarning", "fail", "number", "integer", "flag", "numbers", "names",
+           "choice", "integers"]
 
 
 class SceneError(ValueError):
@@ -20,6 +21,11 @@ class SceneError(ValueError):
     def __init__(self, message: str, *, key: str | None = None, detail: str | None = None):
         super().__init__(message)
         self.key, self.detail = key, detail
+
+
+class SceneWarning(UserWarning):
+    """A valid scene that will not give what it seems to ask for (e.g. verdicts from one
+    realization); the message says why and what to change."""
 
 
 def fail(owner: object, key: str, detail: str) -> None:
@@ -92,3 +98,16 @@ def choice(owner, key: str, allowed: tuple[str, ...]) -> None:
     if getattr(owner, key) not in allowed:
         fail(owner, key, f"must be one of {', '.join(allowed)}; got {getattr(owner, key)!r}")
 
+
+
+def integers(owner, key: str, minimum: int) -> None:
+    """A non-empty tuple of distinct integers >= ``minimum``, stored in increasing order."""
+    value = getattr(owner, key)
+    if isinstance(value, (str, bytes)) or not isinstance(value, (list, tuple)) or not value:
+        fail(owner, key, f"must be a non-empty list of integers >= {minimum}, got {value!r}")
+    bad = [v for v in value if isinstance(v, bool) or not isinstance(v, int) or v < minimum]
+    if bad:
+        fail(owner, key, f"must hold integers >= {minimum}, got {bad[0]!r}")
+    if len(set(value)) != len(value):
+        fail(owner, key, f"lists an entry twice: {list(value)!r}")
+    object.__setattr__(owner, key, tuple(sorted(value)))

@@ -11,22 +11,27 @@ import contextlib
 import math
 import pathlib
 import tomllib
+import warnings
 from importlib import resources
 from typing import Any, Iterator
 
 from bem.checks import InputTypeError, file_path
 
-from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath, QuickSettings,
-                              Scene, SceneError, SurfaceSpec, TheorySpec, defaults)
+from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath,
+                                     QuickSettings, Scene, SceneError, SceneWarning, SurfaceSpec,
+                                     TheorySpec, defaults, scene_warnings)
+from validation.surfaces.spec import read_keywords
 
 __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
 #: Scene fields read from another table than their name, as "table.key".
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
+               "max_realizations": "realizations.max",
                "e_star": "material.e_star", "models": "models.use", "m": "models.m",
-               "quantities": "quantities.use", "tolerances": "tolerances.levels"}
+               "quantities": "quantities.use", "tolerances": "tolerances.levels",
+               "sampling": "sampling.factors"}
 _SURFACE_TABLES = ("surface", "realizations", "loads", "models", "quantities", "bem", "quick",
-                   "material")
+                   "material", "sampling")
 
 
 class _Reader:
@@ -128,6 +133,11 @@ def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
     if family not in FAMILIES:
         reader.fail("family", f"must be one of {', '.join(FAMILIES)}; got {family!r}")
     allowed = FAMILY_KEYS[family]
+    if family == "file" and "height_unit" in reader.table:
+        # read_topography's name for the scene's unit, accepted where its messages use it
+        if "unit" in reader.table:
+            reader.fail("height_unit", "and 'unit' are the same setting: give one of them")
+        reader.table = {("unit" if k == "height_unit" else k): v for k, v in reader.table.items()}
     for key in reader.table:
         if key != "family" and key not in allowed:
             reader.fail(key, f"is not a key of family {family!r} (its keys: {', '.join(allowed)})")
@@ -136,8 +146,13 @@ def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
         if not any(key in reader.table for key in options):
             reader.fail(options[0], ("or '" + "' or '".join(options[1:]) + "' " if
                                      len(options) > 1 else "") + "is required")
-    values = {key: reader.get(key, None, _SURFACE_KINDS[key]) for key in allowed
+    values = {key: reader.get(key, None, _SURFACE_KINDS.get(key, "any")) for key in allowed
               if key in reader.table}
+    if family == "file":
+        # the reader's other keywords go to it as they are (it checks their values)
+        options = {key: values.pop(key) for key in read_keywords() if key in values}
+        if options:
+            values["read_options"] = options
     if "path" in values and folder is not None:
         values["path"] = str(folder / values["path"])
     with _keys(reader.source, "surface."):
@@ -159,9 +174,9 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
     if parts["surface"].family == "file" and "realizations" in top.table:
         top.fail("realizations", "does not belong in a scene of a measured map: its "
                  "realizations are its tiles (surface.tiles)")
-    tables = dict(realizations=dict(count="integer", seed="integer"),
+    tables = dict(realizations=dict(count="integer", seed="integer", max="integer"),
                   material=dict(e_star="number"), models=dict(use="strings", m="number"),
-                  quantities=dict(use="strings"))
+                  quantities=dict(use="strings"), sampling=dict(factors="numbers"))
     for table, kinds in tables.items():
         reader = top.sub(table)
         for key, kind in kinds.items():
@@ -169,7 +184,8 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
             parts[field_name] = reader.get(key, base[field_name], kind)
         reader.finish()
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
-        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean"))
+        periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
+        max_grid="integer"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
         realizations="integer", n="integer", count="integer", quantities="strings"))
     return parts
@@ -199,6 +215,13 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     ------
     SceneError
         Naming the key and ``source``.
+
+    Warns
+    -----
+    SceneWarning
+        For a valid scene that will not give what it seems to ask for
+        (:func:`validation.scenes.scene.scene_warnings`: verdicts from fewer than two
+        realizations).
     """
     if not isinstance(data, dict):
         raise InputTypeError(f"data must be a dict (a parsed TOML scene), got "
@@ -223,7 +246,10 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
         fields.update(_surface_parts(top, base, None if folder is None else pathlib.Path(folder)))
     top.finish()
     with _keys(source, mapping=_SCENE_KEYS):
-        return Scene(**fields)
+        scene = Scene(**fields)
+    for message in scene_warnings(scene):
+        warnings.warn(message, SceneWarning, stacklevel=3)
+    return scene
 
 
 def load_scene(name_or_path: str | pathlib.Path) -> Scene:

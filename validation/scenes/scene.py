@@ -17,14 +17,16 @@ file's tables and keys map onto them::
                wm: D rms_slope G gamma M n_max L n
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
-               file: path physical_size file_unit unit detrend resample square tiles
-    [realizations]  count seed          -> Scene.realizations, Scene.seed
+               file: path physical_size file_unit unit detrend resample square tiles, and
+                     every other keyword of read_topography (fill channel reader ...)
+    [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
     [models]  use m                     -> Scene.models (registered names), Scene.m
     [quantities]  use                   -> Scene.quantities
-    [bem]  periodic tol max_iter reference_error           -> BemSettings
+    [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
+    [sampling]  factors                 -> Scene.sampling (surface scenes)
     [quick]  realizations n count quantities                -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
 
@@ -43,13 +45,13 @@ from dataclasses import MISSING, dataclass, field, fields, replace
 
 from validation.run import models as _models
 from validation.scenes import checks as check
-from validation.scenes.checks import SceneError
+from validation.scenes.checks import SceneError, SceneWarning
 from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
 
 __all__ = [
     "Scene", "SurfaceSpec", "LoadPath", "BemSettings", "TheorySpec", "QuickSettings",
-    "SceneError", "MODELS", "QUANTITIES", "KINDS", "FAMILIES", "FAMILY_KEYS", "SWEEPS",
-    "MIN_TILE", "defaults",
+    "SceneError", "SceneWarning", "scene_warnings", "MODELS", "QUANTITIES", "KINDS", "FAMILIES",
+    "FAMILY_KEYS", "SWEEPS", "MIN_TILE", "defaults",
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
@@ -61,6 +63,8 @@ MODELS = _models.default_names()
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness", "leakage")
 #: Kinds of scene.
 KINDS = ("surface", "theory")
+#: Fewest grid points per side of a coarser sampling (``[sampling] factors``).
+MIN_SAMPLED_GRID = 16
 
 #: Path defaults by controlled quantity (the only place they are written).
 _PATH_DEFAULTS = {"load": dict(min=1e-5, max=1e-2, spacing="log"),
@@ -117,6 +121,9 @@ class BemSettings:
     tol: float = 1e-8
     max_iter: int = 2000
     reference_error: bool = True
+    # finest grid of the refined reference where its band decides (validation.run.refine);
+    # None: never refined
+    max_grid: int | None = None
 
     def __post_init__(self) -> None:
         check.flag(self, "periodic")
@@ -125,6 +132,8 @@ class BemSettings:
             check.fail(self, "tol", f"must be <= 0.1, got {self.tol!r}")
         check.integer(self, "max_iter", 1)
         check.flag(self, "reference_error")
+        if self.max_grid is not None:
+            check.integer(self, "max_grid", 8)
 
 
 @dataclass(frozen=True)
@@ -179,6 +188,8 @@ class Scene:
     surface: SurfaceSpec | None = None
     realizations: int = 25
     seed: int = 0
+    # budget of the sequential plan (validation.run.sequential); None: the planned ones only
+    max_realizations: int | None = None
     e_star: float = 1.0
     loads: LoadPath = field(default_factory=LoadPath)
     models: tuple[str, ...] = MODELS
@@ -188,6 +199,7 @@ class Scene:
     tolerances: tuple[float, ...] = (0.05, 0.2)
     quick: QuickSettings = field(default_factory=QuickSettings)
     theory: TheorySpec | None = None
+    sampling: tuple[int, ...] = (1,)
     source: str = "<memory>"
 
     def __post_init__(self) -> None:
@@ -203,6 +215,7 @@ class Scene:
         check.names(self, "quantities", QUANTITIES)
         check.numbers(self, "tolerances", above=0.0)
         self._check_parts()
+        self._check_sampling()
 
     def _check_parts(self) -> None:
         parts = dict(surface=SurfaceSpec, loads=LoadPath, bem=BemSettings, quick=QuickSettings,
@@ -221,8 +234,52 @@ class Scene:
         if family != "wm" and self.bem.periodic:
             check.fail(self, "bem.periodic", f"must be false for a {family} surface (its "
                        "window is not periodic)")
+        grid = self.bem.max_grid
+        if grid is not None and family != "file" and grid < self.surface.n:
+            check.fail(self, "bem.max_grid", f"must be at least the surface grid n = "
+                       f"{self.surface.n}, got {grid!r}")
         if family == "file":  # the tiles of a measured map are its realizations
             object.__setattr__(self, "realizations", self.surface.tiles)
+        elif self.kind == "surface" and self.bem.reference_error:
+            # the reference band comes from the same surface on every second grid point, which
+            # covers the same window only on an even grid (a measured map's tiles are made even)
+            for key, n in (("surface.n", self.surface.n), ("quick.n", self.quick.n)):
+                if n % 2:
+                    check.fail(self, key, f"must be even when bem.reference_error = true (the "
+                               f"BEM's error band is estimated on every second grid point, "
+                               f"which spans the same window only on an even grid); use "
+                               f"{n - 1} or {n + 1}, or set bem.reference_error = false (no "
+                               f"band: every verdict then stays undecided)")
+        if self.max_realizations is not None:
+            if family == "file":
+                check.fail(self, "max_realizations", "cannot be set for a measured map (its "
+                           "realizations are its tiles; there are no more)")
+            check.integer(self, "max_realizations", self.realizations)
+
+    def _check_sampling(self) -> None:
+        """``sampling``: sampling intervals as multiples k of the grid step, 1 (the grid itself,
+        the one the BEM solves) among them; every coarser sampling takes every k-th point of
+        the grid (:mod:`validation.run.sampling`), so k divides the grid and leaves at least
+        :data:`MIN_SAMPLED_GRID` points per side, and a model fitted to summits must be listed."""
+        check.integers(self, "sampling", 1)
+        if 1 not in self.sampling:
+            check.fail(self, "sampling", f"must list 1 (the scene's own grid, the one the BEM "
+                       f"solves) beside the coarser factors, got {list(self.sampling)!r}")
+        if len(self.sampling) == 1:
+            return
+        if self.kind == "theory":
+            check.fail(self, "sampling", "belongs only in a surface scene")
+        summit_models = [m for m in _models.names() if _models.entry(m).needs_summits]
+        if not set(self.models) & set(summit_models):
+            check.fail(self, "sampling", f"needs a model fitted to summits among the models "
+                       f"(one of {', '.join(summit_models)}); the scene lists "
+                       f"{', '.join(self.models)}")
+        grid = self.surface.grid
+        for factor in self.sampling:
+            if any(side % factor for side in grid) or min(grid) // factor < MIN_SAMPLED_GRID:
+                shape = " x ".join(map(str, grid))
+                check.fail(self, "sampling", f"factor {factor} must divide the {shape} grid "
+                           f"and leave at least {MIN_SAMPLED_GRID} points per side")
 
     def quick_version(self) -> "Scene":
         """The scene as the quick default report runs it."""
@@ -231,10 +288,29 @@ class Scene:
         surface = self.surface if self.surface.family == "file" else \
             replace(self.surface, n=min(self.surface.n, self.quick.n))
         loads = replace(self.loads, count=min(self.loads.count, self.quick.count))
+        realizations = min(self.realizations, self.quick.realizations)
+        # the budget shrinks in proportion: the same number of looks at the same ratios
+        budget = None if self.max_realizations is None else max(realizations, math.ceil(
+            self.max_realizations * realizations / self.realizations))
+        # the finest grid stays as set: it bounds what one refined solve costs, so a quick run
+        # on a coarser grid refines up to it where the full run, at that grid, may not
         quantities = self.quantities if self.quick.quantities is None else tuple(
             q for q in self.quantities if q in self.quick.quantities)
         return replace(self, surface=surface, loads=loads, quantities=quantities,
-                       realizations=min(self.realizations, self.quick.realizations))
+                       realizations=realizations, max_realizations=budget)
+
+
+def scene_warnings(scene: Scene) -> list[str]:
+    """What a valid scene will not give although it seems to ask for it (one message each):
+    verdicts need a confidence interval, so at least two realizations."""
+    if scene.kind != "surface" or scene.realizations >= 2 \
+            or not set(scene.models) & set(_models.reference_names()):
+        return []
+    change = ("surface.tiles = 4 (2 x 2 tiles as realizations)" if scene.surface.family == "file"
+              else "[realizations] count = 2 or more")
+    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: the "
+            f"95 % interval of a mean error needs at least 2, so every verdict will be "
+            f"undecided; set {change}"]
 
 
 def defaults(kind: type) -> dict:

@@ -8,7 +8,8 @@ A scene's ``[surface] family`` says how realization ``k`` of it is made:
   side (the BEM solves non-periodic windows, as for a measured map);
 * ``"file"``: tile ``k`` of a measured height map read once by
   :func:`validation.read_topography`; ``tiles = k^2`` cuts it into k x k non-overlapping
-  tiles, row by row (square tiles of a cropped map, rectangular ones of a map kept whole).
+  tiles, row by row (square tiles of a cropped map, rectangular ones of a map kept whole),
+  each of an even number of pixels along both sides (:func:`tile_side`).
 
 Every maker returns heights on the task's ``n x n`` grid of side ``L`` (a measured map's tiles
 may be rectangular: :attr:`validation.scenes.scene.SurfaceSpec.grid`). For WM and self-affine
@@ -32,7 +33,7 @@ from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.wm import surface_statistics, wm_surface
 from validation.surfaces.topography import Topography, read_topography
 
-__all__ = ["surface_heights", "surface_identity", "read_map", "tile", "file_digest"]
+__all__ = ["surface_heights", "surface_identity", "read_map", "tile", "tile_side", "file_digest"]
 
 
 @functools.lru_cache(maxsize=16)
@@ -48,31 +49,49 @@ def file_digest(path: str) -> str:
 
 @functools.lru_cache(maxsize=8)
 def _read(path: str, digest: str, physical_size, unit: str, detrend: str | None,
-          file_unit: str | None, resample: str | None = None, square: str = "crop"
-          ) -> Topography:
+          file_unit: str | None, resample: str | None = None, square: str = "crop",
+          options: tuple = ()) -> Topography:
     return read_topography(path, physical_size=physical_size, height_unit=unit, detrend=detrend,
-                           file_unit=file_unit, resample=resample, square=square)
+                           file_unit=file_unit, resample=resample, square=square, **dict(options))
 
 
 def read_map(surface) -> Topography:
     """The measured map of a ``"file"`` surface as :func:`validation.read_topography` reads it
-    (heights and spacing in ``surface.unit``), read once per process and per file content."""
+    (heights and spacing in ``surface.unit``, the scene's other reader keywords passed on),
+    read once per process and per file content."""
     s = surface
     return _read(s.path, file_digest(s.path), s.physical_size, s.unit,
                  None if s.detrend == "none" else s.detrend, s.file_unit,
-                 None if s.resample == "none" else s.resample, s.square)
+                 None if s.resample == "none" else s.resample, s.square, s.read_options)
 
 
-def tile(heights: np.ndarray, tiles: int, index: int) -> np.ndarray:
+def tile(heights: np.ndarray, tiles: int, index: int,
+         shape: tuple[int, int] | None = None) -> np.ndarray:
     """Tile ``index`` (row by row) of the ``k x k`` non-overlapping tiles of a map,
-    ``tiles = k^2``; each of ``rows // k`` x ``columns // k`` pixels (square tiles of a square
-    map), mean removed (the mean plane of the tile, as for every surface of a scene)."""
+    ``tiles = k^2``; each of ``shape`` = (rows, columns) pixels (default ``rows // k`` x
+    ``columns // k``, the whole cell; a scene uses :func:`tile_side` along each axis) from the
+    top-left corner of its cell, mean removed (the mean plane of the tile, as for every surface
+    of a scene)."""
     per_side = round(tiles ** 0.5)
-    rows, columns = (side // per_side for side in heights.shape)
+    cell = tuple(side // per_side for side in heights.shape)
+    shape = cell if shape is None else tuple(shape)
+    if len(shape) != 2 or not all(0 < s <= c for s, c in zip(shape, cell)):
+        raise ValueError(f"shape must be (rows, columns) within the {cell[0]} x {cell[1]}-pixel "
+                         f"cells of {tiles} tiles of a {heights.shape[0]} x {heights.shape[1]}"
+                         f"-pixel map, got {shape!r}")
     row, column = divmod(index, per_side)
-    part = np.array(heights[row * rows:(row + 1) * rows,
-                            column * columns:(column + 1) * columns])
+    top, left = row * cell[0], column * cell[1]
+    part = np.array(heights[top:top + shape[0], left:left + shape[1]])
     return part - part.mean()
+
+
+def tile_side(pixels: int, tiles: int) -> int:
+    """Pixels of the tiles of a scene along one side of a map of ``pixels`` along it (applied to
+    its rows and to its columns): ``pixels // k`` for ``tiles = k^2``, made even by dropping
+    the last row (column) of an odd cell, so that the reference's error estimate (the same
+    tile on every second pixel, :func:`bem.contact_curve`) covers the same window."""
+    cell = pixels // round(tiles ** 0.5)
+    return cell - cell % 2
 
 
 def _wm(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
@@ -105,7 +124,7 @@ def _self_affine(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
 
 def _file(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
     scan = read_map(s)
-    return tile(np.asarray(scan.heights), s.tiles, seed)
+    return tile(np.asarray(scan.heights), s.tiles, seed, shape=s.grid)
 
 
 _MAKERS: dict[str, Callable] = {"wm": _wm, "self-affine": _self_affine, "file": _file}
@@ -138,6 +157,8 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
     # absent by default, so that the cache keys of cropped maps on square pixels stay
     identity.update({key: getattr(s, key) for key, default in (("resample", "none"),
                      ("square", "crop")) if getattr(s, key) != default})
+    if s.read_options:
+        identity["read_options"] = dict(s.read_options)
     if s.square == "keep":
         identity["shape"] = list(s.grid)
     return identity

@@ -11,7 +11,8 @@ from dataclasses import dataclass, fields, replace
 
 from validation.scenes import checks as check
 
-__all__ = ["SurfaceSpec", "SWEEPS", "SIDES_SWEEP", "FAMILIES", "FAMILY_KEYS", "MIN_TILE"]
+__all__ = ["SurfaceSpec", "SWEEPS", "SIDES_SWEEP", "FAMILIES", "FAMILY_KEYS", "MIN_TILE",
+           "READ_FIELDS", "read_keywords"]
 
 #: Surface families and the parameter each sweeps (a list of values gives a validity map): its
 #: key in the scene file and its symbol in the report. A measured map sweeps nothing. A WM
@@ -29,6 +30,13 @@ FAMILY_KEYS = {
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
              "tiles", "n"),
 }
+#: Keywords of :func:`validation.read_topography` with a field of their own in a file scene
+#: (``height_unit`` is the scene's ``unit``); every other keyword of it is passed through as
+#: it is (``read_options``: fill, channel, reader, ...), so a scene accepts whatever the
+#: reader does, including what its error messages recommend.
+READ_FIELDS = {"path": "path", "physical_size": "physical_size", "file_unit": "file_unit",
+               "detrend": "detrend", "height_unit": "unit", "resample": "resample",
+               "square": "square"}
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
 #: Smallest tile of a measured map, in pixels per side.
@@ -61,8 +69,13 @@ class SurfaceSpec:
     ``resample`` ("none", or "finer"/"coarser": non-square pixels onto square ones of the finer
     or coarser spacing, :func:`validation.read_topography`), ``square`` ("crop": a rectangular
     map is cropped to its largest centred square; "keep": it is used whole),
+    ``read_options`` (a dict, stored as sorted ``(key, value)`` pairs) the other keywords of
+    :func:`validation.read_topography` (:func:`read_keywords`: ``fill``, ``channel``,
+    ``reader``, ...), passed to it unchanged;
     ``tiles = k^2`` non-overlapping tiles as realizations, k x k of the map (each at least
-    :data:`MIN_TILE` pixels per side). ``shape`` (rows, columns of a tile), ``n`` (its rows)
+    :data:`MIN_TILE` pixels per side, and an even number of rows and of columns: an odd cell
+    drops its last row or column, so that the reference's error estimate on every second
+    pixel covers the same window). ``shape`` (rows, columns of a tile), ``n`` (its rows)
     and ``L`` (the square root of its area [unit]: its side when square, so that the nominal
     area is ``L^2`` for every family) follow from the file: an explicit ``n`` or ``L`` must
     agree.
@@ -95,12 +108,13 @@ class SurfaceSpec:
     tiles: int = 1
     wavelength: float | None = None
     sides: tuple[float, ...] | None = None
+    read_options: tuple[tuple[str, object], ...] | dict = ()
     shape: tuple[int, int] | None = None      # derived: (rows, columns) of a measured tile
 
     def __post_init__(self) -> None:
         check.choice(self, "family", FAMILIES)
         base = {f.name: f.default for f in fields(self)}
-        derived = ("n", "L", "shape") if self.family == "file" else ()
+        derived = ("n", "L", "shape", "read_options") if self.family == "file" else ()
         for key, default in base.items():
             if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
                     and getattr(self, key) != default:
@@ -173,11 +187,12 @@ class SurfaceSpec:
                            f"whole number")
 
     def _check_file(self) -> None:
-        from validation.surfaces.families import read_map
+        from validation.surfaces.families import read_map, tile_side
         from validation.surfaces.topography import LENGTH_UNITS
 
         if not isinstance(self.path, str) or not self.path:
             check.fail(self, "path", f"must name a height file, got {self.path!r}")
+        self._check_read_options()
         if isinstance(self.physical_size, list):
             object.__setattr__(self, "physical_size", tuple(self.physical_size))
         check.choice(self, "unit", tuple(LENGTH_UNITS))
@@ -194,10 +209,8 @@ class SurfaceSpec:
         try:
             scan = read_map(self)
         except (ValueError, ImportError) as error:
-            key = next((k for k in ("physical_size", "file_unit", "resample")
-                        if k in str(error)), "path")
-            check.fail(self, key, f"does not give a readable height map: {error}")
-        rows, columns = (side // per_side for side in scan.heights.shape)
+            _refuse_map(self, error)
+        rows, columns = (tile_side(side, self.tiles) for side in scan.heights.shape)
         if min(rows, columns) < MIN_TILE:
             map_shape = " x ".join(map(str, scan.heights.shape))
             check.fail(self, "tiles", f"= {self.tiles} cuts the {map_shape}-pixel map into tiles "
@@ -209,6 +222,21 @@ class SurfaceSpec:
                 check.fail(self, key, f"= {given!r} conflicts with the tile of the file "
                            f"({value:g}); leave it out")
             object.__setattr__(self, key, value if key == "L" else int(value))
+
+    def _check_read_options(self) -> None:
+        options = self.read_options
+        if isinstance(options, dict):
+            options = options.items()
+        try:
+            pairs = sorted((str(k), tuple(v) if isinstance(v, list) else v) for k, v in options)
+        except (TypeError, ValueError):
+            check.fail(self, "read_options", f"must be a dict of keywords of read_topography, "
+                       f"got {self.read_options!r}")
+        for key, _ in pairs:
+            if key not in read_keywords():
+                check.fail(self, key, f"is not a keyword of read_topography that a file scene "
+                           f"passes on (those are: {', '.join(read_keywords())})")
+        object.__setattr__(self, "read_options", tuple(pairs))
 
     @property
     def grid(self) -> tuple[int, int]:
@@ -247,3 +275,45 @@ class SurfaceSpec:
         sweep = SWEEPS[self.family]
         return replace(self, **{sweep[0]: (value,)}) if sweep else self
 
+
+
+def read_keywords() -> tuple[str, ...]:
+    """Keywords of :func:`validation.read_topography` a file scene passes on unchanged: every
+    keyword-only parameter without a field of its own (:data:`READ_FIELDS`) in
+    :class:`SurfaceSpec`, read from its signature, so that a new option of the reader is a
+    scene key at once."""
+    import inspect
+
+    from validation.surfaces.topography import read_topography
+
+    own = set(READ_FIELDS) | {f.name for f in fields(SurfaceSpec)}
+    return tuple(p.name for p in inspect.signature(read_topography).parameters.values()
+                 if p.kind is p.KEYWORD_ONLY and p.name not in own)
+
+
+#: Scene keys of a measured map: its own fields, then the reader's other keywords.
+FAMILY_KEYS["file"] = FAMILY_KEYS["file"] + read_keywords()
+
+
+def _refuse_map(spec: SurfaceSpec, error: Exception) -> None:
+    """A :class:`SceneError` for a map the reader refused, naming the scene key at fault and
+    giving the reader's advice in the scene's own words (``fill = "mean"`` in [surface], not
+    ``fill='mean'``); settings the file lacks are listed together, with an example."""
+    import re
+
+    message = str(error)
+    options = ("resample", "square") + read_keywords()
+    keys = [k for k in ("file_unit", "physical_size") if re.search(rf"\b{k}\b", message)] + [
+        k for k in options if re.search(rf"\b{k}(=| must)", message)]
+    advice = re.sub(r"\b(\w+)='([^']*)'", r'\1 = "\2"', message).replace("pass ", "set ")
+    advice = re.sub(r'(= "[^"]*" or )\'([^\']*)\'', r'\1"\2"', advice)
+    missing = [k for k in ("file_unit", "physical_size") if f"set {k}" in advice
+               or f"and {k}" in advice]
+    if missing:
+        examples = {"file_unit": 'file_unit = "nm"        # unit of the numbers in the file',
+                    "physical_size": 'physical_size = "10 um"  # width of the whole map'}
+        advice += " in [surface], e.g.\n    " + "\n    ".join(examples[k] for k in missing)
+    elif keys and keys[0] in options:
+        advice += " in [surface]"
+    check.fail(spec, keys[0] if keys else "path",
+               f"does not give a readable height map: {advice}")

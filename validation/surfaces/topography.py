@@ -299,14 +299,17 @@ def read_topography(
     user_size = None if physical_size is None else _physical_size(physical_size)
 
     heights, size, unit, source = _load(path, reader, channel)
-    if unit is None:
-        if file_unit is None:
-            raise ValueError(f"{path} does not state its height unit: pass file_unit, e.g. 'nm'")
-        unit = file_unit
     if size is not None and user_size is not None:
         raise ValueError(f"{path} states its physical size; leave physical_size out")
-    if size is None and user_size is None:
-        raise ValueError(f"{path} does not state its physical size: pass physical_size")
+    # everything the file lacks is said at once
+    missing = [(what, name, example) for what, name, example, absent in (
+        ("its height unit", "file_unit", "'nm'", unit is None and file_unit is None),
+        ("its physical size", "physical_size", "'10 um'", size is None and user_size is None))
+        if absent]
+    if missing:
+        raise ValueError(f"{path} does not state {' or '.join(m[0] for m in missing)}: pass "
+                         + " and ".join(f"{name}, e.g. {example}" for _, name, example in missing))
+    unit = file_unit if unit is None else unit
     file_factor = _unit_factor(f"the height unit in {path}", unit)
     width, height = ((v * (LENGTH_UNITS[u] / out_factor if u else 1.0) for v, u in user_size)
                      if size is None else

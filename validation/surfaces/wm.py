@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from asperity.spectral_summits import height_derivatives
+
 from bem import checks
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics"]
@@ -162,6 +164,7 @@ def wm_surface(
     n_max = _check_integer("n_max", n_max, 0)
     D, L, gamma, M = _check_wm_parameters(D, L, gamma, M, n_max)
     side = L if side is None else _check_length("side", side)
+    checks.supported_magnitude("side / n (the grid spacing)", side / max(n, slope_grid))
     if (G is None) == (rms_slope is None):
         raise ValueError("give exactly one of G (amplitude scale) and rms_slope (rms gradient)")
     if G is not None:
@@ -232,18 +235,7 @@ def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = 
     periodic = checks.flag("periodic", periodic)
 
     z = heights - heights.mean()
-    if periodic:
-        right, left = np.roll(z, -1, axis=1), np.roll(z, 1, axis=1)
-        up, down = np.roll(z, -1, axis=0), np.roll(z, 1, axis=0)
-        centre = z
-    else:
-        right, left = z[1:-1, 2:], z[1:-1, :-2]
-        up, down = z[2:, 1:-1], z[:-2, 1:-1]
-        centre = z[1:-1, 1:-1]
-    z_x = (right - left) / (2.0 * spacing)
-    z_y = (up - down) / (2.0 * spacing)
-    z_xx = (right - 2.0 * centre + left) / spacing**2
-    z_yy = (up - 2.0 * centre + down) / spacing**2
+    z_x, z_y, z_xx, z_yy = height_derivatives(z, spacing, periodic=periodic)
     m0 = float(np.mean(z * z))
     mean_x2, mean_y2 = float(np.mean(z_x * z_x)), float(np.mean(z_y * z_y))
     m2 = 0.5 * (mean_x2 + mean_y2)

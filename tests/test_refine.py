@@ -1,0 +1,122 @@
+"""The finer reference: the refined sample is the same surface, a refined point carries the
+finer solve and its band, and the runner refines where the band decides, recursively, up to the
+scene's grid limit."""
+
+import pathlib
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import bem
+from validation.run.refine import merge_points, refined_heights, solver_tolerance, unavailable
+from validation.scenes.scene import SceneError
+from validation.scenes.reader import load_scene, parse_scene
+from validation.surfaces.families import surface_heights
+from validation.surfaces.wm import wm_surface
+
+WM = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
+      "realizations": {"count": 3, "seed": 7, "max": 6},
+      "loads": {"min": 1e-4, "max": 1e-2, "count": 4},
+      "models": {"use": ["gw", "bem"]}, "quantities": {"use": ["area", "load", "separation"]},
+      "bem": {"max_grid": 128}}
+
+
+def one(scene):
+    return scene.surface.at(scene.surface.sweep_values[0])
+
+
+@pytest.mark.parametrize("factor", [2, 4])
+def test_refined_wm_is_eq_11_at_the_finer_points(factor):
+    s = one(parse_scene(WM))
+    fine = refined_heights(s, 5, factor)
+    assert fine.shape == (32 * factor,) * 2
+    np.testing.assert_allclose(fine[::factor, ::factor], surface_heights(s, 5), rtol=0,
+                               atol=1e-12)
+    # independently: eq. (11) on the finer grid with the amplitude fixed on the scene grid,
+    # differing from it by a constant (the mean of the finer sample)
+    direct = wm_surface(32 * factor, D=2.3, rms_slope=0.1, seed=5, slope_grid=32)
+    offset = fine - direct
+    assert np.ptp(offset) < 1e-12
+
+
+def test_refined_self_affine_keeps_its_spectrum_and_phases():
+    quick = load_scene("self-affine").quick_version()
+    s = one(replace(quick, sampling=(1,), surface=replace(quick.surface, hurst=(0.5,), n=32)))
+    twice, four = refined_heights(s, 2, 2), refined_heights(s, 2, 4)
+    np.testing.assert_allclose(twice[::2, ::2], surface_heights(s, 2), atol=1e-12)
+    # the interpolated grid passes through the generator's own fine grid: one surface
+    np.testing.assert_allclose(four[::2, ::2], twice, atol=1e-10 * np.std(twice))
+    # and, on a periodic surface (no window), adds no wavevector beyond the band limit (the
+    # scene grid's Nyquist wavevector)
+    four = refined_heights(replace(s, window=1), 2, 4)
+    spectrum = np.abs(np.fft.fft2(four - four.mean()))
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(128), np.fft.fftfreq(128)))
+    assert spectrum[q > 0.5 / 4 * 1.5].max() < 1e-3 * spectrum.max()
+
+
+def test_a_measured_map_and_bad_factors_are_refused():
+    with pytest.raises(ValueError, match="factor"):
+        refined_heights(one(parse_scene(WM)), 0, 3)
+    full = load_scene("paper-wm-d205")
+    # the paper scenes' grid limit is their own grid: the full run refines nothing, the quick
+    # run (half the grid) refines once
+    assert unavailable(full).startswith("the scene grid 512 is already at the limit")
+    scene = full.quick_version()
+    assert unavailable(scene) is None
+    assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
+    assert "separation" in unavailable(replace(scene, loads=replace(scene.loads,
+                                                                     quantity="separation")))
+    measured = load_scene(pathlib.Path(__file__).resolve().parents[1] / "examples"
+                          / "example-topography.toml")
+    assert unavailable(measured).startswith("a measured map cannot be refined")
+
+
+def test_scene_grid_limit_is_validated_and_kept_in_quick_mode():
+    assert parse_scene(WM).bem.max_grid == 128
+    assert parse_scene(WM).quick_version().bem.max_grid == 128
+    assert load_scene("paper-wm-d205").quick_version().bem.max_grid == 512
+    with pytest.raises(SceneError, match="max_grid"):
+        parse_scene(WM | {"bem": {"max_grid": 16}})
+    with pytest.raises(SceneError, match="bem.max_grid"):
+        parse_scene(WM | {"bem": {"max_grid": 1.5}}, source="s.toml")
+
+
+def test_solver_tolerance_follows_the_band():
+    assert solver_tolerance(1e-3, 1e-8) == pytest.approx(1e-3 * 0.01 / 0.1)
+    assert solver_tolerance(1.0, 1e-8) == 1e-4             # never looser than 1e-4
+    assert solver_tolerance(1e-9, 1e-8) == 1e-8            # never tighter than the scene's
+    assert solver_tolerance(float("nan"), 1e-8) == 1e-8
+
+
+def test_merged_points_carry_the_finer_solve_and_its_band():
+    z = wm_surface(32, D=2.3, rms_slope=0.1, seed=1)
+    loads = np.array([1e-4, 1e-3, 1e-2])
+    coarse = bem.contact_curve(z, 1 / 32, loads=loads, error_estimate=True)
+    s = one(parse_scene(WM | {"realizations": {"count": 3, "seed": 1}}))
+    finer = bem.contact_curve(refined_heights(s, 1, 2), 1 / 64, loads=loads[[0, 2]])
+    merged = merge_points(coarse, np.array([0, 2]), finer, 64, 1 / 64, 32)
+    assert merged.area[[0, 2]].tolist() == finer.area.tolist()
+    assert merged.area[1] == coarse.area[1]
+    assert merged.extras["grid"].tolist() == [64, 32, 64]
+    expected = 2.0 * np.abs(finer.separation - coarse.separation[[0, 2]])
+    np.testing.assert_allclose(merged.extras["separation_error"][[0, 2]], expected)
+    assert merged.extras["separation_error"][1] == coarse.extras["separation_error"][1]
+
+
+def test_runner_refines_where_the_band_decides_and_new_realizations_follow(tmp_path):
+    from validation.run.runner import run_scenes
+
+    scene = parse_scene(WM, source="test")
+    (result,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
+    record = result.refinement
+    assert [level.grid for level in record.levels] == [64, 128]
+    assert record.reason.startswith("grid limit reached")
+    chosen = record.levels[-1].points[2.3]
+    for r in result.realizations[2.3]:  # planned and added realizations alike
+        grids = r.curves["bem"].extras["grid"]
+        assert grids[list(chosen)].tolist() == [128] * len(chosen)
+    assert len(result.realizations[2.3]) > 3
+    (again,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
+    assert not [e for r in again.realizations[2.3] for e in r.computed if e.startswith("bem")]
+    assert again.refinement == record

@@ -1,0 +1,253 @@
+"""A finer reference where its band decides: the same surface solved on a twice finer grid.
+
+At load points whose reference band keeps a cell undecided, the boundary-element reference is
+solved again on the grid of ``2 n`` points per side covering the same window, and recursively
+on ``4 n``, ... up to ``[bem] max_grid`` (docs/theory.md, "Finer reference where the band
+decides", eq. T39). The finer sample exists exactly for generated surfaces:
+
+* a WM surface is eq. (11) evaluated at the ``2 n`` points (its amplitude fixed on the scene's
+  grid, ``slope_grid = n``), so every second point is the scene's sample;
+* a self-affine surface is band-limited to the scene grid's Nyquist wavelength: its ``2 n``
+  sample is the generator's own fine grid, and finer ones are its trigonometric interpolation
+  (the same spectrum and phases, zero above the cut-off);
+* a measured map cannot be refined (:func:`unavailable` says so).
+
+Each finer sample is shifted and scaled so that every ``factor``-th point reproduces the scene's
+heights (checked), so the mean plane, and with it the separation, is the same. The finer
+solve's band is the estimate of eq. (T32) from the finer grid and the one below it (whose
+solve is already there), and its solver tolerance follows the band it is expected to have
+(eq. T40): a solver error of at most 1 % of the band.
+"""
+
+from __future__ import annotations
+
+import math
+from concurrent.futures import Executor, Future
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.path import error_estimates
+from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
+                                  model_quantities, needs_leakage, needs_stiffness,
+                                  source_version)
+from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.families import surface_heights, surface_identity
+from validation.surfaces.wm import wm_surface
+
+__all__ = ["SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "merge_points", "refined_heights",
+           "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
+
+#: Bound on the solver error of area, conductance (relative) and separation, mean gap (in units
+#: of sigma) per unit of the solver tolerance (T25): twice the largest ratio error / tol, 0.047,
+#: measured against tol = 1e-12 on WM surfaces (D = 2.05 and 2.95, 128 x 128, Load 1e-5 to 1e-2,
+#: tol 1e-3 to 1e-8; benchmarks/bench_solver_tolerance.py, docs/theory.md eq. T40).
+SOLVER_ERROR = 0.1
+#: Share of the expected band the solver may spend (eq. T40).
+SOLVER_SHARE = 0.01
+#: Loosest solver tolerance a refined solve uses.
+LOOSEST_TOLERANCE = 1e-4
+
+
+def unavailable(scene) -> str | None:
+    """Why the scene's reference cannot be refined (None when it can)."""
+    s, bem = scene.surface, scene.bem
+    if s.family == "file":
+        return "a measured map cannot be refined (no finer sample of it exists)"
+    if getattr(bem, "max_grid", None) is None:
+        return "no grid limit ([bem] max_grid not set)"
+    if scene.loads.quantity != "load":
+        return "only load paths are refined (a separation path's loads differ per realization)"
+    if not bem.reference_error:
+        return "the reference carries no band ([bem] reference_error = false)"
+    if 2 * s.n > bem.max_grid:
+        return f"the scene grid {s.n} is already at the limit max_grid = {bem.max_grid}"
+    return None
+
+
+def _self_affine_periodic(s, seed: int) -> tuple[np.ndarray, int]:
+    """The periodic surface the self-affine generator cuts its window from, on the grid of
+    ``2 n`` points per window side (validation.surfaces.families), up to scale and offset."""
+    fine = 2 * s.n
+    spacing = s.L / s.n
+    short_cutoff = s.short_cutoff if s.short_cutoff is not None else 2.0 * spacing
+    field = self_affine_surface(s.window * fine, hurst=s.hurst[0], rms_height=1.0,
+                                L=s.window * s.L, long_cutoff=s.long_cutoff or s.L,
+                                rolloff=s.rolloff, short_cutoff=short_cutoff, seed=seed)
+    return field, fine
+
+
+def _interpolate(field: np.ndarray, factor: int) -> np.ndarray:
+    """Trigonometric interpolation of a periodic field with no power at or above half its
+    Nyquist wavevector onto a grid ``factor`` times finer (zero-padded spectrum)."""
+    size = field.shape[0]
+    half = size // 2
+    spectrum = np.fft.rfft2(field)
+    padded = np.zeros((factor * size, factor * size // 2 + 1), dtype=complex)
+    padded[:half, :half + 1] = spectrum[:half, :half + 1]
+    padded[-half:, :half + 1] = spectrum[-half:, :half + 1]
+    return np.fft.irfft2(padded, s=(factor * size, factor * size)) * factor**2
+
+
+def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
+    """Heights [length] of realization ``seed`` on ``factor * n`` points per side of the same
+    window, with ``heights[::factor, ::factor]`` equal to the scene's sample.
+
+    Parameters
+    ----------
+    surface : validation.scenes.scene.SurfaceSpec
+        A WM or self-affine surface with one sweep value.
+    seed : int
+        Realization seed.
+    factor : int
+        Refinement factor, a power of two >= 2.
+
+    Raises
+    ------
+    ValueError
+        For a measured map, or a factor that is not a power of two >= 2.
+    """
+    if isinstance(factor, bool) or not isinstance(factor, int) or factor < 2 \
+            or factor & (factor - 1):
+        raise ValueError(f"factor must be a power of two >= 2, got {factor!r}")
+    s, n = surface, surface.n
+    base = surface_heights(s, seed)
+    if s.family == "wm":
+        # the window of side L of the surface whose longest wavelength is ``wavelength``
+        fine = wm_surface(factor * n, D=s.D[0], G=s.G, rms_slope=s.rms_slope,
+                          L=s.L if s.wavelength is None else s.wavelength, side=s.L,
+                          gamma=s.gamma, M=s.M, n_max=s.n_max, seed=seed,
+                          slope_grid=n if s.rms_slope is not None else None)
+    elif s.family == "self-affine":
+        field, grid = _self_affine_periodic(s, seed)
+        if factor > 2:
+            field, grid = _interpolate(field, factor // 2), grid * (factor // 2)
+        fine = field[:grid, :grid]
+    else:
+        raise ValueError(f"a {s.family} surface cannot be refined (no finer sample exists)")
+    sample = fine[::factor, ::factor]
+    scale = float(np.std(base) / np.std(sample))
+    fine = (fine - sample.mean()) * scale + base.mean()
+    mismatch = float(np.max(np.abs(fine[::factor, ::factor] - base)))
+    if not mismatch <= 1e-8 * float(np.std(base)):
+        raise RuntimeError(f"the refined sample does not reproduce the scene grid (off by "
+                           f"{mismatch:.3g}); the surface generator has changed")
+    return fine
+
+
+def solver_tolerance(band: float, floor: float) -> float:
+    """Solver tolerance (T25) whose error is at most :data:`SOLVER_SHARE` of ``band`` (eq.
+    T40): ``SOLVER_SHARE * band / SOLVER_ERROR``, between ``floor`` (the scene's tolerance)
+    and :data:`LOOSEST_TOLERANCE`."""
+    if not math.isfinite(band) or band <= 0.0:
+        return floor
+    return float(min(max(SOLVER_SHARE * band / SOLVER_ERROR, floor), LOOSEST_TOLERANCE))
+
+
+def _take(curve: ContactCurve, index: np.ndarray) -> ContactCurve:
+    """The curve at the points ``index`` only (fields and per-point extras)."""
+    state = {name: (None if getattr(curve, name) is None else getattr(curve, name)[index])
+             for name in CURVE_QUANTITIES}
+    extras = {key: np.asarray(value)[index] for key, value in curve.extras.items()
+              if np.ndim(value) >= 1 and np.shape(value)[0] == curve.load.size}
+    return ContactCurve(nominal_area=curve.nominal_area, e_star=curve.e_star, extras=extras,
+                        **state)
+
+
+def merge_points(curve: ContactCurve, index: np.ndarray, finer: ContactCurve, grid: int,
+                 spacing: float, base_grid: int) -> ContactCurve:
+    """``curve`` with the points ``index`` replaced by the finer solve ``finer`` (at those
+    points, on ``grid`` points per side, spacing ``spacing``), their error estimates taken from
+    the finer solve and the points replaced (eq. T32), and extra ``grid`` (points per side of
+    the solve behind each point; ``base_grid`` where no finer solve replaced it) updated."""
+    index = np.asarray(index, dtype=int)
+    coarse = _take(curve, index)
+    state = {name: getattr(curve, name) for name in CURVE_QUANTITIES}
+    for name, value in state.items():
+        if value is not None and getattr(finer, name) is not None:
+            state[name] = np.array(value, dtype=float)
+            state[name][index] = getattr(finer, name)
+    extras = {key: np.array(value) for key, value in curve.extras.items()}
+    estimates = error_estimates(finer, coarse, spacing)
+    for key, value in list(finer.extras.items()) + list(estimates.items()):
+        if key in extras and np.ndim(extras[key]) == 1 and np.size(value) == index.size:
+            extras[key] = extras[key].astype(np.result_type(extras[key], np.asarray(value)))
+            extras[key][index] = value
+    extras["converged"] = np.asarray(curve.extras.get("converged", np.ones(curve.load.shape,
+                                                                            bool)), bool).copy()
+    extras["converged"][index] = (np.asarray(finer.extras["converged"], bool)
+                                  & np.asarray(coarse.extras.get("converged", True), bool))
+    grids = np.asarray(curve.extras.get("grid", np.full(curve.load.shape, base_grid)),
+                       dtype=float).copy()
+    grids[index] = grid
+    extras["grid"] = grids
+    return replace(curve, **{k: v for k, v in state.items() if v is not None}, extras=extras)
+
+
+@dataclass(frozen=True)
+class RefineJob:
+    """One realization's reference to solve on a finer grid at some of its load points."""
+
+    task: object                  # validation.run.runner.RealizationTask
+    points: tuple[int, ...]       # load point indices
+    factor: int                   # grid = factor * task.surface.n
+    tol: float                    # solver tolerance of the finer solve (T40)
+
+
+def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
+    """The finer solve of ``job`` at its points (from the cache when there), and whether it
+    was computed now. Loads are the task's, in the scene's dimensionless form times E* L^2."""
+    from bem.path import contact_curve
+
+    task = job.task
+    s = task.surface
+    values = np.array(task.loads.values())[list(job.points)]
+    loads = values * task.e_star * s.L**2
+    stiffness, leakage = needs_stiffness(task.quantities), needs_leakage(task.quantities)
+    quantities = model_quantities(task.quantities)
+    key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
+                    factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
+                    leakage=leakage,
+                    periodic=task.bem.periodic, tol=job.tol, max_iter=task.bem.max_iter)
+    cached = cache.load(key, decode=curve_from_arrays)
+    if cached is not None:
+        return cached, False
+    heights = refined_heights(s, task.seed, job.factor)
+    curve = contact_curve(heights, s.spacing / job.factor, loads=loads, quantities=quantities,
+                          e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
+                          max_iter=task.bem.max_iter)
+    cache.store(key, curve_arrays(curve))
+    return curve, True
+
+
+def run_job(job: RefineJob, cache_dir: str | None) -> tuple[ContactCurve, bool]:
+    """:func:`refine_points` with its own cache handle (a top-level function, so that process
+    pools and clusters can run it)."""
+    return refine_points(job, Cache(cache_dir))
+
+
+def solve_jobs(jobs: list[RefineJob], executor: Executor | None, cache_dir: str | None,
+               bar=None) -> list[tuple[ContactCurve, bool]]:
+    """Run ``jobs`` (:func:`run_job`) in this process or over ``executor``; results in the
+    order of ``jobs``. ``bar`` (a :class:`validation.run.progress.Progress`, optional) advances
+    per job and is closed at the end; an interruption or a failed job cancels every job not yet
+    started, as the runner does for realizations."""
+    futures: list[Future] = []
+    out = []
+    try:
+        if executor is not None:
+            futures = [executor.submit(run_job, job, cache_dir) for job in jobs]
+        for index, job in enumerate(jobs):
+            out.append(run_job(job, cache_dir) if executor is None else futures[index].result())
+            if bar:
+                bar.advance(f"finer reference {job.factor * job.task.surface.n}² "
+                            f"{job.task.describe()}")
+    except BaseException:
+        for future in futures:
+            future.cancel()
+        raise
+    finally:
+        if bar:
+            bar.close()
+    return out
