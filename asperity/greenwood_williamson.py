@@ -105,11 +105,11 @@ class _SummitHeightTheory:
         for name in ("density", "radius", "sigma", "e_star", "area"):
             object.__setattr__(self, name, checks.contact_number(name, getattr(self, name),
                                                                  minimum=0.0, exclusive=True))
-        largest = checks.SUPPORTED_MAGNITUDE[1]     # an offset: any small value is fine
-        mean = checks.real_number("mean", self.mean, minimum=-largest, maximum=largest)
         if self.height_rms is not None:
             object.__setattr__(self, "height_rms", checks.contact_number(
                 "height_rms", self.height_rms, minimum=0.0, exclusive=True))
+        largest = checks.SUPPORTED_MAGNITUDE[1]     # an offset: any small value is fine
+        mean = checks.real_number("mean", self.mean, minimum=-largest, maximum=largest)
         object.__setattr__(self, "mean", mean)
         _check_distribution(self.distribution)
 

@@ -8,6 +8,7 @@ unit of E*.
 """
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.flow import hydraulic_aperture
 from bem.halfspace import HalfSpace
 from bem.model import BoundaryElementModel, ContactModel
 from bem.path import contact_curve, count_contacts
@@ -16,4 +17,4 @@ from bem.warnings import ConvergenceWarning
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES", "HalfSpace", "solve_contact", "ContactSolution",
            "contact_curve", "count_contacts", "ConvergenceWarning", "ContactModel",
-           "BoundaryElementModel"]
+           "BoundaryElementModel", "hydraulic_aperture"]

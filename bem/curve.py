@@ -17,8 +17,10 @@ Units and conventions (docs/theory.md, "Conventions used everywhere")
 * ``conductance`` = 2 S / E* [length]: the constriction conductance times the resistivity rho
   (C rho, Barber's analogy).
 * ``mean_pressure`` = W / A_nominal [pressure].
-* ``leakage`` h_eff [length]: the effective hydraulic aperture of the gap, defined by the
-  Reynolds flow rate ``Q = W h_eff^3 dp / (12 mu L)`` (a uniform gap h gives h; 0 when sealed).
+* ``leakage`` h_eff [length]: effective hydraulic aperture of the gap, the uniform gap that
+  leaks as much, ``Q = W h_eff^3 dp / (12 mu L)``; for the BEM the exact Reynolds flow through
+  its gap (:func:`bem.flow.leakage_aperture`: mean leak rate of flow along x and along y), 0
+  once the contact seals.
 
 Fields a model did not compute (not asked for) are ``None``; separation, load, area and
 mean_pressure are always filled. Every field has the shape of the separations or loads asked for

@@ -12,6 +12,7 @@ import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import ContactCurve, check_quantities
+from bem.flow import leakage_aperture
 from bem.halfspace import HalfSpace
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
@@ -46,6 +47,12 @@ def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
         (np.ones(edges.shape[1]), (edges[0] - 1, edges[1] - 1)), shape=(count, count))
     merged, _ = scipy.sparse.csgraph.connected_components(graph, directed=False)
     return int(merged)
+
+
+def _open_gap(solution: ContactSolution) -> np.ndarray:
+    """The solved gap with the contact set closed (0) and the solver's round-off below zero
+    clipped: the field the fluid flows through."""
+    return np.where(solution.contact, 0.0, np.maximum(solution.gap, 0.0))
 
 
 def _check_path(name: str, values, *, non_negative: bool) -> np.ndarray:
@@ -142,11 +149,15 @@ def contact_curve(
         Separations d [length] (separation control). Exactly one of ``loads``/``separations``.
     quantities : iterable of str
         Among ``"separation", "load", "area", "contacts", "stiffness", "conductance",
-        "mean_pressure"``. Separation, load, area and mean pressure come with every solve and are
+        "mean_pressure", "leakage"``. Separation, load, area and mean pressure come with every solve and are
         always filled. ``contacts`` counts connected contact spots
         (:func:`count_contacts`: 4-connected, merged across the edges when periodic).
         ``stiffness`` S = -dW/dd [force/length] and ``conductance`` 2 S / E* [length] cost one
         extra conjugate-gradient solve per point and are computed only when asked for.
+        ``leakage`` h_eff [length] is the effective hydraulic aperture of the solved gap (zero
+        on the contact set), the mean leak rate of flow along x and along y
+        (:func:`bem.flow.leakage_aperture`), periodic or not as the contact problem; two
+        sparse Reynolds solves per point, only when asked for.
     e_star, periodic, tol, max_iter, operator, preconditioned
         As in :func:`bem.solve_contact`.
     callback : callable, optional
@@ -170,7 +181,8 @@ def contact_curve(
         [length], ``pixel_area`` [length^2] (h^2 times the number of contact pixels) and
         ``staircase_perimeter`` [length] (h times the contact/non-contact pixel edges); with
         ``error_estimate`` also ``<quantity>_error`` for ``area``, ``separation``,
-        ``mean_gap`` and, when computed, ``contacts``, ``stiffness`` and ``conductance``
+        ``mean_gap`` and, when computed, ``contacts``, ``stiffness``, ``conductance`` and
+        ``leakage``
         (absolute, in the quantity's units); ``converged`` then requires both grids to have
         converged (an estimate from an unconverged half-grid solve is no certificate).
 
@@ -204,6 +216,7 @@ def contact_curve(
     operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
     want_stiffness = "stiffness" in quantities or "conductance" in quantities
     want_contacts = "contacts" in quantities
+    want_leakage = "leakage" in quantities
 
     size = targets.size
     separation, load, area = np.empty(size), np.empty(size), np.empty(size)
@@ -213,6 +226,7 @@ def contact_curve(
     converged = np.empty(size, dtype=bool)
     contacts = np.empty(size) if want_contacts else None
     stiffness = np.empty(size) if want_stiffness else None
+    leakage = np.empty(size) if want_leakage else None
     coarse, coarse_pressures = None, {}
     if error_estimate:
         # The half grid first: its solutions are the nested starts of the fine points, which
@@ -253,6 +267,8 @@ def contact_curve(
             contacts[index] = count_contacts(solution.contact, periodic=periodic)
         if want_stiffness:
             stiffness[index] = solution.stiffness
+        if want_leakage:
+            leakage[index] = leakage_aperture(_open_gap(solution), spacing, periodic=periodic)
         if callback is not None:
             callback(int(index), solution)
     nominal_area = z.size * spacing**2
@@ -268,6 +284,7 @@ def contact_curve(
         contacts=contacts,
         stiffness=stiffness if "stiffness" in quantities else None,
         conductance=2.0 * stiffness / e_star if "conductance" in quantities else None,
+        leakage=leakage,
         extras=extras,
     )
     if not error_estimate:
@@ -287,7 +304,7 @@ ERROR_FACTOR = 2.0
 #: is at least this times h times the staircase perimeter.
 PERIMETER_COEFFICIENT_UNCERTAINTY = 0.015
 
-_ERROR_QUANTITIES = ("area", "separation", "contacts", "stiffness", "conductance")
+_ERROR_QUANTITIES = ("area", "separation", "contacts", "stiffness", "conductance", "leakage")
 
 
 def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) -> dict[str, np.ndarray]:
@@ -313,8 +330,8 @@ def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) ->
     -------
     dict of str to numpy.ndarray
         ``<quantity>_error`` [units of the quantity], absolute, for ``area``, ``separation``,
-        ``mean_gap`` and those of ``contacts``, ``stiffness`` and ``conductance`` both curves
-        hold.
+        ``mean_gap`` and those of ``contacts``, ``stiffness``, ``conductance`` and ``leakage``
+        both curves hold.
     """
     out = {}
     for name in _ERROR_QUANTITIES:

@@ -128,3 +128,30 @@ def test_binary_scene_file_is_a_clean_error(tmp_path):
     process = _run(binary, "--out", tmp_path / "o", "--no-cache")
     assert process.returncode == 2 and "Traceback" not in process.stderr
     assert "scene.toml" in process.stderr and "not a text scene file" in process.stderr
+
+
+@pytest.mark.parametrize("arguments, size_scene, quick", [
+    ([], False, True), (["--full"], True, False), (["--publish", "{out}"], True, False)])
+def test_the_size_scene_runs_in_the_full_and_published_reports_only(tmp_path, monkeypatch,
+                                                                    arguments, size_scene,
+                                                                    quick):
+    import validation.report.write
+    import validation.run.runner
+
+    seen = {}
+
+    def run(scenes, **kwargs):
+        seen["scenes"] = list(scenes)
+        return []
+
+    monkeypatch.setattr(validation.run.runner, "run_scenes", run)
+    monkeypatch.setattr(validation.report.write, "write_report",
+                        lambda results, out, **kwargs: out)
+    out = str(tmp_path / "out")
+    arguments = [a.replace("{out}", out) for a in arguments]
+    assert main(["report", "--out", out, "--no-cache", "--jobs", "1", "--quiet", *arguments]) == 0
+    names = [scene.name for scene in seen["scenes"]]
+    assert ("sealing-size" in names) == size_scene
+    assert {"paper-wm-d205", "paper-wm-d295", "validity-map"} <= set(names)
+    paper = next(s for s in seen["scenes"] if s.name == "paper-wm-d205")
+    assert ("leakage" in paper.quantities) == (not quick)

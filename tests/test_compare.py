@@ -181,3 +181,109 @@ def test_the_reference_is_the_registered_reference_whatever_its_name():
         models.unregister("exact")
     np.testing.assert_allclose(comparison.models[("gw", "area")].summary.mean, 0.1)
     assert ("exact", "area") not in comparison.models
+
+
+# --------------------------------------------------------------------------------------------
+# leakage: the log-ratio error (docs/theory.md, eq. L7) and the sealing rule
+
+def leaky(load, leakage, extras=None):
+    load = np.asarray(load, float)
+    return ContactCurve(separation=[3.0, 2.0, 1.0, 0.5], load=load, area=[0.01, 0.05, 0.2, 0.4],
+                        mean_pressure=load, nominal_area=1.0, e_star=1.0, leakage=leakage,
+                        extras=extras or {})
+
+
+LEAK_LOAD = np.array([1e-4, 1e-3, 1e-2, 2e-2])
+
+
+def test_leakage_error_is_the_log_ratio_and_sealing_disagreements_are_undefined():
+    from validation.judge.compare import sealing_disagreements
+
+    reference = leaky(LEAK_LOAD, [2.0, 1.0, 0.5, 0.0])
+    model = leaky(LEAK_LOAD, [4.0, 0.5, 0.0, 0.0])
+    (error,) = curve_errors(model, reference, 1.0, ("leakage",)).values()
+    # a factor 2 in h_eff either way is +-ln 2 (a factor 8 in Q); both sealed agree exactly;
+    # one sealed and one not is undefined, never 0
+    np.testing.assert_allclose(error[:2], [np.log(2.0), -np.log(2.0)], rtol=1e-14)
+    assert np.isnan(error[2]) and error[3] == 0.0
+    disagree, resolved = sealing_disagreements(model, reference)
+    np.testing.assert_array_equal(disagree, [False, False, True, False])
+    np.testing.assert_array_equal(resolved, disagree)        # no estimate: taken as exact
+    # the reference's estimate decides whether it resolves the disagreement: open by less
+    # than its error (0.5 +- 0.6) cannot tell sealed from open
+    uncertain = leaky(LEAK_LOAD, [2.0, 1.0, 0.5, 0.0],
+                      {"leakage_error": np.array([0.1, 0.1, 0.6, 0.0])})
+    assert not sealing_disagreements(model, uncertain)[1].any()
+    # a sealed reference whose half-grid solution leaks is not sure to be sealed either
+    opened = leaky(LEAK_LOAD, [2.0, 1.0, 0.5, 0.1])
+    sealed = leaky(LEAK_LOAD, [2.0, 1.0, 0.5, 0.0], {"leakage_error": np.array([0, 0, 0, 0.05])})
+    disagree, resolved = sealing_disagreements(opened, sealed)
+    np.testing.assert_array_equal(disagree, [False, False, False, True])
+    assert not resolved.any()
+
+
+def leak_realizations(model_factor, model_sealed=(), errors=(0.0, 0.0, 0.0, 0.0), count=6):
+    """Realizations where the model's h_eff is ``model_factor`` times the BEM's (a seeded
+    scatter of 1 % around it), sealed at the point indices ``model_sealed``; the BEM's error
+    estimate ``errors`` (default exact; None: not estimated, so its band is unknown)."""
+    from types import SimpleNamespace
+
+    rng = np.random.default_rng(4)
+    base = np.array([2.0, 1.0, 0.5, 0.2])
+    out = []
+    for seed in range(count):
+        extras = {} if errors is None else {"leakage_error": np.asarray(errors, float)}
+        reference = leaky(LEAK_LOAD, base, extras)
+        values = base * model_factor * np.exp(0.01 * rng.standard_normal(4))
+        values[list(model_sealed)] = 0.0
+        task = SimpleNamespace(seed=seed, surface=SimpleNamespace(L=1.0, sweep_name="D"),
+                               quantities=("area", "leakage"), sweep_value=2.3)
+        out.append(SimpleNamespace(task=task, curves={"bem": reference,
+                                                      "gw": leaky(LEAK_LOAD, values)}, sigma=1.0))
+    return out
+
+
+def test_leakage_verdicts_follow_the_log_error_and_the_sealing_rule():
+    from validation.judge.compare import compare_realizations
+    from validation.judge.verdicts import FAILS, HOLDS, REFERENCE_BAND, UNDECIDED
+
+    close = compare_realizations(leak_realizations(1.02), tolerances=(0.05, 0.2))
+    entry = close.models[("gw", "leakage")]
+    np.testing.assert_allclose(entry.summary.mean, np.log(1.02), atol=0.02)
+    assert list(entry.verdicts[0]) == [HOLDS] * 4
+    np.testing.assert_array_equal(entry.sealing, 0)
+    # h_eff 30 % high (Q 2.2 times): within 0.05 fails, within 0.2 fails too (ln 1.3 = 0.26)
+    far = compare_realizations(leak_realizations(1.3), tolerances=(0.05, 0.3))
+    assert list(far.models[("gw", "leakage")].verdicts[0]) == [FAILS] * 4
+    assert list(far.models[("gw", "leakage")].verdicts[1]) == [HOLDS] * 4
+    # sealed where the BEM leaks: the point fails at every tolerance, and its error is not 0
+    sealed = compare_realizations(leak_realizations(1.0, model_sealed=[3]), tolerances=(0.05, 1.0))
+    entry = sealed.models[("gw", "leakage")]
+    assert [v[3] for v in entry.verdicts] == [FAILS, FAILS]
+    assert np.isnan(entry.summary.mean[3]) and entry.sealing[3] == 6 == entry.sealing_resolved[3]
+    assert list(entry.verdicts[1][:3]) == [HOLDS] * 3
+    # ... unless the BEM's own error could make it sealed: undecided
+    unsure = compare_realizations(leak_realizations(1.0, model_sealed=[3],
+                                                    errors=[0.0, 0.0, 0.0, 0.3]),
+                                  tolerances=(0.05, 1.0))
+    entry = unsure.models[("gw", "leakage")]
+    assert [v[3] for v in entry.verdicts] == [UNDECIDED, UNDECIDED]
+    assert entry.sealing[3] == 6 and entry.sealing_resolved[3] == 0
+    # the reasons agree: the BEM's estimate (a finer reference) decides; nothing holds per
+    # surface where some surface's error is infinite
+    assert [entry.reasons(i)[3] for i in range(2)] == [REFERENCE_BAND] * 2
+    assert all(v[3] != HOLDS for v in entry.surface_verdicts)
+    assert all(entry.reasons(i)[3] == "" for i in range(2) for entry in
+               [sealed.models[("gw", "leakage")]])
+    # a BEM without an error estimate: its band is unknown, nothing is decided to hold
+    unknown = compare_realizations(leak_realizations(1.02, errors=None), tolerances=(0.05, 0.2))
+    assert HOLDS not in list(unknown.models[("gw", "leakage")].verdicts[0])
+
+
+def test_leakage_band_is_the_relative_estimate_and_a_sealed_reference_is_exact_only_if_sure():
+    from validation.judge.compare import _log_band
+
+    band = _log_band(np.array([[0.02, 0.0, 0.0], [0.04, 0.0, 0.1]]),
+                     np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))
+    np.testing.assert_allclose(band[:2], [0.03, 0.0])
+    assert band[2] == np.inf

@@ -152,3 +152,37 @@ def test_report_only_modules_do_not_compute_results():
         imported -= {"run/progress.py", "run/cost.py", "run/sequential.py"}
         if name not in allowed:
             assert not imported & REPORT_ONLY_MODULES, (name, imported & REPORT_ONLY_MODULES)
+
+
+SEALING = {
+    "name": "tiny-sealing",
+    "title": "Leakage on nested windows",
+    "surface": {"D": 2.3, "rms_slope": 0.1, "n": 32, "n_max": 4, "wavelength": 1.0,
+                "sides": [1.0, 2.0]},
+    "realizations": {"count": 2, "seed": 1},
+    "loads": {"min": 1e-3, "max": 3e-2, "count": 4},
+    "models": {"use": ["gw", "improved_gw", "bem"], "m": 0.9464},
+    "quantities": {"use": ["area", "load", "separation", "leakage"]},
+    "bem": {"tol": 1e-8, "reference_error": True},
+}
+
+
+def test_a_leakage_size_scene_reports_its_findings_figures_and_columns(tmp_path):
+    results = run_scenes([parse_scene(SEALING, source="test")], progress=False)
+    text = write_report(results, tmp_path, seconds=1.0).read_text(encoding="utf-8")
+    # finding (g) spans the sizes; (f) is checked per size (shown in findings.csv)
+    assert "| (g) it is harder to seal a large area than a small one | tiny-sealing, L = 1, 2 |" \
+        in text
+    findings = rows(tmp_path / "findings.csv")
+    assert {(r["finding"], r["L"]) for r in findings if r["finding"] in "fg"} == {
+        ("f", "1"), ("f", "2"), ("g", "")}
+    assert (tmp_path / "tiny-sealing-sizes.png").stat().st_size > 5_000
+    errors = [r for r in rows(tmp_path / "errors.csv") if r["quantity"] == "leakage"]
+    assert {r["model"] for r in errors} == {"gw", "improved_gw"}
+    assert all(r["sealing_disagreements"].isdigit() for r in errors)
+    bem_rows = [r for r in rows(tmp_path / "curves.csv") if r["model"] == "bem"]
+    assert {r["L"] for r in bem_rows} == {"1", "2"} and {r["n"] for r in bem_rows} == {"32", "64"}
+    for r in bem_rows:   # h_eff / sigma beside h_eff and its error estimate
+        np.testing.assert_allclose(float(r["Leakage"]) * float(r["sigma"]), float(r["leakage"]),
+                                   rtol=1e-8)
+        assert float(r["leakage_error"]) >= 0

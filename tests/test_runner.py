@@ -161,3 +161,49 @@ def test_progress_is_quiet_off_a_terminal_and_counts_on_request():
     bar.advance("second")
     text = shown.getvalue()
     assert "2/2" in text and "realizations" in text and "second" in text
+
+
+def test_leakage_is_asked_for_only_by_scenes_that_list_it(tmp_path, monkeypatch):
+    import bem
+
+    asked = []
+    solve = bem.BoundaryElementModel.at_load
+
+    def spy(self, load, *, quantities):
+        asked.append(tuple(quantities))
+        return solve(self, load, quantities=quantities)
+
+    monkeypatch.setattr(bem.BoundaryElementModel, "at_load", spy)
+    plain = tiny(**{"quantities.use": ["area", "load", "separation"],
+                    "models.use": ["gw", "improved_gw", "bem"]})
+    leaky = replace(plain, quantities=("area", "load", "separation", "leakage"))
+    (without,) = run_scenes([plain], cache_dir=str(tmp_path), progress=False)
+    assert asked and not any("leakage" in q for q in asked)
+    assert all(c.leakage is None for r in without.realizations[2.3] for c in r.curves.values())
+    assert not any("leakage" in e for e in computed([without]))
+    # the cache key holds the leakage flag: the cached path without leakage is not reused
+    asked.clear()
+    (with_leakage,) = run_scenes([leaky], cache_dir=str(tmp_path), progress=False)
+    assert len(asked) == 2 and all("leakage" in q for q in asked)
+    assert sum(e.startswith("bem-leakage ") for e in computed([with_leakage])) == 2
+    gw = with_leakage.realizations[2.3][0].curves["gw"]
+    assert gw.leakage is not None and np.all(gw.leakage >= 0)
+    # ... and a second run with leakage reads it back
+    asked.clear()
+    run_scenes([leaky], cache_dir=str(tmp_path), progress=False)
+    assert asked == []
+
+
+def test_tasks_that_differ_only_in_quantities_run_once_with_the_union():
+    plain = tiny(**{"quantities.use": ["area", "load", "separation"],
+                    "models.use": ["gw", "bem"]})
+    leaky = replace(plain, name="leaky", quantities=("area", "load", "separation", "leakage"))
+    first, second = run_scenes([plain, leaky], progress=False)
+    log = computed([first])
+    assert log == computed([second]) and sum(e.startswith("bem ") for e in log) == 2
+    for one, other in zip(first.realizations[2.3], second.realizations[2.3]):
+        # each scene keeps its own task (its comparisons follow its quantities) ...
+        assert one.task.quantities == plain.quantities
+        assert other.task.quantities == leaky.quantities
+        # ... and both read the same curves, computed once with the leakage
+        assert one.curves is other.curves and one.curves["gw"].leakage is not None

@@ -1,6 +1,7 @@
 """Scene parsing and validation."""
 
 
+import numpy as np
 import pytest
 
 from validation.scenes.scene import SceneError
@@ -63,6 +64,12 @@ def test_user_file_and_defaults(tmp_path):
     (GOOD.replace("n = 32", "n = 32.5"), "surface.n"),
     (GOOD + "\n[models]\nuse = [\"gw\", \"magic\"]\n", "models.use"),
     (GOOD + "\n[quantities]\nuse = [\"pressure\"]\n", "quantities.use"),
+    (GOOD + "sides = [1.0, 1.7]\n", "surface.sides"),          # 32 x 1.7 = 54.4 points
+    (GOOD + "sides = [1.0, 2.0]\nL = 2.0\n", "surface.L"),
+    (GOOD + "sides = [1.0, 1.0]\n", "surface.sides"),
+    (GOOD + "sides = [1.0, -2.0]\n", "surface.sides"),
+    (GOOD.replace("D = 2.3", "D = [2.1, 2.3]") + "sides = [1.0, 2.0]\n", "surface.sides"),
+    (GOOD + "wavelength = 0\n", "surface.wavelength"),
     (GOOD + "\n[loads]\nmin = 1e-2\nmax = 1e-3\n", "loads.max"),
     (GOOD + "\n[loads]\nquantity = \"force\"\n", "loads.quantity"),
     (GOOD + "\n[bem]\ntol = -1\n", "bem.tol"),
@@ -128,3 +135,64 @@ def test_defaults_are_the_dataclass_defaults(tmp_path):
         assert getattr(scene, key) == base[key], key
     separation = LoadPath(quantity="separation")
     assert (separation.min, separation.max, separation.spacing) == (0.0, 3.0, "linear")
+
+
+def test_sealing_size_scene_sweeps_nested_windows_of_one_spacing():
+    from validation.run.runner import plan_scene
+
+    scene = load_scene("sealing-size")
+    assert "leakage" in scene.quantities and {"gw", "improved_gw", "bem"} <= set(scene.models)
+    surface = scene.surface
+    assert surface.sweep_name == "L" and surface.sweep_values == (1.0, 2.0, 4.0)
+    assert surface.L == 1.0 and surface.wavelength == 1.0 and len(surface.D) == 1
+    for quick in (False, True):
+        tasks = plan_scene(scene.quick_version() if quick else scene)
+        spacings = {t.surface.spacing for t in tasks}
+        assert len(spacings) == 1                      # the same grid spacing on every size
+        by_side = {t.sweep_value: t.surface for t in tasks}
+        assert sorted(by_side) == [1.0, 2.0, 4.0]
+        for side, spec in by_side.items():
+            assert spec.L == side and spec.wavelength == 1.0 and spec.sides == (side,)
+        assert [by_side[s].n for s in (1.0, 2.0, 4.0)] == (
+            [64, 128, 256] if quick else [128, 256, 512])
+        # the same seeds on every size: realization k is a nested window of one surface
+        assert len({tuple(sorted(t.seed for t in tasks if t.sweep_value == s))
+                    for s in by_side}) == 1
+
+
+def test_nested_windows_are_one_surface():
+    from validation.surfaces.families import surface_heights, surface_identity
+
+    scene = load_scene("sealing-size").quick_version()
+    small, large = (scene.surface.at(side) for side in (1.0, 2.0))
+    a, b = surface_heights(small, 3), surface_heights(large, 3)
+    assert b.shape == (2 * a.shape[0],) * 2
+    # the windows are scaled to the rms slope each on its own, so the corner agrees up to a
+    # constant offset and a factor near 1
+    corner = b[:a.shape[0], :a.shape[1]]
+    factor = np.std(corner) / np.std(a)
+    np.testing.assert_allclose(corner - corner.mean(), factor * (a - a.mean()), atol=1e-12)
+    assert 0.8 < factor < 1.25
+    assert surface_identity(small, 3) != surface_identity(large, 3)
+
+
+
+def test_paper_scenes_ask_for_leakage_and_the_default_report_has_the_size_scene():
+    from validation.cli import DEFAULT_SCENES
+
+    for name in ("paper-wm-d205", "paper-wm-d295"):
+        assert "leakage" in load_scene(name).quantities
+    assert "sealing-size" in DEFAULT_SCENES
+
+
+def test_quick_mode_may_leave_out_quantities():
+    scene = load_scene("paper-wm-d205")
+    assert "leakage" in scene.quantities
+    quick = scene.quick_version()
+    assert "leakage" not in quick.quantities and "conductance" in quick.quantities
+    # the sealing scene keeps its leakage in quick mode (it exists to measure it)
+    assert "leakage" in load_scene("sealing-size").quick_version().quantities
+    data = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
+            "quick": {"quantities": ["area", "flow"]}}
+    with pytest.raises(SceneError, match="quick.quantities"):
+        parse_scene(data)

@@ -4,7 +4,15 @@ Error measures (at equal total load W, realization by realization):
 
 * area and conductance (and stiffness, contacts): relative error ``q_model / q_reference - 1``;
 * separation (and the mean gap): ``(d_model - d_reference) / sigma`` with sigma the standard
-  deviation of the summit heights of that realization (the paper's unit of separation).
+  deviation of the summit heights of that realization (the paper's unit of separation);
+* leakage (the effective hydraulic aperture h_eff): the logarithm of the ratio,
+  ``ln(h_model / h_reference) = ln(Q_model / Q_reference) / 3`` (docs/theory.md, eq. L7),
+  0 where both are sealed (h_eff = 0). Where only one of them is sealed the ratio is 0 or
+  infinite and the error undefined: the point is a *disagreement about sealing*, left out of the
+  error statistics (NaN, never 0) and counted (:func:`sealing_disagreements`). It decides the
+  verdict instead: a disagreement the reference resolves (its own error estimate cannot turn
+  its value into the model's sealed or open state) is an error beyond any tolerance, so the
+  point fails; one it does not resolve leaves the point undecided.
 
 A model may be compared with a different field of the reference than its own quantity's name:
 its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
@@ -24,6 +32,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from asperity.leakage import log_aperture_error
 from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from validation.run import models
@@ -31,7 +40,10 @@ from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, s
                                         surface_reasons)
 from validation.judge.verdicts import (
     CONFIDENCE,
+    FAILS,
     HOLDS,
+    REFERENCE_BAND,
+    UNDECIDED,
     ErrorInterval,
     ValidityRange,
     classify,
@@ -46,6 +58,7 @@ from validation.judge.verdicts import (
 __all__ = [
     "ABSOLUTE_QUANTITIES",
     "COMPARED_QUANTITIES",
+    "LOG_QUANTITIES",
     "NOT_ESTIMATED",
     "RELATIVE_QUANTITIES",
     "Comparison",
@@ -57,6 +70,7 @@ __all__ = [
     "curve_errors",
     "reached_points",
     "pairwise_errors",
+    "sealing_disagreements",
     "summarise_errors",
     "validity_range",
 ]
@@ -65,6 +79,8 @@ __all__ = [
 RELATIVE_QUANTITIES = ("area", "conductance", "stiffness", "contacts")
 #: Quantities compared by absolute error in units of sigma.
 ABSOLUTE_QUANTITIES = ("separation", "mean_gap")
+#: Quantities compared by the logarithm of the ratio (eq. L7): the leakage h_eff.
+LOG_QUANTITIES = ("leakage",)
 #: Largest relative difference between a model's load and the reference's at one point for
 #: the two to be compared (both solve for the same load; far beyond any solver tolerance).
 LOAD_RTOL = 1e-6
@@ -72,7 +88,7 @@ LOAD_RTOL = 1e-6
 NOT_ESTIMATED = "not estimated"
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
-COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness")
+COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness", "leakage")
 
 
 def _field(curve: ContactCurve, name: str) -> np.ndarray | None:
@@ -129,11 +145,11 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
     -------
     dict of str to ndarray
         One error array per quantity (NaN where the reference value is zero for a relative
-        error, where either curve's solver did not converge, or where the model did not reach
-        the reference's load).
+        error, where only one of the two is sealed for the leakage, where either curve's solver did
+        not converge, or where the model did not reach the reference's load).
     """
     sigma, quantities = checks.curve_error_arguments(
-        sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES)
+        sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES + LOG_QUANTITIES)
     reached = reached_points(model, reference, load_rtol=load_rtol)
     fields = reference_fields or {}
     unconverged = ~(converged_points(model) & converged_points(reference) & reached)
@@ -145,11 +161,48 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
         with np.errstate(divide="ignore", invalid="ignore"):
             if name in ABSOLUTE_QUANTITIES:
                 error = (got - want) / sigma
+            elif name in LOG_QUANTITIES:
+                error = log_aperture_error(got, want)
             else:
                 error = np.where(want != 0, got / np.where(want != 0, want, 1.0) - 1.0, np.nan)
         # a point that either solver did not converge at says nothing
         errors[name] = np.where(unconverged, np.nan, error)
     return errors
+
+
+def sealing_disagreements(model: ContactCurve, reference: ContactCurve,
+                          reference_field: str = "leakage") -> tuple[np.ndarray, np.ndarray]:
+    """Where exactly one of two curves is sealed (leakage h_eff = 0), and which of those
+    disagreements the reference resolves.
+
+    Parameters
+    ----------
+    model, reference : ContactCurve
+        Curves on the same load points, both with their ``leakage`` (else no disagreement).
+    reference_field : str
+        The reference's field compared with the model's leakage.
+
+    Returns
+    -------
+    disagree, resolved : ndarray of bool
+        Per point: one of the two is sealed and the other not (points where either solver did
+        not converge, or the model did not reach the reference's load, excluded); and, among those, the points where the reference's own error
+        estimate ``extras[field + "_error"]`` (absolute, h_eff units; taken as 0 when absent)
+        cannot change its state: it is sealed with a zero estimate, or open by more than the
+        estimate (``h > error``).
+    """
+    got, want = _field(model, "leakage"), _field(reference, reference_field)
+    shape = reference.load.shape
+    if got is None or want is None:
+        return np.zeros(shape, dtype=bool), np.zeros(shape, dtype=bool)
+    counted = (converged_points(model) & converged_points(reference)
+               & reached_points(model, reference))
+    disagree = counted & ((got == 0) != (want == 0))
+    estimate = reference.extras.get(f"{reference_field}_error")
+    error = np.zeros(shape) if estimate is None else np.abs(np.asarray(estimate, dtype=float))
+    with np.errstate(invalid="ignore"):
+        certain = np.where(want == 0, error == 0, want > error)   # NaN estimate: uncertain
+    return disagree, disagree & certain
 
 
 def pairwise_errors(results, model: str, reference_model: str, quantities: tuple[str, ...],
@@ -202,6 +255,10 @@ class ModelComparison:
     surface: SurfaceInterval | None = None            # tolerance interval of single surfaces
     surface_verdicts: tuple[np.ndarray, ...] = ()     # per tolerance: holds per surface or not
     surface_ranges: tuple[ValidityRange, ...] = ()    # per tolerance: longest run per surface
+    # leakage only, per point: realizations where exactly one of model and reference is sealed
+    # (all of them, and those the reference's error estimate resolves); None for other fields
+    sealing: np.ndarray | None = None
+    sealing_resolved: np.ndarray | None = None
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
@@ -217,8 +274,10 @@ class ModelComparison:
         if self.surface is None or self.interval is None:
             return np.full(np.shape(self.verdicts[index]), "")
         band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
-        return surface_reasons(self.surface, band, self.tolerances[index],
-                               count=self.interval.count, complete=self.complete)
+        return self._sealing_reasons(
+            surface_reasons(self.surface, band, self.tolerances[index],
+                            count=self.interval.count, complete=self.complete),
+            self.surface_verdicts[index])
 
     def reasons(self, index: int) -> np.ndarray:
         """Why each point is undecided at ``tolerances[index]`` ("" where decided;
@@ -226,8 +285,20 @@ class ModelComparison:
         if self.interval is None:
             return np.full(np.shape(self.verdicts[index]), "")
         band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
-        return undecided_reasons(self.interval, band, self.tolerances[index],
-                                 complete=self.complete)
+        return self._sealing_reasons(
+            undecided_reasons(self.interval, band, self.tolerances[index],
+                              complete=self.complete),
+            self.verdicts[index])
+
+    def _sealing_reasons(self, reasons: np.ndarray, verdicts: np.ndarray) -> np.ndarray:
+        """Reasons that agree with the verdicts where the leakage's sealing rule decided them:
+        none where a resolved disagreement fails the point, the reference band where the
+        reference's own estimate cannot tell whether it seals (a finer grid decides)."""
+        if self.sealing is None:
+            return reasons
+        reasons = np.where(np.asarray(verdicts) == UNDECIDED, reasons, "")
+        return np.where((np.asarray(verdicts) == UNDECIDED) & (self.sealing > 0),
+                        REFERENCE_BAND, reasons)
 
 
 @dataclass(frozen=True)
@@ -267,12 +338,38 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
     estimates = [c.extras.get(f"{field_name}_error") for c in curves]
     if all(e is not None for e in estimates):
         absolute = np.vstack([np.asarray(e, dtype=float) for e in estimates])
+        if field_name in LOG_QUANTITIES:
+            return (_log_band(absolute, np.vstack([_field(c, field_name) for c in curves])),
+                    f"per-point estimates, {len(curves)} realization(s)")
         if field_name in ABSOLUTE_QUANTITIES:
             scale = np.array([[r.sigma] for r in results])
         else:
             scale = np.vstack([_field(c, field_name) for c in curves])
         return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
     return np.full(points, np.nan), NOT_ESTIMATED
+
+
+def _log_band(absolute: np.ndarray, reference: np.ndarray) -> np.ndarray:
+    """Reference band in the log-ratio measure (L7): the mean over realizations of e_h / h, the
+    first-order change of ln h; 0 where the reference is sealed with a zero estimate, infinite
+    where it is sealed but its estimate is not (its state is then unknown, so nothing holds).
+    NaN estimates are left out; a point without any is NaN (unknown)."""
+    absolute = np.abs(absolute)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        measure = np.where(reference > 0, absolute / np.where(reference > 0, reference, 1.0),
+                           np.where(absolute == 0, 0.0, np.inf))
+    measure = np.where(np.isnan(absolute), np.nan, measure)
+    known = ~np.isnan(measure)
+    total = np.where(known, measure, 0.0).sum(axis=0)
+    return np.where(known.any(axis=0), total / np.maximum(known.sum(axis=0), 1), np.nan)
+
+
+def _sealing_counts(results, model: str, reference_model: str, field_name: str
+                    ) -> tuple[np.ndarray, np.ndarray]:
+    """Per point, realizations that disagree about sealing, and those the reference resolves."""
+    pairs = [sealing_disagreements(r.curves[model], r.curves[reference_model], field_name)
+             for r in results]
+    return (np.sum([p[0] for p in pairs], axis=0), np.sum([p[1] for p in pairs], axis=0))
 
 
 def _model_comparison(results, model, quantity, errors, band, reference_model, load,
@@ -284,10 +381,21 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
                                  & converged_points(r.curves[reference_model])
                                  for r in results]) & reached, axis=0)
     verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    sealing = resolved = None
+    if quantity in LOG_QUANTITIES:
+        # a resolved disagreement about sealing is an infinite error: the point fails; an
+        # unresolved one leaves it undecided (docs/theory.md, eq. L7 and below)
+        sealing, resolved = _sealing_counts(results, model, reference_model, field_name)
+        verdicts = tuple(np.where(resolved > 0, FAILS, np.where(sealing > 0, UNDECIDED, v))
+                         for v in verdicts)
     surface = surface_interval(interval.mean, interval.std, interval.count,
                                confidence=confidence)
     surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
                              for tol in tolerances)
+    if sealing is not None:
+        # an infinite error of some surface: per surface, nothing holds where sealing disagrees
+        surface_verdicts = tuple(np.where((sealing > 0) & (v == HOLDS), UNDECIDED, v)
+                                 for v in surface_verdicts)
     ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
                    for v, tol in zip(verdicts, tolerances))
     surface_ranges = tuple(verdict_range(load, v == HOLDS, tol, area_fraction)
@@ -297,7 +405,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name, complete,
                            int(np.count_nonzero(~reached)), surface, surface_verdicts,
-                           surface_ranges)
+                           surface_ranges, sealing, resolved)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:

@@ -37,7 +37,7 @@ CONTOUR_STYLES = (dict(colors="white", linestyles="solid", linewidths=1.4),
                   dict(colors="tab:red", linestyles="dashed", linewidths=1.4),
                   dict(colors="black", linestyles="dotted", linewidths=1.4))
 #: Axis label of each swept surface parameter (validation.scenes.scene.SWEEPS).
-SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H"}
+SWEEP_AXES = {"D": "fractal dimension D", "H": "Hurst exponent H", "L": "nominal side L"}
 
 
 def pyplot():
@@ -101,7 +101,8 @@ def png(fig, dpi: int = 100) -> bytes:
 
 def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
     """The paper's dimensionless arrays of a curve (:func:`asperity.dimensionless`), by name,
-    plus the contact count and the reduced stiffness S sigma / (E* L^2) when computed."""
+    plus the contact count, the reduced stiffness S sigma / (E* L^2) and the leakage
+    h_eff / sigma when computed."""
     from asperity import dimensionless as reduce
 
     reduced = reduce(curve, sigma, length)
@@ -113,6 +114,8 @@ def dimensionless(curve, sigma: float, length: float) -> dict[str, np.ndarray]:
         out["contacts"] = np.asarray(curve.contacts, dtype=float)
     if "mean_gap" in curve.extras:
         out["mean_gap"] = np.asarray(curve.extras["mean_gap"], dtype=float) / sigma
+    if curve.leakage is not None:
+        out["leakage"] = np.asarray(curve.leakage, dtype=float) / sigma
     return out
 
 

@@ -27,6 +27,7 @@ QUANTITY_LABELS = {
     "conductance": "Conductance = Cρσ/L²",
     "stiffness": "Stiffness S σ/(E* L²)",
     "contacts": "contacts",
+    "leakage": "Leakage = h_eff/σ",
 }
 ERROR_LABELS = {
     "area": "relative error of area",
@@ -34,6 +35,7 @@ ERROR_LABELS = {
     "conductance": "relative error of conductance",
     "stiffness": "relative error of stiffness",
     "contacts": "relative error of contact count",
+    "leakage": "ln(h_eff / h_eff of the BEM)",
 }
 #: What a model's quantity is compared with, by the reference's field: an asperity model's
 #: separation is the rigid-plane separation d, Persson's the mean gap ū (docs/theory.md, 7).

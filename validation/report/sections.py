@@ -82,7 +82,12 @@ def header(seconds, mode, command) -> list[str]:
         "d/σ (σ: standard deviation of the summit heights of each realization), Conductance = "
         "Cρσ/L² = −2 ∂Load/∂Separation. Errors are taken at equal load against the "
         "boundary-element (BEM) solution of the same realization: relative for area and "
-        "conductance, in units of σ for separation.\n",
+        "conductance, in units of σ for separation, and for the leakage (the effective "
+        "hydraulic aperture h_eff, leak rate ∝ h_eff³) the logarithm of the ratio, "
+        "ln(h_eff/h_eff,BEM) = ln(Q/Q_BEM)/3, equal to the relative error of h_eff to first "
+        "order. Where exactly one of the two is sealed (h_eff = 0) that error is undefined: "
+        "the point fails when the BEM's own error estimate resolves its state, and is "
+        "undecided otherwise (docs/theory.md, eq. L7).\n",
         "**Separation and mean gap.** The asperity models (GW, improved GW, discrete) predict "
         "the separation d between the rigid plane and the mean plane of the undeformed rough "
         "surface; they are compared with the BEM's separation d (rows \"separation d\"). "
@@ -162,7 +167,9 @@ def _largest_tolerance(comparisons) -> float:
 #: What decides an undecided cell, printed under the summary.
 _ADVICE = ("*Undecided* says why: **reference band**: the BEM's own error is unknown or above a "
            "quarter of the tolerance (a finer grid decides it: a larger `surface.n`, or "
-           "`[bem] max_grid` to solve again on finer grids where the band decides); **too few "
+           "`[bem] max_grid` to solve again on finer grids where the band decides), and for the "
+           "leakage where model and BEM disagree about sealing but the BEM's estimate cannot "
+           "tell whether it seals; **too few "
            "realizations**: the interval straddles the tolerance (more realizations decide it: "
            "`[realizations] count`, or a budget `[realizations] max` spent where cells are "
            "undecided; a scene needs at least 2, a per-surface verdict 3); **unconverged**: a "
@@ -209,7 +216,8 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
                                                     quantity))
         lines += ([f"Load range (longest run of ✔, with the BEM's area fraction over it) within "
                    f"the tolerance {_largest_tolerance(columns):g} (relative for area and "
-                   "conductance, in units of σ for separation), in two readings: **mean**, the "
+                   "conductance, in units of σ for separation, ln of the ratio for leakage), in "
+                   "two readings: **mean**, the "
                    "mean error over realizations within the tolerance; **per surface**, at least "
                    "90 % of single surfaces within it; both at 95 % confidence overall. The "
                    "asperity models are judged by the separation d, Persson's theory by the mean "
@@ -223,13 +231,14 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
 
 def findings_section(analyses: list[Analysis]) -> list[str]:
     from validation.judge import findings as module
-    from validation.judge import sampling
+    from validation.judge import sampling, sealing
 
     chosen = [a for a in analyses
               if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
         [a for a in analyses if a.findings]
+    spanning = [a for a in analyses if a.scene_findings]
     lines = ["## Findings\n"]
-    if not chosen:
+    if not chosen and not spanning:
         return lines + ["No surface scene with a BEM reference in this run: nothing to check.\n"]
     lines.append("The paper's findings, checked point by point on the results of this run "
                  "(rules and thresholds below the table).\n")
@@ -241,9 +250,19 @@ def findings_section(analyses: list[Analysis]) -> list[str]:
                 rows.append([f"({f.key}) {f.claim}",
                              f"{analysis.result.scene.name}, {sweep_member(parameter, value)}",
                              f.evidence.replace("|", "/"), f"**{f.verdict}**"])
+    for analysis in spanning:
+        surface = analysis.result.scene.surface
+        across = f"{surface.sweep_name} = " + ", ".join(f"{v:g}" for v in surface.sweep_values)
+        rows += [[f"({f.key}) {f.claim}", f"{analysis.result.scene.name}, {across}",
+                  f.evidence.replace("|", "/"), f"**{f.verdict}**"]
+                 for f in analysis.scene_findings]
     lines += md_table(["finding", "surface", "numbers that decide it", "verdict"], rows)
-    rules = f"{module.RULES}\n{sampling.RULE}".replace("\n(", "\n\n(").split("\n\n")
-    return lines + [" ".join(part.split()) + "\n" for part in rules]
+    keys = {row[0][1] for row in rows}
+    rules = (module.RULES + ("\n" + sealing.RULES if keys & {"f", "g"} else "")
+             + "\n" + sampling.RULE)
+    parts = rules.replace("\n(", "\n\n(").split("\n\n")
+    parts = [part for part in parts if not part.startswith("(") or part[1] in keys]
+    return lines + [" ".join(part.split()) + "\n" for part in parts]
 
 
 def _band_cell(band: np.ndarray | None, quantity: str) -> str:
@@ -302,12 +321,18 @@ def verdict_table(comparison: Comparison, tolerances) -> list[str]:
         total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", "",
                       "", f"**{alone[HOLDS]} / {alone[FAILS]} / {alone[UNDECIDED]}**"]
     sources = "; ".join(f"{q}: {s}" for q, s in comparison.band_source.items())
+    sealing = [f"{model_label(e.model)} at {int(np.count_nonzero(e.sealing))} point(s) "
+               f"({int(e.sealing.sum())} realization(s), {int(e.sealing_resolved.sum())} "
+               f"resolved by the BEM's error estimate)"
+               for e in comparison.models.values() if e.sealing is not None and e.sealing.any()]
+    note = ([f"Disagreements about sealing (one of model and BEM sealed, h_eff = 0): "
+             f"{'; '.join(sealing)}.\n"] if sealing else [])
     return ([f"Verdicts per load point ({SYMBOLS[HOLDS]} holds, {SYMBOLS[FAILS]} fails, "
              f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ), on the mean "
              f"error and per surface (at least 90 % of surfaces), at "
              f"{100 * comparison.confidence:.4g} % confidence. Reference "
              f"band: {sources or 'not estimated'}.\n"]
-            + md_table(header, rows + ([total_row + ["", ""]] if totals else [])))
+            + md_table(header, rows + ([total_row + ["", ""]] if totals else [])) + note)
 
 
 def surface_text(scene, count: int) -> str:

@@ -24,21 +24,23 @@ __all__ = ["write_tables", "TABLES"]
 
 #: File name -> header of every table.
 TABLES = {
-    "curves.csv": ["scene", "D", "H", "seed", "n", "model", "point", "converged", "Load", "Area",
-                   "Separation", "Conductance", "contacts", "load_W", "area", "separation_d",
-                   "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap"],
-    "errors.csv": ["scene", "D", "H", "model", "quantity", "reference_field", "point", "Load",
+    "curves.csv": ["scene", "D", "H", "L", "seed", "n", "model", "point", "converged", "Load",
+                   "Area", "Separation", "Conductance", "contacts", "load_W", "area",
+                   "separation_d", "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap",
+                   "Leakage", "leakage", "leakage_error"],
+    "errors.csv": ["scene", "D", "H", "L", "model", "quantity", "reference_field", "point", "Load",
                    "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source", "confidence",
-                   "surfaces90_low", "surfaces90_high"],
-    "verdicts.csv": ["scene", "D", "H", "model", "quantity", "point", "Load", "tolerance", "verdict",
-                     "undecided_reason", "verdict_per_surface", "confidence"],
-    "validity.csv": ["scene", "D", "H", "model", "quantity", "tolerance", "load_min", "load_max",
-                     "area_fraction_min", "area_fraction_max", "points", "total", "holds",
-                     "fails", "undecided", "reference_band_max", "unconverged",
+                   "surfaces90_low", "surfaces90_high", "sealing_disagreements",
+                   "sealing_resolved"],
+    "verdicts.csv": ["scene", "D", "H", "L", "model", "quantity", "point", "Load", "tolerance",
+                     "verdict", "undecided_reason", "verdict_per_surface", "confidence"],
+    "validity.csv": ["scene", "D", "H", "L", "model", "quantity", "tolerance", "load_min",
+                     "load_max", "area_fraction_min", "area_fraction_max", "points", "total",
+                     "holds", "fails", "undecided", "reference_band_max", "unconverged",
                      "reference_field", "holds_per_surface", "fails_per_surface",
-                     "undecided_per_surface"],
-    "findings.csv": ["scene", "D", "H", "finding", "claim", "evidence", "verdict"],
+                     "undecided_per_surface", "sealing_disagreements"],
+    "findings.csv": ["scene", "D", "H", "L", "finding", "claim", "evidence", "verdict"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
@@ -46,10 +48,22 @@ TABLES = {
 TABLES.update(sampling.TABLES)
 
 
-def _sweep(parameter: str, value: float) -> list:
-    """The D and H cells of a row: the swept parameter's value in its column, the other empty
-    (both empty for a measured map; its seed column is the tile index)."""
-    return [value if parameter == name else "" for name in ("D", "H")]
+def _sweep(surface) -> list:
+    """The D, H and L cells of a row for a family member (``SurfaceSpec.at(value)``): its D (WM),
+    its H (self-affine), its nominal side L (D and H empty for a measured map, whose seed
+    column is the tile index)."""
+    return [surface.D[0] if surface.family == "wm" else "",
+            surface.hurst[0] if surface.family == "self-affine" else "", surface.L]
+
+
+def _scene_sweep(surface) -> list:
+    """The D, H and L cells of a row about a whole scene: those that do not vary over it."""
+    cells = []
+    for values in ((surface.D if surface.family == "wm" else None),
+                   (surface.hurst if surface.family == "self-affine" else None),
+                   (surface.sides or (surface.L,))):
+        cells.append(values[0] if values is not None and len(values) == 1 else "")
+    return cells
 
 
 def _column(values: dict, name: str, k: int) -> float:
@@ -67,24 +81,27 @@ def _curve_rows(analysis) -> list[list]:
     from validation.judge.compare import converged_points
 
     result, rows = analysis.result, []
-    for value, realizations in sorted(result.realizations.items()):
-        sweep = _sweep(result.scene.surface.sweep_name, value)
+    for _, realizations in sorted(result.realizations.items()):
         for r in realizations:
+            sweep = _sweep(r.task.surface)
             for model, curve in r.curves.items():
-                values = dimensionless(curve, r.sigma, result.scene.surface.L)
+                values = dimensionless(curve, r.sigma, r.task.surface.L)
                 converged = converged_points(curve)
                 # the mean gap (BEM, Persson) beside the separation d; NaN where not computed
                 gap = np.asarray(curve.extras.get("mean_gap", np.full(curve.load.shape, np.nan)),
                                  dtype=float)
+                raw = {"s": curve.stiffness, "c": curve.conductance, "h": curve.leakage,
+                       "e": curve.extras.get("leakage_error")}
                 for k in range(curve.load.size):
-                    rows.append([result.scene.name, *sweep, r.task.seed, _grid(r.task.surface), model, k,
-                                 bool(converged[k])] + [_column(values, q, k) for q in
-                                 ("load", "area", "separation", "conductance", "contacts")]
+                    rows.append([result.scene.name, *sweep, r.task.seed, _grid(r.task.surface),
+                                 model, k, bool(converged[k])]
+                                + [_column(values, q, k) for q in
+                                   ("load", "area", "separation", "conductance", "contacts")]
                                 + [float(curve.load[k]), float(curve.area[k]),
-                                   float(curve.separation[k]),
-                                   _column({"s": curve.stiffness}, "s", k),
-                                   _column({"c": curve.conductance}, "c", k), r.sigma,
-                                   gap[k] / r.sigma, gap[k]])
+                                   float(curve.separation[k]), _column(raw, "s", k),
+                                   _column(raw, "c", k), r.sigma, gap[k] / r.sigma, gap[k],
+                                   _column(values, "leakage", k), _column(raw, "h", k),
+                                   _column(raw, "e", k)])
     return rows
 
 
@@ -92,9 +109,11 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
     name, out = analysis.result.scene.name, {"errors.csv": [], "verdicts.csv": [],
                                              "validity.csv": []}
     for c in analysis.comparisons:
-        sweep = _sweep(c.parameter, c.value)
+        sweep = _sweep(analysis.result.scene.surface.at(c.value))
         for (model, quantity), e in c.models.items():
             band = e.band if e.band is not None else np.full(c.load.shape, math.nan)
+            sealing = [("", "")] * c.load.size if e.sealing is None else \
+                [(int(a), int(b)) for a, b in zip(e.sealing, e.sealing_resolved)]
             # a band that could not be estimated is written as such, never as a number
             cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
             reasons = [e.reasons(i) for i in range(len(e.tolerances))]
@@ -108,7 +127,7 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                           e.interval.low[k], e.interval.high[k],
                                           e.interval.std[k], int(e.interval.count[k]), cells[k],
                                           c.band_source.get(e.reference_field, ""),
-                                          c.confidence, low[k], high[k]])
+                                          c.confidence, low[k], high[k], *sealing[k]])
                 out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
                                          why[k], w[k], c.confidence]
                                         for t, v, why, w in zip(e.tolerances, e.verdicts,
@@ -124,7 +143,8 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
                                             else NOT_ESTIMATED, e.unconverged,
                                             e.reference_field or quantity, surface[HOLDS],
-                                            surface[FAILS], surface[UNDECIDED]])
+                                            surface[FAILS], surface[UNDECIDED],
+                                            "" if e.sealing is None else int(np.sum(e.sealing))])
     return out
 
 
@@ -154,10 +174,13 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
         rows["curves.csv"] += _curve_rows(analysis)
         for name, more in _comparison_rows(analysis).items():
             rows[name] += more
-        parameter = analysis.result.scene.surface.sweep_name if analysis.findings else ""
-        rows["findings.csv"] += [[analysis.result.scene.name, *_sweep(parameter, value), f.key,
+        surface = analysis.result.scene.surface
+        rows["findings.csv"] += [[analysis.result.scene.name, *_sweep(surface.at(value)), f.key,
                                   f.claim, f.evidence, f.verdict]
                                  for value, found in analysis.findings.items() for f in found]
+        rows["findings.csv"] += [[analysis.result.scene.name, *_scene_sweep(surface), f.key,
+                                  f.claim, f.evidence, f.verdict]
+                                 for f in analysis.scene_findings]
         rows["theory.csv"] += _theory_rows(analysis)
         for name, more in sampling.table_rows(analysis).items():
             rows[name] += more

@@ -174,7 +174,7 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
     models = model_order(results[0].curves)
     # what a run computed and how long it took is not drawn: left out of the figure's cache key
     results = [replace(r, computed=(), seconds={}) for r in results]
-    L = scene.surface.L
+    L = results[0].task.surface.L
     conductance = "conductance" in scene.quantities
     panels = ["area", "load"] + (["conductance"] if conductance else [])
     # the paper's figures are of WM surfaces: other surfaces get the same plots, not its name
@@ -194,6 +194,18 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
                 f"Area{' and conductance' if conductance else ''} against load, "
                 f"{sweep_member(scene.surface.sweep_name, value)}"
                 f"{' (paper Fig. 5, BEM added)' if paper else ''}.", len(panels[::2]))
+    if "leakage" in scene.quantities:
+        from validation.report.sealing_figures import leakage_figure
+
+        figures.add(partial(leakage_figure, results, models=models, length=L),
+                    f"{scene.name}-leakage.png",
+                    f"Leakage: the effective hydraulic aperture h_eff/σ against load and against "
+                    f"separation, {sweep_member(scene.surface.sweep_name, value)} (thin lines: "
+                    f"realizations; grey: the BEM ± its error estimate; GW, improved GW and the "
+                    f"discrete model: the rigid gap at d, d₁ and the discrete model's own d; "
+                    f"the theories from the spectral moments: the rigid gap of rms √m₀; all "
+                    f"drawn against their separation d; Persson: its gap distribution, against "
+                    f"its mean gap; docs/theory.md section 10).", 2)
 
 
 def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
@@ -241,6 +253,16 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
             lines.extend(verdict_table(comparison, scene.tolerances))
     if len(s.sweep_values) > 1 and analysis.comparisons:
         _validity_map(figures, scene, analysis.comparisons)
+    if analysis.size_collapse is not None:
+        from validation.report.sealing_figures import size_figure
+
+        figures.add(partial(size_figure, result.realizations, analysis.size_collapse, scene.m),
+                    f"{scene.name}-sizes.png",
+                    "Finding (g): the BEM's leakage h_eff/σ against the separation d (left) and "
+                    f"the effective separation d₁ = d + {scene.m:g} W/(E*√A) (right) on nested "
+                    "windows of growing nominal area, σ the mean summit σ over all windows "
+                    "(thin: realizations; dotted: the leakage levels at which the spread across "
+                    "sizes is measured).", 2)
 
 
 def _validity_map(figures: _Figures, scene, comparisons: list[Comparison]) -> None:

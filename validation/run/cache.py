@@ -14,7 +14,8 @@ and recomputed. Temporary files left by a killed writer are removed once they ar
 What keys and entries of the runner's results hold is here too: the source version every key
 includes (:func:`source_version`), a contact curve as named arrays and back
 (:func:`curve_arrays`, :func:`curve_from_arrays`) and whether a path entry holds the stiffness
-solves (:func:`needs_stiffness`).
+solves (:func:`needs_stiffness`) and its leakage (:func:`needs_leakage`), and what every model
+is asked for (:func:`model_quantities`).
 """
 
 from __future__ import annotations
@@ -37,7 +38,8 @@ import numpy as np
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 
 __all__ = ["Cache", "CacheWarning", "REPORT_ONLY_MODULES", "cache_key", "check_directory",
-           "curve_arrays", "curve_from_arrays", "default_cache_dir", "needs_stiffness",
+           "curve_arrays", "curve_from_arrays", "default_cache_dir", "model_quantities",
+           "needs_leakage", "needs_stiffness",
            "source_version"]
 
 _CHECKSUM = "__checksum__"
@@ -233,7 +235,8 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/labels.py", "run/progress.py", "report/write.py",
                                  "report/sections.py", "report/tables.py", "judge/verdicts.py",
                                  "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
-                                 "report/sampling.py"})
+                                 "report/sampling.py", "judge/sealing.py",
+                                 "report/sealing_figures.py"})
 
 
 def source_version() -> str:
@@ -282,3 +285,18 @@ def needs_stiffness(quantities) -> bool:
     """Whether a path is solved with its stiffness (asked for by stiffness or conductance); the
     cache keys hold this flag, not the quantity list, so either name reuses the same solves."""
     return "stiffness" in quantities or "conductance" in quantities
+
+
+def needs_leakage(quantities) -> bool:
+    """Whether a path is solved with its leakage (the BEM's Reynolds solves on its gaps); the
+    cache keys hold this flag too."""
+    return "leakage" in quantities
+
+
+def model_quantities(quantities) -> tuple[str, ...]:
+    """What every model of a task is asked for, from the scene's quantities: the load path,
+    area and contact counts always (counts are cheap); stiffness and conductance when either
+    is asked for (one stiffness solve gives both); leakage only when asked for."""
+    return (("area", "load", "separation", "contacts")
+            + (("stiffness", "conductance") if needs_stiffness(quantities) else ())
+            + (("leakage",) if needs_leakage(quantities) else ()))

@@ -30,7 +30,8 @@ import numpy as np
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
-                                  needs_stiffness, source_version)
+                                  model_quantities, needs_leakage, needs_stiffness,
+                                  source_version)
 from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import surface_heights, surface_identity
 from validation.surfaces.wm import wm_surface
@@ -113,7 +114,9 @@ def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
     s, n = surface, surface.n
     base = surface_heights(s, seed)
     if s.family == "wm":
-        fine = wm_surface(factor * n, D=s.D[0], G=s.G, rms_slope=s.rms_slope, L=s.L,
+        # the window of side L of the surface whose longest wavelength is ``wavelength``
+        fine = wm_surface(factor * n, D=s.D[0], G=s.G, rms_slope=s.rms_slope,
+                          L=s.L if s.wavelength is None else s.wavelength, side=s.L,
                           gamma=s.gamma, M=s.M, n_max=s.n_max, seed=seed,
                           slope_grid=n if s.rms_slope is not None else None)
     elif s.family == "self-affine":
@@ -201,11 +204,11 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     s = task.surface
     values = np.array(task.loads.values())[list(job.points)]
     loads = values * task.e_star * s.L**2
-    stiffness = needs_stiffness(task.quantities)
-    quantities = ("area", "load", "separation", "contacts") + (
-        ("stiffness", "conductance") if stiffness else ())
+    stiffness, leakage = needs_stiffness(task.quantities), needs_leakage(task.quantities)
+    quantities = model_quantities(task.quantities)
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
+                    leakage=leakage,
                     periodic=task.bem.periodic, tol=job.tol, max_iter=task.bem.max_iter)
     cached = cache.load(key, decode=curve_from_arrays)
     if cached is not None:

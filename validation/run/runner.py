@@ -14,7 +14,8 @@ and only when needed:
   separations in units of sigma are);
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
-  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked for;
+  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked
+  for, leakage (the BEM's Reynolds solves on its gaps) only when leakage is;
 * with ``[sampling] factors``, the models fitted to summits again on every k-th grid point, at
   the reference's loads (:mod:`validation.run.sampling`; the BEM is not solved again).
 
@@ -24,9 +25,10 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 ``RealizationResult.computed`` so that what was done can be checked, not guessed.
 
 Realizations fan out over any :class:`concurrent.futures.Executor`; identical tasks of
-different scenes run once. Then a scene with a reference, where its cells are undecided, gets
-a finer reference where the band decides (``[bem] max_grid``, :mod:`validation.run.refine`) and
-more realizations, look by look (``[realizations] max``, :mod:`validation.run.sequential`); its
+different scenes run once, and so do tasks that differ only in their quantities (with the
+union of them). Then a scene with a reference, where its cells are undecided, gets a finer
+reference where the band decides (``[bem] max_grid``, :mod:`validation.run.refine`) and more
+realizations, look by look (``[realizations] max``, :mod:`validation.run.sequential`); its
 result records both and why they stopped.
 """
 
@@ -44,7 +46,8 @@ from bem import checks
 from bem.curve import ContactCurve
 from validation.run import models, sampling
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
-                                  needs_stiffness, source_version)
+                                  model_quantities, needs_leakage, needs_stiffness,
+                                  source_version)
 from validation.run.models import ModelInputs
 from validation.run.cost import remaining_seconds, schedule
 from validation.run.progress import Progress
@@ -53,8 +56,8 @@ from validation.run.sequential import RefinementRecord, SequentialRecord, decide
 from validation.scenes.scene import BemSettings, LoadPath, Scene, SurfaceSpec
 from validation.surfaces.families import surface_heights, surface_identity
 
-__all__ = ["RealizationTask", "RealizationResult", "SceneResult", "plan_scene", "run_realization",
-           "run_scenes", "Progress"]
+__all__ = ["RealizationTask", "RealizationResult", "SceneResult", "model_quantities",
+           "plan_scene", "run_realization", "run_scenes", "Progress"]
 
 def __getattr__(name: str):
     # ASPERITY_MODELS was a fixed list; the registry now says which models need summits.
@@ -201,11 +204,11 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     """One model's curve along the path; expensive models from or into the cache (a cache
     hit costs 0 s and is not logged)."""
     key = None
-    stiffness = needs_stiffness(quantities)
+    stiffness, leakage = needs_stiffness(quantities), needs_leakage(quantities)
     if item.cached:
         key = cache_key(item.name, source_version(), surface=_surface_inputs(log.task),
-                        e_star=inputs.e_star, stiffness=stiffness, **item.settings(inputs),
-                        **path)
+                        e_star=inputs.e_star, stiffness=stiffness, leakage=leakage,
+                        **item.settings(inputs), **path)
         cached = cache.load(key, decode=curve_from_arrays)
         if cached is not None:
             log.seconds[item.name] = 0.0
@@ -222,6 +225,8 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
         cache.store(key, curve_arrays(curve))
         if stiffness:
             log.did(f"{item.name}-stiffness")
+        if leakage:
+            log.did(f"{item.name}-leakage")
     return curve
 
 
@@ -231,11 +236,10 @@ def run_realization(task: RealizationTask) -> RealizationResult:
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)
     sigma = math.nan if summits is None else float(np.std(summits.height))
-    # Contact counts are cheap and always computed; stiffness solves only when asked for. The
-    # cache keys hold this flag, not the scene's quantity list, so that listing "contacts" or
-    # "stiffness" instead of "conductance" reuses the same solves.
-    quantities = ("area", "load", "separation", "contacts") + (
-        ("stiffness", "conductance") if needs_stiffness(task.quantities) else ())
+    # Contact counts are cheap and always computed; stiffness and leakage solves only when
+    # asked for. The cache keys hold these flags, not the scene's quantity list, so that
+    # listing "contacts" or "stiffness" instead of "conductance" reuses the same solves.
+    quantities = model_quantities(task.quantities)
     values = np.array(task.loads.values())
     nominal_area = task.surface.L**2          # L = sqrt(area) for a rectangular tile
     loads = values * task.e_star * nominal_area if task.loads.quantity == "load" else None
@@ -304,6 +308,21 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
     return results
 
 
+def _merged_tasks(tasks: Iterable[RealizationTask]) -> dict[RealizationTask, RealizationTask]:
+    """Task -> the task run for it: tasks that differ only in their quantities run once, with
+    the union of the quantities (a scene that asks for leakage and one that does not share the
+    same realizations, and the first pays for the leakage of both)."""
+    groups: dict[RealizationTask, list[RealizationTask]] = {}
+    for task in tasks:
+        groups.setdefault(replace(task, quantities=()), []).append(task)
+    run_for = {}
+    for key, group in groups.items():
+        union = tuple(dict.fromkeys(q for task in group for q in task.quantities))
+        run = group[0] if all(t == group[0] for t in group) else replace(key, quantities=union)
+        run_for.update((task, run) for task in group)
+    return run_for
+
+
 def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                cache_dir: str | None = None, progress: bool = True, stream=None
                ) -> list[SceneResult]:
@@ -335,9 +354,13 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
                          f"repeated: {', '.join(duplicates)}")
     started = time.perf_counter()
     plans = [plan_scene(scene, cache_dir=cache_dir) for scene in scenes]
-    unique = schedule(dict.fromkeys(task for tasks in plans for task in tasks))
-    results = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
-                         if progress and unique else None)
+    run_for = _merged_tasks(task for tasks in plans for task in tasks)
+    unique = schedule(dict.fromkeys(run_for.values()))
+    done = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
+                      if progress and unique else None)
+    # each scene sees its own task (so its own quantities) beside the shared curves
+    results = {task: done[run] if run == task else replace(done[run], task=task)
+               for task, run in run_for.items()}
     out = []
     for scene, plan in zip(scenes, plans):
         if scene.kind == "theory":

@@ -121,7 +121,7 @@ _SURFACE_KINDS = dict(
     L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
     rolloff="number", short_cutoff="number", window="integer", path="string",
     physical_size="any", file_unit="string", unit="string", detrend="string", resample="string",
-    square="string", tiles="integer")
+    square="string", tiles="integer", wavelength="number", sides="numbers")
 #: Keys a family needs in a file: each entry is one key, or alternatives (one of them).
 _SURFACE_REQUIRED = {"wm": ("D", ("rms_slope", "G")),
                      "self-affine": ("hurst", ("rms_slope", "rms_height")), "file": ("path",)}
@@ -187,7 +187,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
         max_grid="integer"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
-        realizations="integer", n="integer", count="integer"))
+        realizations="integer", n="integer", count="integer", quantities="strings"))
     return parts
 
 

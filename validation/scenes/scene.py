@@ -27,7 +27,7 @@ file's tables and keys map onto them::
     [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
     [sampling]  factors                 -> Scene.sampling (surface scenes)
-    [quick]  realizations n count       -> QuickSettings
+    [quick]  realizations n count quantities                -> QuickSettings
     [theory]  C m separation_min separation_max count      -> TheorySpec (kind "theory")
 
 Every key is optional except the surface's sweep parameter (``D`` of a WM surface, ``hurst``
@@ -57,8 +57,10 @@ __all__ = [
 #: Models a scene uses unless it lists its own (any registered name may be listed:
 #: :func:`validation.run.models.names`).
 MODELS = _models.default_names()
-#: Quantities a scene may ask for.
-QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness")
+#: Quantities a scene may ask for. ``leakage`` (the effective hydraulic aperture h_eff of the
+#: gap, docs/theory.md section 10) is computed only by scenes that list it: it costs the BEM a
+#: Reynolds solve per load point.
+QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "stiffness", "leakage")
 #: Kinds of scene.
 KINDS = ("surface", "theory")
 #: Fewest grid points per side of a coarser sampling (``[sampling] factors``).
@@ -157,16 +159,22 @@ class TheorySpec:
 
 @dataclass(frozen=True)
 class QuickSettings:
-    """What quick mode changes: fewer realizations, a coarser grid, fewer load points."""
+    """What quick mode changes: fewer realizations, a coarser grid, fewer load points, and
+    optionally fewer quantities (``quantities``: those of the quick run, by default the
+    scene's; e.g. leaving out ``leakage``, whose Reynolds solves cost the BEM several times
+    its contact solves)."""
 
     realizations: int = 3
     n: int = 128
     count: int = 10
+    quantities: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         check.integer(self, "realizations", 1)
         check.integer(self, "n", 16)
         check.integer(self, "count", 1)
+        if self.quantities is not None:
+            check.names(self, "quantities", QUANTITIES)
 
 
 @dataclass(frozen=True)
@@ -286,8 +294,10 @@ class Scene:
             self.max_realizations * realizations / self.realizations))
         # the finest grid stays as set: it bounds what one refined solve costs, so a quick run
         # on a coarser grid refines up to it where the full run, at that grid, may not
-        return replace(self, surface=surface, loads=loads, realizations=realizations,
-                       max_realizations=budget)
+        quantities = self.quantities if self.quick.quantities is None else tuple(
+            q for q in self.quantities if q in self.quick.quantities)
+        return replace(self, surface=surface, loads=loads, quantities=quantities,
+                       realizations=realizations, max_realizations=budget)
 
 
 def scene_warnings(scene: Scene) -> list[str]:

@@ -95,8 +95,11 @@ def tile_side(pixels: int, tiles: int) -> int:
 
 
 def _wm(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
-    return wm_surface(n, D=s.D[0], G=s.G, rms_slope=s.rms_slope, L=s.L, gamma=s.gamma, M=s.M,
-                      n_max=s.n_max, seed=seed,
+    """The window of side L of the WM surface whose longest wavelength is ``wavelength``
+    (default L): nested windows for the realizations of a size sweep."""
+    return wm_surface(n, D=s.D[0], G=s.G, rms_slope=s.rms_slope,
+                      L=s.L if s.wavelength is None else s.wavelength, side=s.L, gamma=s.gamma,
+                      M=s.M, n_max=s.n_max, seed=seed,
                       slope_grid=slope_grid if s.rms_slope is not None else None)
 
 
@@ -137,8 +140,12 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
     """What determines the heights of a realization, for the cache keys."""
     s, grid = surface, slope_grid or surface.n
     if s.family == "wm":
-        return dict(family=s.family, D=s.D[0], rms_slope=s.rms_slope, G=s.G, gamma=s.gamma,
-                    M=s.M, n_max=s.n_max, L=s.L, n=s.n, seed=seed, slope_grid=grid)
+        identity = dict(family=s.family, D=s.D[0], rms_slope=s.rms_slope, G=s.G,
+                        gamma=s.gamma, M=s.M, n_max=s.n_max, L=s.L, n=s.n, seed=seed,
+                        slope_grid=grid)
+        if s.wavelength is not None and s.wavelength != s.L:  # absent: the paper's surface
+            identity["wavelength"] = s.wavelength
+        return identity
     if s.family == "self-affine":
         return dict(family=s.family, hurst=s.hurst[0], rms_slope=s.rms_slope,
                     rms_height=s.rms_height, long_cutoff=s.long_cutoff, rolloff=s.rolloff,

@@ -198,7 +198,8 @@ def self_affine_surface(
         raise ValueError("the surface is flat on this grid: widen the band between "
                          "short_cutoff and long_cutoff")
     heights *= (target / measured) * (L if rms_height is None else 1.0)
-    checks.supported_magnitude("L (the heights it gives)", float(np.max(np.abs(heights))))
+    checks.supported_magnitude("max |heights| (set by L and rms_height or rms_slope)",
+                               float(np.max(np.abs(heights))))
     return heights
 
 

@@ -11,17 +11,20 @@ from dataclasses import dataclass, fields, replace
 
 from validation.scenes import checks as check
 
-__all__ = ["SurfaceSpec", "SWEEPS", "FAMILIES", "FAMILY_KEYS", "MIN_TILE", "READ_FIELDS",
-           "read_keywords"]
+__all__ = ["SurfaceSpec", "SWEEPS", "SIDES_SWEEP", "FAMILIES", "FAMILY_KEYS", "MIN_TILE",
+           "READ_FIELDS", "read_keywords"]
 
 #: Surface families and the parameter each sweeps (a list of values gives a validity map): its
-#: key in the scene file and its symbol in the report. A measured map sweeps nothing.
+#: key in the scene file and its symbol in the report. A measured map sweeps nothing. A WM
+#: surface with ``sides`` sweeps its nominal side instead (:data:`SIDES_SWEEP`).
 SWEEPS: dict[str, tuple[str, str] | None] = {"wm": ("D", "D"), "self-affine": ("hurst", "H"),
                                              "file": None}
+#: The sweep of a WM surface with ``sides``: nested windows of one surface, nominal side L.
+SIDES_SWEEP = ("sides", "L")
 FAMILIES = tuple(SWEEPS)
 #: Keys of ``[surface]`` by family (besides ``family``).
 FAMILY_KEYS = {
-    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n"),
+    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n", "wavelength", "sides"),
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
                     "window", "L", "n"),
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
@@ -46,7 +49,13 @@ class SurfaceSpec:
 
     ``"wm"`` (default): Weierstrass-Mandelbrot (arguments of :func:`validation.wm_surface`;
     docs/theory.md eqs. (11)-(12)); ``D`` required (a tuple sweeps it); at most one of
-    ``rms_slope`` and ``G`` (default rms slope 0.1).
+    ``rms_slope`` and ``G`` (default rms slope 0.1); ``wavelength``, the longest wavelength
+    of eq. (11) [length] (default L: the paper's surface). ``sides`` (a tuple of nominal sides
+    [length], with one ``D``) sweeps the size instead: realization k of side s is the window
+    ``[0, s)^2`` of the same surface (seed), with the wavelengths of ``wavelength`` (default
+    the first side) and the grid spacing of the first side (``n`` points on it, ``n s /
+    sides[0]`` on side s, which must be a whole number); ``L`` is then the first side (leave
+    it out), and each side in turn in the realizations' specs (:meth:`at`).
 
     ``"self-affine"``: Gaussian self-affine (:func:`validation.self_affine_surface`); ``hurst``
     H in (0, 1] required (a tuple sweeps it); at most one of ``rms_slope`` and ``rms_height``
@@ -97,6 +106,8 @@ class SurfaceSpec:
     resample: str = "none"
     square: str = "crop"
     tiles: int = 1
+    wavelength: float | None = None
+    sides: tuple[float, ...] | None = None
     read_options: tuple[tuple[str, object], ...] | dict = ()
     shape: tuple[int, int] | None = None      # derived: (rows, columns) of a measured tile
 
@@ -121,6 +132,10 @@ class SurfaceSpec:
             object.__setattr__(self, "rms_slope", _GENERATED_DEFAULTS["rms_slope"])
         if all(getattr(self, key) is not None for key in amplitude):
             check.fail(self, amplitude[0], f"or '{amplitude[1]}': give at most one of the two")
+        if self.sides is not None:
+            check.numbers(self, "sides", above=0.0)
+            if self.L is None:
+                object.__setattr__(self, "L", self.sides[0])
         for key in ("L", "n"):
             if getattr(self, key) is None:
                 object.__setattr__(self, key, _GENERATED_DEFAULTS[key])
@@ -133,6 +148,8 @@ class SurfaceSpec:
             check.number(self, "gamma", above=1.0)
             check.integer(self, "M", 1)
             check.integer(self, "n_max", 0)
+            check.number(self, "wavelength", above=0.0, optional=True)
+            self._check_sides()
             return
         check.numbers(self, "hurst", above=0.0, at_most=1.0)
         for key in ("long_cutoff", "rolloff", "short_cutoff"):
@@ -148,6 +165,26 @@ class SurfaceSpec:
         if short_cutoff < 2 * self.spacing * (1 - 1e-12) or short_cutoff >= rolloff:
             check.fail(self, "short_cutoff", f"must lie in [2 L/n, rolloff) = "
                        f"[{2 * self.spacing:g}, {rolloff:g}), got {short_cutoff:g}")
+
+    def _check_sides(self) -> None:
+        """``sides`` of a WM size sweep: one D, L the first side, whole grids on every side."""
+        if self.sides is None:
+            return
+        first = self.sides[0]
+        if len(self.D) > 1:
+            check.fail(self, "sides", "sweeps the size: give one D with it, got "
+                       f"{len(self.D)}")
+        if len(set(self.sides)) != len(self.sides):
+            check.fail(self, "sides", f"lists a side twice: {list(self.sides)!r}")
+        if not math.isclose(self.L, first, rel_tol=1e-12):
+            check.fail(self, "L", f"= {self.L!r} conflicts with the first of the sides "
+                       f"({first:g}); leave it out")
+        for side in self.sides:
+            points = self.n * side / first
+            if not math.isclose(points, round(points), rel_tol=1e-9):
+                check.fail(self, "sides", f"must keep the grid spacing L/n = {first / self.n:g}"
+                           f" on every side: side {side:g} gives {points:g} points, not a "
+                           f"whole number")
 
     def _check_file(self) -> None:
         from validation.surfaces.families import read_map, tile_side
@@ -213,19 +250,28 @@ class SurfaceSpec:
         return self.L / (self.n if rows == columns else math.sqrt(rows * columns))
 
     @property
+    def _sweep(self) -> tuple[str, str] | None:
+        return SIDES_SWEEP if self.sides is not None else SWEEPS[self.family]
+
+    @property
     def sweep_name(self) -> str:
-        """Symbol of the swept parameter in the report ("D", "H"), "" for a measured map."""
-        sweep = SWEEPS[self.family]
+        """Symbol of the swept parameter in the report ("D", "H", "L" for the sides of a size
+        sweep), "" for a measured map."""
+        sweep = self._sweep
         return sweep[1] if sweep else ""
 
     @property
     def sweep_values(self) -> tuple[float, ...]:
         """Values of the swept parameter; ``(0.0,)`` for a measured map (one family)."""
-        sweep = SWEEPS[self.family]
+        sweep = self._sweep
         return getattr(self, sweep[0]) if sweep else (0.0,)
 
     def at(self, value: float) -> "SurfaceSpec":
-        """The family at one value of its swept parameter."""
+        """The family at one value of its swept parameter (for a size sweep: the window of
+        side ``value``, its grid of the same spacing, and the wavelengths of the sweep)."""
+        if self.sides is not None:
+            return replace(self, sides=(value,), L=value, n=round(self.n * value / self.L),
+                           wavelength=self.wavelength if self.wavelength else self.L)
         sweep = SWEEPS[self.family]
         return replace(self, **{sweep[0]: (value,)}) if sweep else self
 

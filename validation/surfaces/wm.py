@@ -67,10 +67,12 @@ def wm_amplitude(G: float, *, D: float, L: float = 1.0, gamma: float = 1.5, M: i
     return L * (G / L) ** (D - 2.0) * math.sqrt(math.log(gamma) / M)
 
 
-def _unit_wm(n: int, D: float, L: float, gamma: float, M: int, phases: np.ndarray) -> np.ndarray:
-    """Eq. (11) with B = 1, mean not yet removed; shape (n, n), row index y, column index x."""
+def _unit_wm(n: int, D: float, L: float, gamma: float, M: int, phases: np.ndarray,
+             side: float | None = None) -> np.ndarray:
+    """Eq. (11) with B = 1, mean not yet removed, on an n x n grid of the square of the given
+    side (default L); row index y, column index x."""
     n_max = phases.shape[1] - 1
-    coordinate = np.arange(n) * (L / n)
+    coordinate = np.arange(n) * ((L if side is None else side) / n)
     angles = np.pi * np.arange(1, M + 1) / M                       # (M,)
     wavenumbers = 2.0 * np.pi * gamma ** np.arange(n_max + 1) / L  # (n_max+1,)
     weights = gamma ** ((D - 3.0) * np.arange(n_max + 1))          # (n_max+1,)
@@ -100,6 +102,7 @@ def wm_surface(
     seed: int | np.random.Generator | None = None,
     phases: np.ndarray | None = None,
     slope_grid: int | None = None,
+    side: float | None = None,
 ) -> np.ndarray:
     """Sample a Weierstrass-Mandelbrot surface, eqs. (11)-(12), on an n x n grid.
 
@@ -107,8 +110,9 @@ def wm_surface(
     ----------
     n : int
         Grid points per side (>= 2). Heights are sampled at ``x_i = i L / n`` and
-        ``y_j = j L / n``, i, j = 0..n-1; the returned array is indexed ``heights[j, i]``
-        (row index j is y, column index i is x). The grid spacing is ``L / n``.
+        ``y_j = j L / n``, i, j = 0..n-1 (``side`` in place of L when given); the returned
+        array is indexed ``heights[j, i]`` (row index j is y, column index i is x). The grid
+        spacing is ``L / n`` (``side / n``).
     D : float
         Fractal dimension, 2 < D < 3.
     G : float, optional
@@ -118,7 +122,8 @@ def wm_surface(
         :func:`surface_statistics` (non-periodic finite differences). The surface is linear in
         its amplitude B, so it is computed with B = 1 and scaled exactly.
     L : float
-        Sample length [length]; the window L x L is the nominal contact area.
+        Sample length [length]: the longest wavelength of eq. (11) and, unless ``side`` is
+        given, the side of the sampled window L x L (the nominal contact area).
     gamma : float
         Frequency density, > 1.
     M : int
@@ -136,6 +141,12 @@ def wm_surface(
         is measured to fix the amplitude. The measured slope depends slightly on the grid, so
         to sample *one* continuous surface on several grids (a mesh-convergence study, as in
         benchmarks/bench_bem.py and bench_area.py) give them all the same ``slope_grid``.
+    side : float, optional
+        Side [length] of the sampled square window, default L. The wavelengths stay those of
+        L, so windows of several sides with the same phases (seed) are nested windows of one
+        surface of the same statistics, larger ones reaching further (the window
+        ``[0, side)^2`` always starts at the origin). With ``rms_slope`` each window is scaled
+        to that slope on its own grid.
 
     Returns
     -------
@@ -152,7 +163,8 @@ def wm_surface(
     slope_grid = n if slope_grid is None else _check_integer("slope_grid", slope_grid, 3)
     n_max = _check_integer("n_max", n_max, 0)
     D, L, gamma, M = _check_wm_parameters(D, L, gamma, M, n_max)
-    checks.supported_magnitude("L / n (the grid spacing)", L / max(n, slope_grid))
+    side = L if side is None else _check_length("side", side)
+    checks.supported_magnitude("side / n (the grid spacing)", side / max(n, slope_grid))
     if (G is None) == (rms_slope is None):
         raise ValueError("give exactly one of G (amplitude scale) and rms_slope (rms gradient)")
     if G is not None:
@@ -173,13 +185,13 @@ def wm_surface(
         if not np.all(np.isfinite(phases)):
             raise ValueError("phases must be finite")
 
-    heights = _unit_wm(n, D, L, gamma, M, phases)
+    heights = _unit_wm(n, D, L, gamma, M, phases, side)
     heights -= heights.mean()
     if G is not None:
         heights *= wm_amplitude(G, D=D, L=L, gamma=gamma, M=M)
     else:
-        unit = heights if slope_grid == n else _unit_wm(slope_grid, D, L, gamma, M, phases)
-        unit_slope = surface_statistics(unit, L / slope_grid).rms_gradient
+        unit = heights if slope_grid == n else _unit_wm(slope_grid, D, L, gamma, M, phases, side)
+        unit_slope = surface_statistics(unit, side / slope_grid).rms_gradient
         if not unit_slope > 0.0:
             raise ValueError("the surface is flat on this grid; rms_slope cannot be reached")
         heights *= rms_slope / unit_slope

@@ -1,0 +1,175 @@
+"""The exact leakage reference: bem.hydraulic_aperture against closed forms and invariants.
+
+The scheme (bem.flow) is exact for gaps that vary in one direction only: harmonic-mean faces
+add the resistances 1/g^3 of the cells along a row exactly, and the boundary half-cells
+(conductance 2 g^3 over half a pixel) complete the row's sum. Those checks are therefore held to
+round-off, far inside the 0.2 % one would allow a scheme with other boundary rules.
+"""
+
+import numpy as np
+import pytest
+import scipy.ndimage
+import scipy.stats
+
+import bem
+from bem.flow import hydraulic_aperture, spanning_cells
+
+BOTH = pytest.mark.parametrize("periodic", [False, True])
+
+
+@BOTH
+@pytest.mark.parametrize("direction", ["x", "y"])
+def test_a_uniform_gap_is_its_own_aperture(periodic, direction):
+    gap = np.full((24, 40), 0.37)          # rectangular grids work too
+    assert hydraulic_aperture(gap, 0.1, direction=direction, periodic=periodic) == \
+        pytest.approx(0.37, rel=1e-13)
+
+
+@BOTH
+def test_gap_varying_along_the_flow_adds_resistances_in_series(periodic):
+    profile = np.random.default_rng(3).uniform(0.2, 2.0, 256)
+    gap = np.tile(profile, (256, 1))       # g depends on x only
+    series = np.mean(profile**-3.0) ** (-1.0 / 3.0)
+    parallel = np.mean(profile**3.0) ** (1.0 / 3.0)
+    assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) == \
+        pytest.approx(series, rel=1e-10)
+    # the same field with the pressure drop along y: the columns carry flow in parallel
+    assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) == \
+        pytest.approx(parallel, rel=1e-10)
+    assert series < 0.9 * parallel         # the check can tell the two apart
+
+
+@BOTH
+def test_a_contact_wall_across_the_flow_seals_exactly(periodic):
+    gap = np.random.default_rng(4).uniform(0.5, 1.5, (32, 32))
+    gap[:, 13] = 0.0                       # a wall across the x flow
+    assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) == 0.0
+    assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) > 0.5
+
+
+@BOTH
+def test_a_contact_wall_along_the_flow_only_removes_its_share(periodic):
+    gap = np.full((40, 40), 2.0)
+    gap[:, 7] = 0.0                        # one column of 40 closed, along the y flow
+    expected = 2.0 * (39 / 40) ** (1 / 3)
+    assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) == \
+        pytest.approx(expected, rel=1e-12)
+
+
+def test_a_cluster_across_the_periodic_edge_that_does_not_wind_carries_nothing():
+    gap = np.ones((20, 30))
+    gap[:, 5] = gap[:, 20] = 0.0           # the open band 21..29, 0..4 crosses the edge
+    assert hydraulic_aperture(gap, 1.0, periodic=True) == 0.0
+    gap[3, 20] = 1.0                       # one open pixel in one wall: still sealed
+    assert hydraulic_aperture(gap, 1.0, periodic=True) == 0.0
+    gap[3, 5] = 1.0                        # and in the other: a path winds around
+    assert hydraulic_aperture(gap, 1.0, periodic=True) > 0.0
+
+
+@pytest.mark.parametrize("turns", [1, 2])
+def test_a_diagonal_channel_that_winds_around_the_torus_leaks(turns):
+    # A 4-connected staircase channel winding `turns` times along x for once along y: every
+    # closed path through it crosses both periodic edges, and it spans along x.
+    n = 24
+    gap = np.zeros((n, n))
+    columns = np.arange(n * turns)
+    rows = (columns // turns) % n
+    gap[rows, columns % n] = 1.0
+    gap[(rows + 1) % n, columns % n] = 1.0     # two pixels thick: 4-connected steps
+    assert hydraulic_aperture(gap, 1.0, periodic=True) > 0.0
+    assert spanning_cells(gap > 0, periodic=True).sum() == np.count_nonzero(gap)
+
+
+def test_an_isolated_pocket_changes_nothing():
+    gap = np.random.default_rng(5).uniform(0.5, 1.5, (48, 48))
+    ring = np.zeros_like(gap, dtype=bool)
+    ring[10:20, 10:20] = True
+    ring[12:18, 12:18] = False             # an open pocket inside a contact ring
+    gap[ring] = 0.0
+    dead_end = gap.copy()
+    dead_end[30:40, 0:5] = 0.0
+    dead_end[32:38, 0:4] = 1.0             # a pocket open to the inlet only
+    for periodic in (False, True):
+        with_pocket = hydraulic_aperture(gap, 1.0, periodic=periodic)
+        filled = gap.copy()
+        filled[12:18, 12:18] = 0.0
+        assert with_pocket == pytest.approx(hydraulic_aperture(filled, 1.0, periodic=periodic),
+                                            rel=1e-12)
+    closed = dead_end.copy()
+    closed[32:38, 0:4] = 0.0
+    assert hydraulic_aperture(dead_end, 1.0) == pytest.approx(hydraulic_aperture(closed, 1.0),
+                                                              rel=1e-12)
+
+
+def _random_gap(n: int, seed: int, correlation=(2.0, 2.0)) -> np.ndarray:
+    """A smooth random gap (white noise filtered by a periodic Gaussian of widths
+    ``correlation`` along y and x, in pixels) with about 16 % of its pixels in contact."""
+    noise = np.random.default_rng(seed).standard_normal((n, n))
+    z = scipy.ndimage.gaussian_filter(noise, correlation, mode="wrap")
+    z /= z.std()
+    return np.maximum(1.0 - z, 0.0)        # zero where z > 1
+
+
+def _log_anisotropy(correlation) -> np.ndarray:
+    return np.array([np.log(hydraulic_aperture(gap, 1.0, direction="x", periodic=True)
+                            / hydraulic_aperture(gap, 1.0, direction="y", periodic=True))
+                     for gap in (_random_gap(128, seed, correlation) for seed in range(10))])
+
+
+def test_x_and_y_agree_on_isotropic_gaps_within_their_scatter():
+    # Over seeds, log(h_x / h_y) has mean zero for an isotropic field; the bound is the 99.9 %
+    # Student-t interval of that mean from the seeds' own scatter (about 0.11 per seed).
+    ratios = _log_anisotropy((2.0, 2.0))
+    bound = scipy.stats.t.ppf(0.9995, ratios.size - 1) * ratios.std(ddof=1) / np.sqrt(ratios.size)
+    assert abs(ratios.mean()) < bound
+    # and the same bound sees a field twice as long along x as along y: it leaks more along x
+    assert _log_anisotropy((2.0, 4.0)).mean() > bound
+
+
+@BOTH
+def test_refining_a_smooth_gap_converges_at_second_order(periodic):
+    apertures = []
+    for n in (16, 32, 64, 128):
+        x = (np.arange(n) + 0.5) / n       # cell centres of the unit square
+        X, Y = np.meshgrid(x, x)
+        gap = 1 + 0.6 * np.sin(2 * np.pi * X) * np.sin(2 * np.pi * Y) \
+            + 0.3 * np.cos(2 * np.pi * (X + 2 * Y))
+        apertures.append(hydraulic_aperture(gap, 1.0 / n, periodic=periodic))
+    changes = np.abs(np.diff(apertures))
+    assert np.all(changes[1:] < changes[:-1])
+    assert np.all((changes[:-1] / changes[1:] > 3.0) & (changes[:-1] / changes[1:] < 5.0))
+
+
+def test_the_aperture_scales_with_the_gap_and_ignores_the_spacing():
+    gap = _random_gap(64, 11)
+    h = hydraulic_aperture(gap, 1.0, periodic=True)
+    assert hydraulic_aperture(1e-7 * gap, 1.0, periodic=True) == pytest.approx(1e-7 * h, rel=1e-10)
+    assert hydraulic_aperture(gap, 3e-6, periodic=True) == pytest.approx(h, rel=1e-12)
+    assert bem.hydraulic_aperture is hydraulic_aperture
+
+
+def test_a_closed_gap_does_not_leak():
+    assert hydraulic_aperture(np.zeros((8, 8)), 1.0) == 0.0
+    assert hydraulic_aperture(np.zeros((8, 8)), 1.0, periodic=True) == 0.0
+
+
+@pytest.mark.parametrize("gap, match", [
+    (-np.ones((4, 4)), "gap"), (np.full((4, 4), np.nan), "gap"), (np.full((4, 4), np.inf), "gap"),
+    (np.ones(16), "gap"), (np.ones((2, 2, 2)), "gap"), (np.ones((1, 8)), "gap"),
+    ("1.0", "gap"), (None, "gap"), (np.ones((4, 4), dtype=complex), "gap"),
+])
+def test_bad_gaps_are_refused_by_name(gap, match):
+    with pytest.raises(ValueError, match=match):
+        hydraulic_aperture(gap, 1.0)
+
+
+@pytest.mark.parametrize("keywords, match", [
+    ({"spacing": 0.0}, "spacing"), ({"spacing": -1.0}, "spacing"),
+    ({"spacing": np.nan}, "spacing"), ({"spacing": "1"}, "spacing"),
+    ({"direction": "z"}, "direction"), ({"direction": None}, "direction"),
+    ({"periodic": "yes"}, "periodic"),
+])
+def test_bad_options_are_refused_by_name(keywords, match):
+    arguments = {"spacing": 1.0, **keywords}
+    with pytest.raises(ValueError, match=match):
+        hydraulic_aperture(np.ones((4, 4)), **arguments)
