@@ -43,7 +43,7 @@ def analyse(result: SceneResult) -> Analysis:
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
         if leakage:
-            findings[value].append(d1_measures_leakage(realizations, max(scene.tolerances)))
+            findings[value].append(d1_measures_leakage(realizations, scene.tolerances))
     scene_findings, collapse = [], None
     if leakage and scene.surface.sweep_name == SIDES_SWEEP[1]:
         finding, collapse = sealing_size(result.realizations, scene.m, max(scene.tolerances))
