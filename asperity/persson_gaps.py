@@ -4,7 +4,7 @@ After Almqvist, Campana, Prodanov & Persson (2011) and Dapp, Lucke, Persson & Mu
 Magnification q (the roughness resolved up to wavevector q) loses contact gradually: the
 contact fraction seen at q is ``a(q) = erf(p0 / (E* sqrt(pi m(q))))`` (P3 with the cumulative
 moment m(q) instead of m(q_1)). The area ``-da`` that falls out of contact between q and q + dq
-is given a gap distributed as a normal law folded at 0 (the density of |X|), X ~ N(u_q, h_q^2):
+is given a gap distributed as a normal law folded at 0 (the density of ``|X|``), X ~ N(u_q, h_q^2):
 
 * h_q^2 = 2 pi integral_q^{q_1} q' C dq', the variance of the roughness not yet resolved at q;
 * u_q, the mean gap (P5) of that unresolved roughness (m measured from q) under the mean
@@ -108,7 +108,7 @@ def _bins(top: np.ndarray, fine: int) -> np.ndarray:
 
 def _folded_normal_bins(edges: np.ndarray, centre: np.ndarray, spread: np.ndarray
                         ) -> tuple[np.ndarray, np.ndarray]:
-    """Probability and first moment of |X|, X ~ N(centre, spread^2), in each bin: edges
+    """Probability and first moment of ``|X|``, X ~ N(centre, spread^2), in each bin: edges
     (n, B + 1), centre and spread (n, J) -> two arrays (n, J, B)."""
     edge = edges[:, None, :]
     mu, h = centre[:, :, None], np.maximum(spread, 1e-300)[:, :, None]

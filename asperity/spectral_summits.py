@@ -89,7 +89,7 @@ class SpectralMoments:
 
     @property
     def rms_gradient(self) -> float:
-        """h'_rms = sqrt(2 m2), the rms of |grad z| (both directions) [-]."""
+        """h'_rms = sqrt(2 m2), the rms of ``|grad z|`` (both directions) [-]."""
         return math.sqrt(2.0 * self.m2)
 
     @classmethod
