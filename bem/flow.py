@@ -265,8 +265,9 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
 
     Notes
     -----
-    Cost: one sparse LU factorisation of the spanning cells' system; about 0.3 s at 256^2,
-    1-3 s at 512^2 and 4-15 s at 1024^2 on two loaded cores (benchmarks/bench_leakage.py).
+    Cost: one sparse LU factorisation of the spanning cells' system: 0.2-0.9 s at 256^2,
+    1.2-2.6 s at 512^2 and 4-8 s at 1024^2 on two cores shared with other jobs (one BLAS
+    thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
