@@ -102,8 +102,7 @@ def _winding_clusters(labels: np.ndarray, count: int) -> np.ndarray:
                                     shape=(nodes, nodes)).tocsr()
     _, parent = scipy.sparse.csgraph.breadth_first_order(forest, 0, directed=True,
                                                          return_predecessors=True)
-    parent[0] = 0
-    parent[parent < 0] = 0   # clusters touching no edge: their own roots, phi = 0
+    parent[0] = 0   # every other node is reached: each component has an edge from node 0
     key = tail.astype(np.int64) * nodes + head
     order = np.argsort(key, kind="stable")
     tree_key = parent.astype(np.int64) * nodes + np.arange(nodes)
@@ -150,9 +149,10 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     """The finite-volume system ``A p = b`` of the spanning cells for a unit pressure drop along
     axis 1, and the faces to evaluate the dissipation on.
 
-    Returns ``(A, b, faces)``; ``faces`` is a tuple ``(tail, head, conductance, drop)`` of the
-    interior faces (the flux ``T (p_tail - p_head + drop)``) and ``boundary`` terms as
-    ``(cell, conductance, edge_pressure)`` (non-periodic only).
+    Returns ``(A, b, faces, boundary)``: ``faces`` is ``(tail, head, conductance, drop)`` for
+    the faces between cells (flux ``T (p_tail - p_head + drop)``, drop = the mean gradient's
+    share when periodic) and ``boundary`` is ``(cell, conductance, edge_pressure)`` for the
+    half-faces to the inlet and outlet edges (empty when periodic).
     """
     rows, columns = k.shape
     index = np.full(k.shape, -1, dtype=np.intp)
