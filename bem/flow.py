@@ -102,8 +102,7 @@ def _winding_clusters(labels: np.ndarray, count: int) -> np.ndarray:
                                     shape=(nodes, nodes)).tocsr()
     _, parent = scipy.sparse.csgraph.breadth_first_order(forest, 0, directed=True,
                                                          return_predecessors=True)
-    parent[0] = 0
-    parent[parent < 0] = 0   # clusters touching no edge: their own roots, phi = 0
+    parent[0] = 0   # every other node is reached: each component has an edge from node 0
     key = tail.astype(np.int64) * nodes + head
     order = np.argsort(key, kind="stable")
     tree_key = parent.astype(np.int64) * nodes + np.arange(nodes)
@@ -150,9 +149,10 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     """The finite-volume system ``A p = b`` of the spanning cells for a unit pressure drop along
     axis 1, and the faces to evaluate the dissipation on.
 
-    Returns ``(A, b, faces)``; ``faces`` is a tuple ``(tail, head, conductance, drop)`` of the
-    interior faces (the flux ``T (p_tail - p_head + drop)``) and ``boundary`` terms as
-    ``(cell, conductance, edge_pressure)`` (non-periodic only).
+    Returns ``(A, b, faces, boundary)``: ``faces`` is ``(tail, head, conductance, drop)`` for
+    the faces between cells (flux ``T (p_tail - p_head + drop)``, drop = the mean gradient's
+    share when periodic) and ``boundary`` is ``(cell, conductance, edge_pressure)`` for the
+    half-faces to the inlet and outlet edges (empty when periodic).
     """
     rows, columns = k.shape
     index = np.full(k.shape, -1, dtype=np.intp)
@@ -265,8 +265,9 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
 
     Notes
     -----
-    Cost: one sparse LU factorisation of the spanning cells' system; about 0.3 s at 256^2,
-    1-3 s at 512^2 and 4-15 s at 1024^2 on two loaded cores (benchmarks/bench_leakage.py).
+    Cost: one sparse LU factorisation of the spanning cells' system: 0.2-0.9 s at 256^2,
+    1.2-2.6 s at 512^2 and 4-8 s at 1024^2 on two cores shared with other jobs (one BLAS
+    thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)

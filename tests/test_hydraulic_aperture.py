@@ -173,3 +173,24 @@ def test_bad_options_are_refused_by_name(keywords, match):
     arguments = {"spacing": 1.0, **keywords}
     with pytest.raises(ValueError, match=match):
         hydraulic_aperture(np.ones((4, 4)), **arguments)
+
+
+def test_a_periodic_field_and_its_tiling_leak_alike():
+    # The periodic solution of a 2 x 3 tiling is the tiled solution of one period.
+    gap = _random_gap(48, 12)
+    assert hydraulic_aperture(gap, 1.0, periodic=True) > 0.0
+    for direction in ("x", "y"):
+        single = hydraulic_aperture(gap, 1.0, direction=direction, periodic=True)
+        tiled = hydraulic_aperture(np.tile(gap, (2, 3)), 1.0, direction=direction, periodic=True)
+        assert tiled == pytest.approx(single, rel=1e-9)
+
+
+@BOTH
+def test_reversing_or_transposing_the_field_changes_nothing(periodic):
+    gap = _random_gap(40, 13)
+    h_x = hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic)
+    assert h_x > 0.0
+    assert hydraulic_aperture(gap[:, ::-1], 1.0, periodic=periodic) == pytest.approx(h_x, rel=1e-10)
+    assert hydraulic_aperture(gap[::-1, :], 1.0, periodic=periodic) == pytest.approx(h_x, rel=1e-10)
+    assert hydraulic_aperture(gap.T, 1.0, direction="y", periodic=periodic) == \
+        pytest.approx(h_x, rel=1e-12)
