@@ -1,11 +1,12 @@
 """Command line: ``python -m validation {report,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode (8 realizations of each paper
-scene and 4 per D of the validity map, on 256 x 256 grids with 12 loads, without the leakage:
-the size scene ``sealing-size`` and the paper scenes' leakage are left out; about a minute on two
-cores); ``--full`` and ``--publish`` run them all as written (25 realizations of each paper scene
-and 10 per D of the validity map, on 512 x 512 grids with 16 loads, the leakage included, and
-8 realizations of each window of ``sealing-size`` on 128 x 128 grids with 12 loads).
+scene on 256 x 256 grids with 12 loads, and 4 per D of the validity map on 128 x 128 grids with
+12 loads, without the leakage: the size scene ``sealing-size`` and the paper scenes' leakage are
+left out; a few minutes on two cores); ``--full`` and ``--publish`` run them all as written (25
+realizations of each paper scene on 512 x 512 grids with 16 loads, the leakage included, 10 per
+D of the validity map on 256 x 256 grids with 16 loads, and 8 realizations of each window of
+``sealing-size`` on 128 x 128 grids with 12 loads).
 Ctrl-C stops a report at once (exit status 130); what was finished stays in the cache, and the
 same command resumes.
 """
