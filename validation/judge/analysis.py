@@ -49,7 +49,7 @@ def analyse(result: SceneResult) -> Analysis:
         comparisons.append(comparison)
         findings[value] = check_findings(realizations, comparison, scene.tolerances)
         if leakage:
-            findings[value].append(d1_measures_leakage(realizations, scene.tolerances))
+            findings[value].append(d1_measures_leakage(realizations, max(scene.tolerances)))
         study = sampling_study(realizations, scene.tolerances)
         findings[value].append(sampling_finding(study))
         if study is not None:
