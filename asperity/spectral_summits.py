@@ -162,15 +162,21 @@ def spectral_moments(heights: ArrayLike, spacing: float, *, periodic: bool = Fal
     h = checks.supported_magnitude("spacing", checks.positive("spacing", spacing))
     periodic = checks.flag("periodic", periodic)
     z = z - z.mean()
-    z_x, z_y, z_xx, z_yy = height_derivatives(z, h, periodic=periodic)
-    sums = [(float(np.mean(z_x * z_x)), float(np.mean(z_xx * z_xx))),
-            (float(np.mean(z_y * z_y)), float(np.mean(z_yy * z_yy)))]
-    m2 = 0.5 * (sums[0][0] + sums[1][0])
-    m4 = 0.5 * (sums[0][1] + sums[1][1])
+    m0, m2, m4 = profile_moments(z, *height_derivatives(z, h, periodic=periodic))
     for name, value in (("m2", m2), ("m4", m4)):
         if not value > 0.0:
             raise ValueError(f"heights: the map is flat to finite differences ({name} = 0)")
-    return SpectralMoments(float(np.mean(z * z)), m2, m4)
+    return SpectralMoments(m0, m2, m4)
+
+
+def profile_moments(z: np.ndarray, z_x: np.ndarray, z_y: np.ndarray, z_xx: np.ndarray,
+                    z_yy: np.ndarray) -> tuple[float, float, float]:
+    """m0 = <z^2>, m2 = (<z_x^2> + <z_y^2>)/2, m4 = (<z_xx^2> + <z_yy^2>)/2, eq. (S2), of heights
+    about their mean and their :func:`height_derivatives` (the profile moments averaged over the
+    x and y directions)."""
+    return (float(np.mean(z * z)),
+            0.5 * (float(np.mean(z_x * z_x)) + float(np.mean(z_y * z_y))),
+            0.5 * (float(np.mean(z_xx * z_xx)) + float(np.mean(z_yy * z_yy))))
 
 
 @dataclass(frozen=True)

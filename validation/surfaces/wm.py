@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity.spectral_summits import height_derivatives
+from asperity.spectral_summits import height_derivatives, profile_moments
 
 from bem import checks
 
@@ -236,14 +236,11 @@ def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = 
 
     z = heights - heights.mean()
     z_x, z_y, z_xx, z_yy = height_derivatives(z, spacing, periodic=periodic)
-    m0 = float(np.mean(z * z))
-    mean_x2, mean_y2 = float(np.mean(z_x * z_x)), float(np.mean(z_y * z_y))
-    m2 = 0.5 * (mean_x2 + mean_y2)
-    m4 = 0.5 * (float(np.mean(z_xx * z_xx)) + float(np.mean(z_yy * z_yy)))
+    m0, m2, m4 = profile_moments(z, z_x, z_y, z_xx, z_yy)
     mean_curvature = 0.5 * (z_xx + z_yy)
     return SurfaceStatistics(
         rms_height=math.sqrt(m0),
-        rms_gradient=math.sqrt(mean_x2 + mean_y2),
+        rms_gradient=math.sqrt(2.0 * m2),
         rms_curvature=math.sqrt(float(np.mean(mean_curvature * mean_curvature))),
         m0=m0,
         m2=m2,
