@@ -58,12 +58,14 @@ def test_refined_self_affine_keeps_its_spectrum_and_phases():
 def test_a_measured_map_and_bad_factors_are_refused():
     with pytest.raises(ValueError, match="factor"):
         refined_heights(one(parse_scene(WM)), 0, 3)
+    # at D = 2.05 the grid limit is the scene's own grid, in the full and the quick run alike
     full = load_scene("paper-wm-d205")
-    # the paper scenes' grid limit is their own grid: the full run refines nothing, the quick
-    # run (half the grid) refines once
     assert unavailable(full).startswith("the scene grid 512 is already at the limit")
-    scene = full.quick_version()
-    assert unavailable(scene) is None
+    assert unavailable(full.quick_version()).startswith("the scene grid 256 is already")
+    # at D = 2.95 the full run refines to 1024^2, the quick one (half the grid) to 512^2
+    assert unavailable(load_scene("paper-wm-d295")) is None
+    scene = load_scene("paper-wm-d295").quick_version()
+    assert unavailable(scene) is None and scene.bem.max_grid == 512
     assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
     assert "separation" in unavailable(replace(scene, loads=replace(scene.loads,
                                                                      quantity="separation")))
@@ -72,10 +74,13 @@ def test_a_measured_map_and_bad_factors_are_refused():
     assert unavailable(measured).startswith("a measured map cannot be refined")
 
 
-def test_scene_grid_limit_is_validated_and_kept_in_quick_mode():
+def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():
     assert parse_scene(WM).bem.max_grid == 128
     assert parse_scene(WM).quick_version().bem.max_grid == 128
-    assert load_scene("paper-wm-d205").quick_version().bem.max_grid == 512
+    # the limit shrinks with the quick grid: as many refinements as in the full run
+    assert load_scene("paper-wm-d295").quick_version().bem.max_grid == 512
+    assert load_scene("validity-map").quick_version().bem.max_grid == 256
+    assert load_scene("self-affine").quick_version().bem.max_grid == 256
     with pytest.raises(SceneError, match="max_grid"):
         parse_scene(WM | {"bem": {"max_grid": 16}})
     with pytest.raises(SceneError, match="bem.max_grid"):
@@ -120,3 +125,47 @@ def test_runner_refines_where_the_band_decides_and_new_realizations_follow(tmp_p
     (again,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
     assert not [e for r in again.realizations[2.3] for e in r.computed if e.startswith("bem")]
     assert again.refinement == record
+
+
+def test_leakage_is_solved_again_only_where_a_leakage_cell_is_held_by_the_band(tmp_path,
+                                                                              monkeypatch):
+    from validation.run import sequential
+    from validation.run.runner import run_scenes
+    from validation.run.refine import run_job
+    from validation.run.sequential import RefinementLevel, _apply
+
+    # on 32^2 the leakage band holds everywhere: the band of the leakage cells is taken as
+    # deciding nothing here, the other cells' as computed
+    decides = sequential.band_decides
+
+    def no_leakage_band(scene, results, confidence, *, quantities=None):
+        mask, band = decides(scene, results, confidence, quantities=quantities)
+        return (mask & (quantities != ("leakage",))), band
+
+    monkeypatch.setattr(sequential, "band_decides", no_leakage_band)
+
+    leaky = WM | {"quantities": {"use": ["area", "load", "separation", "leakage"]},
+                  "realizations": {"count": 3, "seed": 7}}
+    scene = parse_scene(leaky, source="test")
+    plain = parse_scene(leaky | {"bem": {"max_grid": 32}}, source="test")
+    (refined,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path / "a"))
+    (base,) = run_scenes([plain], progress=False, cache_dir=str(tmp_path / "b"))
+    level = refined.refinement.levels[0]
+    points = list(level.points[2.3])
+    assert points and not level.leakage.get(2.3)
+    for r, b in zip(refined.realizations[2.3], base.realizations[2.3]):
+        curve, original = r.curves["bem"], b.curves["bem"]
+        assert curve.extras["grid"][points].min() > 32
+        assert not np.allclose(curve.area[points], original.area[points])
+        # the leakage and its band stay those of the scene's grid
+        np.testing.assert_array_equal(curve.leakage, original.leakage)
+        np.testing.assert_array_equal(curve.extras["leakage_error"],
+                                      original.extras["leakage_error"])
+    # where a leakage cell is held, the leakage of that point (only) is the finer solve's
+    by_value = {2.3: list(base.realizations[2.3])}
+    forced = RefinementLevel(64, {2.3: (0, 1)}, {2.3: 1e-8}, {2.3: (1,)})
+    _apply(by_value, forced, lambda jobs: [run_job(job, str(tmp_path / "b")) for job in jobs])
+    for r, b in zip(by_value[2.3], base.realizations[2.3]):
+        new, old = r.curves["bem"].leakage, b.curves["bem"].leakage
+        assert new[0] == old[0] and new[1] != old[1] and new[2] == old[2]
+        assert r.curves["bem"].area[0] != b.curves["bem"].area[0]

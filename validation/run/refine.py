@@ -193,6 +193,7 @@ class RefineJob:
     points: tuple[int, ...]       # load point indices
     factor: int                   # grid = factor * task.surface.n
     tol: float                    # solver tolerance of the finer solve (T40)
+    leakage: bool = True          # solve the leakage too (when the scene asks for it)
 
 
 def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
@@ -204,8 +205,10 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     s = task.surface
     values = np.array(task.loads.values())[list(job.points)]
     loads = values * task.e_star * s.L**2
-    stiffness, leakage = needs_stiffness(task.quantities), needs_leakage(task.quantities)
-    quantities = model_quantities(task.quantities)
+    stiffness = needs_stiffness(task.quantities)
+    leakage = needs_leakage(task.quantities) and job.leakage
+    quantities = tuple(q for q in model_quantities(task.quantities)
+                       if leakage or q != "leakage")
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
                     leakage=leakage,

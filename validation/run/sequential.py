@@ -23,7 +23,7 @@ Without ``max`` there is one look, at the 95 % of :mod:`validation.judge.verdict
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -214,19 +214,22 @@ def extend_scene(scene, by_value: dict, run: Callable[[int], list],
                      lambda confidence: scene_share(scene, by_value, confidence))
 
 
-def band_decides(scene, results: list, confidence: float) -> tuple[np.ndarray, np.ndarray]:
+def band_decides(scene, results: list, confidence: float, *,
+                 quantities: tuple[str, ...] | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Load points of one sweep value where the reference band decides: some cell (a compared
     model and quantity at a tolerance, on the mean or per surface) is undecided while the band
     of its reference field exceeds a quarter of the tolerance. Returns the mask and the smallest
-    band over the fields at each point (NaN where none is known)."""
+    band over the fields at each point (NaN where none is known). ``quantities`` restricts the
+    cells looked at to those quantities (default: every compared one)."""
     from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
     mask = np.zeros(comparison.load.shape, bool)
     smallest = np.full(comparison.load.shape, np.inf)
+    looked_at = COMPARED_QUANTITIES if quantities is None else quantities
     for (_, quantity), entry in comparison.models.items():
-        if quantity not in COMPARED_QUANTITIES or entry.band is None:
+        if quantity not in looked_at or entry.band is None:
             continue
         band = np.asarray(entry.band, dtype=float)
         smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
@@ -247,6 +250,10 @@ class RefinementLevel:
     grid: int
     points: dict                  # sweep value -> tuple of load point indices
     tolerances: dict              # sweep value -> solver tolerance
+    # sweep value -> the points among ``points`` whose leakage is solved again too (a leakage
+    # cell is held by the band there); elsewhere the leakage and its band stay those of the
+    # grid below: a Reynolds solve costs a 1024^2 reference about three times its contact solve
+    leakage: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -257,15 +264,18 @@ class RefinementRecord:
     reason: str
 
     def describe(self, parameter: str = "") -> str:
-        """E.g. ``refined on 512²: 3 load point(s) at D = 2.05 (solver tolerance 1.0e-04);
-        stopped: grid limit reached (max_grid = 512)``."""
+        """E.g. ``refined on 512²: 3 load point(s) (leakage at 1) at D = 2.05 (solver
+        tolerance 1.0e-04); stopped: grid limit reached (max_grid = 512)``: the leakage is solved
+        again only where a leakage cell is held by the band."""
         if not self.levels:
             return f"not refined: {self.reason}"
         parts = []
         for level in self.levels:
             per_value = ", ".join(
-                f"{len(points)} load point(s)" + (f" at {parameter} = {value:g}" if parameter
-                                                  else "")
+                f"{len(points)} load point(s)"
+                + (f" (leakage at {len(level.leakage[value])})" if level.leakage.get(value)
+                   else "")
+                + (f" at {parameter} = {value:g}" if parameter else "")
                 for value, points in sorted(level.points.items()))
             tolerances = sorted(set(level.tolerances.values()))
             parts.append(f"{level.grid}²: {per_value} (solver tolerance {tolerances[0]:.1e}"
@@ -284,16 +294,21 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
 
     jobs, where = [], []
     for value, points in level.points.items():
+        with_leakage = tuple(level.leakage.get(value, ()))
+        parts = [(p, False) for p in [tuple(k for k in points if k not in with_leakage)] if p]
+        parts += [(with_leakage, True)] if with_leakage else []
         for index, result in enumerate(by_value[value]):
             if only is not None and result.task not in only:
                 continue
             factor = level.grid // result.task.surface.n
-            jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value]))
-            where.append((value, index))
-    for (value, index), (curve, computed) in zip(where, solve(jobs)):
+            for part, leakage in parts:
+                jobs.append(RefineJob(result.task, part, factor, level.tolerances[value],
+                                      leakage))
+                where.append((value, index, part))
+    for (value, index, part), (curve, computed) in zip(where, solve(jobs)):
         result = by_value[value][index]
         name = _reference_name(result)
-        merged = merge_points(result.curves[name], np.array(level.points[value]), curve,
+        merged = merge_points(result.curves[name], np.array(part), curve,
                               level.grid, result.task.surface.L / level.grid,
                               result.task.surface.n)
         log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
@@ -317,7 +332,7 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
         if grid > scene.bem.max_grid:
             return RefinementRecord(tuple(levels), f"grid limit reached (max_grid = "
                                     f"{scene.bem.max_grid})")
-        points, tolerances = {}, {}
+        points, tolerances, leakage = {}, {}, {}
         for value, results in by_value.items():
             mask, band = band_decides(scene, results, confidence)
             reference = results[0].curves[_reference_name(results[0])]
@@ -325,13 +340,15 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
             chosen = np.flatnonzero(mask & below)
             if chosen.size:
                 points[value] = tuple(int(k) for k in chosen)
+                leaky, _ = band_decides(scene, results, confidence, quantities=("leakage",))
+                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & mask & below))
                 # the band expected on the finer grid: half the present one (first order)
                 tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
                                                      scene.bem.tol)
         if not points:
             return RefinementRecord(tuple(levels), "no undecided cell is held by the band"
                                     + (" any more" if levels else ""))
-        level = RefinementLevel(grid, points, tolerances)
+        level = RefinementLevel(grid, points, tolerances, leakage)
         _apply(by_value, level, solve)
         levels.append(level)
         grid *= 2

@@ -292,11 +292,16 @@ class Scene:
         # the budget shrinks in proportion: the same number of looks at the same ratios
         budget = None if self.max_realizations is None else max(realizations, math.ceil(
             self.max_realizations * realizations / self.realizations))
-        # the finest grid stays as set: it bounds what one refined solve costs, so a quick run
-        # on a coarser grid refines up to it where the full run, at that grid, may not
+        # the finest grid shrinks with the grid: as many refinements as the full run, each
+        # on a grid the quick run's grid ratio smaller (a quick paper scene on 256^2 refines
+        # to 512^2 where the full run, on 512^2, refines to 1024^2)
+        bem = self.bem
+        if bem.max_grid is not None and surface.n != self.surface.n:
+            bem = replace(bem, max_grid=max(surface.n, bem.max_grid * surface.n
+                                            // self.surface.n))
         quantities = self.quantities if self.quick.quantities is None else tuple(
             q for q in self.quantities if q in self.quick.quantities)
-        return replace(self, surface=surface, loads=loads, quantities=quantities,
+        return replace(self, surface=surface, loads=loads, quantities=quantities, bem=bem,
                        realizations=realizations, max_realizations=budget)
 
 
