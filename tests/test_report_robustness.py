@@ -243,6 +243,35 @@ def test_a_sweep_scene_gets_a_summary_per_swept_value(tmp_path):
     assert "| nowhere |" not in summary and "*Undecided* says why" in summary
 
 
+def test_the_undecided_share_of_each_scene_is_counted_from_its_verdicts(tmp_path):
+    budget = SWEEP.replace("count = 2\n[loads]", "count = 3\nmax = 6\n[loads]") + \
+        "[bem]\nmax_grid = 64\n"
+    scene = load_scene(write(tmp_path, budget))
+    folder = tmp_path / "report"
+    (result,) = run_scenes([scene], progress=False)
+    write_report([result], folder)
+    markdown = (folder / "report.md").read_text(encoding="utf-8")
+    section = markdown[markdown.index("## How decided each scene is"):
+                       markdown.index("## Findings")]
+    table = [line for line in section.splitlines() if line.startswith("| `tiny`")]
+    assert len(table) == 1
+    cells = [c.strip() for c in table[0].strip("|").split("|")]
+    # the realizations per look and the finer reference the run spent
+    looks = result.sequential.used
+    assert cells[1] == (" → ".join(map(str, looks)) if len(looks) > 1 else str(looks[0]))
+    grids = [level.grid for level in result.refinement.levels]
+    assert cells[2] == "none" if not grids else cells[2].startswith(f"{grids[0]}² at ")
+    # independently, from the per-point verdicts of verdicts.csv
+    verdicts = rows(folder / "verdicts.csv")
+    expected = []
+    for tolerance in sorted({float(r["tolerance"]) for r in verdicts}, reverse=True):
+        at = [r for r in verdicts if float(r["tolerance"]) == tolerance]
+        for column in ("verdict", "verdict_per_surface"):
+            undecided = sum(r[column] == "undecided" for r in at)
+            expected.append(f"{100 * undecided / len(at):.0f} % ({undecided} of {len(at)})")
+    assert cells[3:] == expected
+
+
 FULL_CONTACT = """
 name = "full-contact"
 [surface]

@@ -6,7 +6,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from validation.judge.compare import Comparison, compare_realizations
+import numpy as np
+
+from validation.judge.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
+from validation.judge.verdicts import UNDECIDED
 from validation.judge.findings import Finding, check_findings
 from validation.judge.sampling import SamplingStudy, sampling_finding, sampling_study
 from validation.judge.sealing import SizeCollapse, d1_measures_leakage, sealing_size
@@ -15,7 +18,7 @@ from validation.run.runner import SceneResult
 from validation.run.sequential import scene_plan
 from validation.surfaces.spec import SIDES_SWEEP
 
-__all__ = ["Analysis", "analyse"]
+__all__ = ["Analysis", "analyse", "undecided_counts"]
 
 
 @dataclass(frozen=True)
@@ -59,3 +62,24 @@ def analyse(result: SceneResult) -> Analysis:
         finding, collapse = sealing_size(result.realizations, scene.m, max(scene.tolerances))
         scene_findings.append(finding)
     return Analysis(result, comparisons, findings, studies, scene_findings, collapse)
+
+
+def undecided_counts(analysis: Analysis) -> dict[tuple[float, str], tuple[int, int]]:
+    """Undecided cells of a scene and all its cells, per tolerance and reading.
+
+    A cell is one compared model and quantity at one load point of one sweep value; the
+    readings are ``"mean"`` (the verdict on the mean error) and ``"per surface"``. Returns
+    ``{(tolerance, reading): (undecided, cells)}``; empty for a scene without comparisons."""
+    counts: dict[tuple[float, str], tuple[int, int]] = {}
+    for comparison in analysis.comparisons:
+        for (_, quantity), entry in comparison.models.items():
+            if quantity not in COMPARED_QUANTITIES:
+                continue
+            for reading, verdicts in (("mean", entry.verdicts),
+                                      ("per surface", entry.surface_verdicts)):
+                for tolerance, verdict in zip(entry.tolerances, verdicts):
+                    open_, cells = counts.get((tolerance, reading), (0, 0))
+                    counts[tolerance, reading] = (
+                        open_ + int(np.count_nonzero(np.asarray(verdict) == UNDECIDED)),
+                        cells + int(np.size(verdict)))
+    return counts

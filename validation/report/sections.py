@@ -22,7 +22,7 @@ if TYPE_CHECKING:  # the report imports this module
     from validation.run.runner import SceneResult
 
 __all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_cell", "holds_section",
-           "findings_section", "verdict_table", "surface_text", "timing"]
+           "findings_section", "undecided_section", "verdict_table", "surface_text", "timing"]
 
 #: Quantities in the report's order: the compared ones, then the contact counts (shown, never
 #: judged: the BEM counts patches, the asperity models asperities).
@@ -227,6 +227,45 @@ def holds_section(analyses: list[Analysis]) -> list[str]:
     for analysis in sweeps:
         lines += _sweep_holds(analysis)
     return lines + [_ADVICE + "\n"]
+
+
+def _effort(result: SceneResult) -> tuple[str, str]:
+    """Realizations used (per look) and the finer reference of a scene, in a few words."""
+    counts = sorted({len(r) for r in result.realizations.values()})
+    used = str(counts[0]) if counts[0] == counts[-1] else f"{counts[0]}–{counts[-1]}"
+    if result.sequential is not None and len(result.sequential.used) > 1:
+        used = " → ".join(map(str, result.sequential.used))
+    levels = result.refinement.levels if result.refinement is not None else ()
+    finer = ", ".join(f"{level.grid}² at {sum(map(len, level.points.values()))} point(s)"
+                      for level in levels) or "none"
+    return used, finer
+
+
+def undecided_section(analyses: list[Analysis]) -> list[str]:
+    """How decided each scene is: the undecided share of its cells per tolerance, on the mean
+    and per surface, beside the realizations and the finer reference it spent."""
+    from validation.judge.analysis import undecided_counts
+
+    counted = [(a, undecided_counts(a)) for a in analyses if a.comparisons]
+    if not counted:
+        return []
+    keys = sorted({key for _, counts in counted for key in counts},
+                  key=lambda key: (-key[0], key[1] != "mean"))
+    header = (["scene", "realizations", "finer reference"]
+              + [f"undecided at {t:g}, {reading}" for t, reading in keys])
+    rows = []
+    for analysis, counts in counted:
+        row = [f"`{analysis.result.scene.name}`", *_effort(analysis.result)]
+        for key in keys:
+            open_, cells = counts.get(key, (0, 0))
+            row.append(f"{100 * open_ / cells:.0f} % ({open_} of {cells})" if cells else "–")
+        rows.append(row)
+    return (["## How decided each scene is\n",
+             "Share of undecided cells (a cell: one model, one quantity, one load point of one "
+             "surface family) per tolerance, on the mean and per surface, with the realizations "
+             "each scene used (→: the looks of its sequential plan) and the load points whose "
+             "reference was solved again on a finer grid because its band held a cell "
+             "(docs/theory.md, sections 11.2 and 11.3).\n"] + md_table(header, rows))
 
 
 def findings_section(analyses: list[Analysis]) -> list[str]:

@@ -24,7 +24,7 @@ from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order,
 from validation.report.sampling import sampling_section
 from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,
-                                        timing, verdict_table)
+                                        timing, undecided_section, verdict_table)
 from validation.run.cache import Cache, cache_key
 from validation.run.runner import SceneResult
 
@@ -325,6 +325,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     written = write_tables(folder, analyses)
     figures = _Figures(folder, header(seconds, mode, command))
     figures.lines += holds_section(analyses)
+    figures.lines += undecided_section(analyses)
     figures.lines += findings_section(analyses)
     figures.lines += sampling_section(analyses)
     for analysis in analyses:
