@@ -89,7 +89,7 @@ def test_figures_drawn_on_a_pool_are_those_drawn_here(results, tmp_path):
 
 
 def test_verdict_margin_fits_the_longest_row_label():
-    from validation.report.figures import _text_width
+    from validation.report.layout import text_width as _text_width
 
     short, long = _text_width(["GW: area"], 7), _text_width(["GW: area", "x" * 60], 7)
     assert 0.2 < short < long and long == pytest.approx(_text_width(["x" * 60], 7))

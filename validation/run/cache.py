@@ -236,7 +236,8 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/sections.py", "report/tables.py", "judge/verdicts.py",
                                  "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
                                  "report/sampling.py", "judge/sealing.py",
-                                 "report/sealing_figures.py"})
+                                 "report/sealing_figures.py", "judge/errors.py",
+                                 "report/layout.py"})
 
 
 def source_version() -> str:
