@@ -58,12 +58,13 @@ def test_refined_self_affine_keeps_its_spectrum_and_phases():
 def test_a_measured_map_and_bad_factors_are_refused():
     with pytest.raises(ValueError, match="factor"):
         refined_heights(one(parse_scene(WM)), 0, 3)
-    # at D = 2.05 the grid limit is the scene's own grid, in the full and the quick run alike
+    # a grid limit at the scene's own grid refines nothing, in the full and the quick run alike
     full = load_scene("paper-wm-d205")
-    assert unavailable(full).startswith("the scene grid 512 is already at the limit")
-    assert unavailable(full.quick_version()).startswith("the scene grid 256 is already")
-    # at D = 2.95 the full run refines to 1024^2, the quick one (half the grid) to 512^2
-    assert unavailable(load_scene("paper-wm-d295")) is None
+    at_limit = replace(full, bem=replace(full.bem, max_grid=512))
+    assert unavailable(at_limit).startswith("the scene grid 512 is already at the limit")
+    assert unavailable(at_limit.quick_version()).startswith("the scene grid 256 is already")
+    # the paper scenes refine to 1024^2, their quick runs (half the grid) to 512^2
+    assert unavailable(full) is None
     scene = load_scene("paper-wm-d295").quick_version()
     assert unavailable(scene) is None and scene.bem.max_grid == 512
     assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
@@ -80,7 +81,7 @@ def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():
     # the limit shrinks with the quick grid: as many refinements as in the full run
     assert load_scene("paper-wm-d295").quick_version().bem.max_grid == 512
     assert load_scene("validity-map").quick_version().bem.max_grid == 256
-    assert load_scene("self-affine").quick_version().bem.max_grid == 256
+    assert load_scene("self-affine").quick_version().bem.max_grid == 512
     with pytest.raises(SceneError, match="max_grid"):
         parse_scene(WM | {"bem": {"max_grid": 16}})
     with pytest.raises(SceneError, match="bem.max_grid"):
