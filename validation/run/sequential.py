@@ -214,32 +214,34 @@ def extend_scene(scene, by_value: dict, run: Callable[[int], list],
                      lambda confidence: scene_share(scene, by_value, confidence))
 
 
-def band_decides(scene, results: list, confidence: float, *,
-                 quantities: tuple[str, ...] | None = None) -> tuple[np.ndarray, np.ndarray]:
+def band_decides(scene, results: list, confidence: float
+                 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Load points of one sweep value where the reference band decides: some cell (a compared
     model and quantity at a tolerance, on the mean or per surface) is undecided while the band
-    of its reference field exceeds a quarter of the tolerance. Returns the mask and the smallest
-    band over the fields at each point (NaN where none is known). ``quantities`` restricts the
-    cells looked at to those quantities (default: every compared one)."""
+    of its reference field exceeds a quarter of the tolerance. Returns the mask, the smallest
+    band over the fields at each point (NaN where none is known) and the mask of each compared
+    quantity alone (the mask is their union)."""
     from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
-    mask = np.zeros(comparison.load.shape, bool)
+    held: dict[str, np.ndarray] = {}
     smallest = np.full(comparison.load.shape, np.inf)
-    looked_at = COMPARED_QUANTITIES if quantities is None else quantities
     for (_, quantity), entry in comparison.models.items():
-        if quantity not in looked_at or entry.band is None:
+        if quantity not in COMPARED_QUANTITIES or entry.band is None:
             continue
         band = np.asarray(entry.band, dtype=float)
         smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
+        mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
         for index, tolerance in enumerate(entry.tolerances):
             open_ = entry.verdicts[index] == UNDECIDED
             if entry.surface_verdicts:
                 open_ |= entry.surface_verdicts[index] == UNDECIDED
             with np.errstate(invalid="ignore"):
                 mask |= open_ & (band > REFERENCE_ACCURACY * tolerance)
-    return mask, np.where(np.isfinite(smallest), smallest, np.nan)
+    mask = (np.any(np.stack(list(held.values())), axis=0) if held
+            else np.zeros(comparison.load.shape, bool))
+    return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
 
 
 @dataclass(frozen=True)
@@ -295,8 +297,9 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
     jobs, where = [], []
     for value, points in level.points.items():
         with_leakage = tuple(level.leakage.get(value, ()))
-        parts = [(p, False) for p in [tuple(k for k in points if k not in with_leakage)] if p]
-        parts += [(with_leakage, True)] if with_leakage else []
+        without = tuple(k for k in points if k not in with_leakage)
+        parts = [(part, leakage) for part, leakage in ((without, False), (with_leakage, True))
+                 if part]
         for index, result in enumerate(by_value[value]):
             if only is not None and result.task not in only:
                 continue
@@ -334,14 +337,14 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
                                     f"{scene.bem.max_grid})")
         points, tolerances, leakage = {}, {}, {}
         for value, results in by_value.items():
-            mask, band = band_decides(scene, results, confidence)
+            mask, band, held = band_decides(scene, results, confidence)
             reference = results[0].curves[_reference_name(results[0])]
             below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
             chosen = np.flatnonzero(mask & below)
             if chosen.size:
                 points[value] = tuple(int(k) for k in chosen)
-                leaky, _ = band_decides(scene, results, confidence, quantities=("leakage",))
-                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & mask & below))
+                leaky = held.get("leakage", np.zeros(mask.shape, bool))
+                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
                 # the band expected on the finer grid: half the present one (first order)
                 tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
                                                      scene.bem.tol)
