@@ -249,7 +249,7 @@ def build_parser() -> argparse.ArgumentParser:
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
     show = sub.add_parser("show", help="print a scene file and its parsed form")
-    show.add_argument("scene")
+    show.add_argument("scene", metavar="SCENE", help="a built-in scene name or a scene file")
     show.set_defaults(handler=_show)
     bench = sub.add_parser("bench", help="run time against error of every method")
     bench.add_argument("--quick", action="store_true", help="tiny sizes (seconds)")
