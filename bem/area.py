@@ -22,7 +22,7 @@ rough surfaces. The estimators here are pure functions of the solution fields:
   count's error but the solver's edge pixels do not follow the continuum asymptotics closely
   enough: 2-4 % at 256 x 256 on WM surfaces, against 0.8 % for ``"perimeter"``.
 
-README ("Accuracy of the reference") tabulates their errors against converged values.
+docs/guide/benchmarks.md ("Accuracy of the reference") tabulates their errors against converged values.
 """
 
 from __future__ import annotations

@@ -66,7 +66,7 @@ class _PathStarts:
     solved on every other grid point, that coarse solve warm-started from the previous point's
     coarse pressure. A start from the previous fine pressure rescaled to the new load needed
     more fine iterations (647 against 539 on a 12-point WM path at 1024 x 1024, 5 % more FFT
-    work with the coarse solves counted; README, "Boundary-element solver"): it overshoots the
+    work with the coarse solves counted; docs/guide/benchmarks.md, "Boundary-element solver"): it overshoots the
     approach of the plane, and the contact set then takes about 20 steps to settle, pixels
     entering and leaving, while the coarse solve of the new load places the spots' edges to
     within a coarse pixel. Without nesting (odd or small grids, the plain iteration) the
@@ -294,8 +294,8 @@ def contact_curve(
     return replace(curve, extras=extras)
 
 
-#: Safety factor f of :func:`error_estimates` on ``|Q_N - Q_(N/2)|`` (README, "Accuracy of the
-#: reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
+#: Safety factor f of :func:`error_estimates` on ``|Q_N - Q_(N/2)|`` (docs/guide/benchmarks.md,
+#: "Accuracy of the reference"): twice the first-order Richardson estimate, the smallest factor that bounded the
 #: error of area, stiffness, separation and mean gap against converged values in the mesh study
 #: of benchmarks/bench_area.py (WM, D = 2.05-2.95, N = 256 and 512).
 ERROR_FACTOR = 2.0

@@ -1,8 +1,8 @@
-"""Sphinx configuration: the API reference of asperity, bem and validation, with the README and
-the theory page. Build: ``python -m sphinx -W --keep-going -b html docs docs/_build/html``."""
+"""Sphinx configuration: the user guide (guide/), the published report (results/), the theory
+page and the API reference of asperity, bem and validation.
+Build: ``python -m sphinx -W --keep-going -b html docs docs/_build/html``."""
 
 import pathlib
-import re
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -11,6 +11,7 @@ sys.path.insert(0, str(ROOT / "docs"))
 
 import validation  # noqa: E402
 from api_pages import write_pages  # noqa: E402
+from cli_pages import MARKER, command_line_markdown  # noqa: E402
 
 project = "asperity-validation"
 author = "asperity-validation contributors"
@@ -45,18 +46,14 @@ html_title = "asperity-validation"
 html_theme_options = {"navigation_depth": 3, "show_toc_level": 2}
 
 
-def _relative_to_docs(match: re.Match) -> str:
-    target = match.group(1)
-    return f"]({target.removeprefix('docs/') if target.startswith('docs/') else '../' + target})"
-
-
-def _readme(app, docname, source):
-    """The page ``readme`` is the repository's README.md, its links made relative to docs/:
-    ``docs/x`` -> ``x`` (pages and figures of this site), other files -> ``../x`` (downloads)."""
-    if docname == "readme":
-        text = (ROOT / "README.md").read_text(encoding="utf-8")
-        source[0] = re.sub(r"\]\((?!https?:|#|/)([^)\s]+)\)", _relative_to_docs, text)
+def _command_line(app, docname, source):
+    """The page ``guide/command-line`` gets the reference of every command and option in place
+    of its marker line, rendered from the program's parser (docs/cli_pages.py)."""
+    if docname == "guide/command-line":
+        if MARKER not in source[0]:
+            raise RuntimeError(f"guide/command-line.md lost its marker line {MARKER!r}")
+        source[0] = source[0].replace(MARKER, command_line_markdown())
 
 
 def setup(app):
-    app.connect("source-read", _readme)
+    app.connect("source-read", _command_line)

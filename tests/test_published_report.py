@@ -1,6 +1,6 @@
 """The published report is complete in the repository: every image and file that
-docs/results/report.md (and the README and the theory page) links exists and is tracked by git,
-and nothing ``python -m validation report --publish`` writes is ignored by the repository.
+docs/results/report.md (and the README, the user guide and the theory page) links exists and is
+tracked by git, and nothing ``python -m validation report --publish`` writes is ignored by the repository.
 
 Outside a git checkout (an unpacked source archive) only existence is checked.
 """
@@ -16,7 +16,8 @@ import pytest
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PUBLISHED = ROOT / "docs" / "results"
-DOCUMENTS = ("docs/results/report.md", "README.md", "docs/theory.md")
+DOCUMENTS = ("docs/results/report.md", "README.md", "docs/theory.md", "docs/index.md",
+             *sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs" / "guide").glob("*.md")))
 
 # [text](target) and ![alt](target "title"); the target ends at whitespace or ")".
 _LINK = re.compile(r"!?\[(?:[^\[\]]|\[[^\]]*\])*\]\(\s*<?([^)\s>]+)>?(?:\s+\"[^\"]*\")?\s*\)")
