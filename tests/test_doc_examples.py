@@ -1,0 +1,210 @@
+"""Every code block of the README and the user guide runs as written.
+
+Documents: README.md, docs/index.md and docs/guide/*.md. Each fenced block runs by its language:
+
+* ``python``: executed in the repository root, and must print what it shows;
+* ``bash``: run by bash (``-e -o pipefail``) in a fresh folder that holds a link to
+  ``examples/`` (the commands' relative paths), with this checkout first on ``PYTHONPATH``, its
+  interpreter first on ``PATH`` and a cache folder of its own; it must exit with status 0;
+* ``toml``: read as a scene by :func:`validation.parse_scene`, in a folder holding the example
+  scan (a measured map's ``path`` that names no file there, the reader's own scan, is read as
+  the example scan);
+* ``text``: program output or a listing, not code.
+
+A block right after a line ``<!-- not run: REASON -->`` is not run; REASON is a key of
+:data:`NOT_RUN`, which says why such a block cannot run here, and such blocks stay few. A
+``pending`` block (a command or key written up before it is in the program) must lie in a
+section marked ``<!-- BEGIN ... -->`` / ``<!-- END ... -->``, to be run once it lands.
+
+The README's results block is checked against the published report it is taken from, and the
+command-line reference of the site (generated from the parser, docs/cli_pages.py) is checked to
+list every command and option.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import pathlib
+import re
+import shutil
+import subprocess
+import sys
+import tomllib
+import warnings
+
+import pytest
+
+import validation
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+DOCUMENTS = [ROOT / "README.md", ROOT / "docs" / "index.md",
+             *sorted((ROOT / "docs" / "guide").glob("*.md"))]
+#: Why a block may be left out, by marker. Each is a thing this test cannot or must not do.
+NOT_RUN = {
+    "installs": "installs packages into the environment the tests run in",
+    "test-suite": "runs the whole test suite, this test among them",
+    "docs-build": "builds this site, which CI does on every run (.ci/run)",
+    "minutes": "minutes of computing on two cores (a paper-scale or default report); the same "
+               "command runs on small scenes in these blocks and in tests/test_cli.py",
+    "cluster": "needs a dask scheduler and workers on other hosts",
+    "user-file": "names the reader's own scene or scan, which no repository holds",
+    "pending": "a command or scene key written up from its interface before it is in the "
+               "program",
+}
+#: At most this many blocks are not run, over all the documents.
+MAX_NOT_RUN = 16
+LANGUAGES = ("python", "bash", "toml", "text")
+
+_FENCE = re.compile(r"^(`{3,})([^`\s]*)\s*$")
+_NOT_RUN = re.compile(r"^<!-- not run: ([\w-]+) -->$")
+
+
+@dataclasses.dataclass(frozen=True)
+class Block:
+    document: str
+    line: int
+    language: str
+    code: str
+    not_run: str | None
+    marked: bool        # inside a <!-- BEGIN ... --> / <!-- END ... --> section
+
+    def __str__(self) -> str:
+        return f"{self.document}:{self.line}"
+
+
+def _blocks(path: pathlib.Path) -> list[Block]:
+    lines = path.read_text(encoding="utf-8").splitlines()
+    name = path.relative_to(ROOT).as_posix()
+    blocks, number, marked = [], 0, False
+    while number < len(lines):
+        line = lines[number]
+        if line.startswith("<!-- BEGIN"):
+            marked = True
+        elif line.startswith("<!-- END"):
+            marked = False
+        fence = _FENCE.match(line)
+        if not fence:
+            number += 1
+            continue
+        end = next(k for k in range(number + 1, len(lines)) if lines[k].strip() == fence.group(1))
+        before = next((lines[k].strip() for k in range(number - 1, -1, -1) if lines[k].strip()), "")
+        reason = _NOT_RUN.match(before)
+        language = fence.group(2)
+        if not language.startswith("{"):  # a MyST directive (toctree) is not a code block
+            blocks.append(Block(name, number + 1, language, "\n".join(lines[number + 1:end]) + "\n",
+                                reason.group(1) if reason else None, marked))
+        number = end + 1
+    return blocks
+
+
+BLOCKS = [block for path in DOCUMENTS for block in _blocks(path)]
+RUN = [block for block in BLOCKS if block.not_run is None]
+
+
+def _run(language: str) -> list[Block]:
+    return [block for block in RUN if block.language == language]
+
+
+def test_the_documents_show_examples():
+    assert any(b.document == "README.md" and b.language == "python" for b in RUN), (
+        "the README must show a library example that runs")
+    assert len(DOCUMENTS) >= 8 and len(RUN) >= 10
+
+
+def test_every_block_has_a_language_this_test_runs():
+    unknown = [f"{b} ({b.language or 'no language'})" for b in BLOCKS if b.language not in LANGUAGES]
+    assert not unknown, f"blocks this test does not know how to run: {unknown}"
+
+
+def test_the_blocks_left_out_are_few_and_say_why():
+    for path in DOCUMENTS:  # every marker stands right before a block
+        markers = len(re.findall(r"^<!-- not run:", path.read_text(encoding="utf-8"), flags=re.M))
+        on_blocks = sum(1 for b in BLOCKS if b.document == path.relative_to(ROOT).as_posix()
+                        and b.not_run is not None)
+        assert markers == on_blocks, f"{path.name}: a 'not run' marker is not right before a block"
+    left_out = [b for b in BLOCKS if b.not_run is not None]
+    assert all(b.not_run in NOT_RUN for b in left_out), [
+        f"{b}: {b.not_run}" for b in left_out if b.not_run not in NOT_RUN]
+    assert len(left_out) <= MAX_NOT_RUN, [f"{b}: {b.not_run}" for b in left_out]
+    assert all(b.language != "text" for b in left_out), "text blocks are not run anyway"
+    pending = [str(b) for b in left_out if b.not_run == "pending" and not b.marked]
+    assert not pending, f"pending blocks outside a BEGIN/END section: {pending}"
+
+
+@pytest.mark.parametrize("block", _run("python"), ids=str)
+def test_python_block_runs(block, capsys, monkeypatch):
+    monkeypatch.chdir(ROOT)
+    namespace: dict = {"__name__": "__doc_example__"}
+    exec(compile(block.code, str(block), "exec"), namespace)
+    assert capsys.readouterr().out.strip(), f"{block}: an example should print what it shows"
+
+
+@pytest.mark.parametrize("block", _run("bash"), ids=str)
+def test_shell_block_runs(block, tmp_path):
+    (tmp_path / "examples").symlink_to(ROOT / "examples", target_is_directory=True)
+    env = dict(os.environ, XDG_CACHE_HOME=str(tmp_path / ".cache"), MPLBACKEND="Agg",
+               PYTHONPATH=os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
+               PATH=os.pathsep.join([str(pathlib.Path(sys.executable).parent), os.environ["PATH"]]))
+    done = subprocess.run(["bash", "-e", "-o", "pipefail", "-c", block.code], cwd=tmp_path,
+                          env=env, capture_output=True, text=True, timeout=600,
+                          stdin=subprocess.DEVNULL)
+    assert done.returncode == 0, f"{block} exited with {done.returncode}:\n{done.stderr[-3000:]}"
+
+
+@pytest.mark.parametrize("block", _run("toml"), ids=str)
+def test_toml_block_is_a_scene(block, tmp_path):
+    example = ROOT / "examples" / "example_topography.txt"
+    shutil.copy(example, tmp_path / example.name)
+    data = tomllib.loads(block.code)
+    surface = data.get("surface", {})
+    if surface.get("family") == "file" and not (tmp_path / surface.get("path", "")).is_file():
+        surface["path"] = example.name
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)  # SceneWarning: valid, says what it lacks
+        validation.parse_scene(data, source=str(block), folder=tmp_path)
+
+
+def _results_block() -> str:
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    begin, end = text.index("<!-- BEGIN results table"), text.index("<!-- END results table")
+    return text[begin:end]
+
+
+def test_the_readme_results_are_the_published_ones():
+    # every number of the README's results table is one the published report prints
+    published = (ROOT / "docs" / "results" / "report.md").read_text(encoding="utf-8")
+    rows = [line for line in _results_block().splitlines() if line.startswith("| ")][1:]
+    assert len(rows) >= 8
+    numbers = {n for row in rows for n in re.findall(r"\d+(?:\.\d+)?", row.split("|", 2)[2])}
+    missing = sorted(n for n in numbers if not re.search(rf"(?<![\d.]){re.escape(n)}(?![\d])",
+                                                         published))
+    assert not missing, f"numbers of the README's results table not in the published report: {missing}"
+
+
+def test_the_readme_stays_a_front_door():
+    lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
+    assert len(lines) <= 250, f"README.md has {len(lines)} lines; the guide (docs/guide) has room"
+
+
+def test_the_command_line_page_lists_every_command_and_option():
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        from cli_pages import MARKER, command_line_markdown
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    from validation.cli import build_parser
+
+    assert MARKER in (ROOT / "docs" / "guide" / "command-line.md").read_text(encoding="utf-8")
+    parser = build_parser()
+    page = command_line_markdown(parser)
+    commands = parser._subparsers._group_actions[0].choices
+    assert commands
+    for name, sub in commands.items():
+        assert f"## `{sub.prog}`" in page, name
+        for action in sub._actions:
+            for option in action.option_strings:
+                if option not in ("-h", "--help"):
+                    assert f"`{option}" in page, (name, option)
+            if not action.option_strings:
+                assert f"`{action.metavar or action.dest}`" in page, (name, action.dest)
