@@ -6,7 +6,7 @@ the disagreements about sealing counted apart (:mod:`validation.judge.errors`, w
 measures are defined point by point).
 
 A model may be compared with a different field of the reference than its own quantity's name:
-its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
+its registry entry says which (``validation.common.models.entry(name).reference_fields``; Persson's
 separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
 At each load point the errors over realizations give a mean, a Student-t confidence interval
@@ -29,7 +29,7 @@ from validation.judge.errors import (ABSOLUTE_QUANTITIES, LOG_QUANTITIES,
                                      RELATIVE_QUANTITIES, converged_points, curve_errors,
                                      field_values, pairwise_errors, reached_points,
                                      sealing_disagreements)
-from validation.run import models
+from validation.common import models
 from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
                                         surface_reasons)
 from validation.judge.verdicts import (
@@ -303,7 +303,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         The model compared against; default: the registered reference among the curves.
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
-        (:func:`validation.run.models.reference_fields`).
+        (:func:`validation.common.models.reference_fields`).
     confidence : float
         Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
         sequential plan's, :mod:`validation.run.sequential`; default 95 %).

@@ -36,7 +36,7 @@ from validation.judge.verdicts import (
     confidence_interval,
     verdict_strip,
 )
-from validation.run import models
+from validation.common import models
 
 __all__ = ["LEVELS", "RULES", "SizeCollapse", "d1_measures_leakage", "effective_separation",
            "sealing_size", "size_collapse"]

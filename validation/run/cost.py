@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from typing import Iterable
 
-from validation.run import models
+from validation.common import models
 
 __all__ = ["BEM_EXPONENT", "STIFFNESS_SHARE", "task_cost", "schedule", "remaining_seconds"]
 

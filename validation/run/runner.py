@@ -14,7 +14,7 @@ and only when needed:
   separations in units of sigma are);
 * the reference model's path (the BEM; on a separation path the others follow its loads), then
   every other model the scene lists, each built by its registry entry
-  (:mod:`validation.run.models`); stiffness solves only when conductance or stiffness is asked
+  (:mod:`validation.common.models`); stiffness solves only when conductance or stiffness is asked
   for, leakage (the BEM's Reynolds solves on its gaps) only when leakage is;
 * with ``[sampling] factors``, the models fitted to summits again on every k-th grid point, at
   the reference's loads (:mod:`validation.run.sampling`; the BEM is not solved again).
@@ -44,11 +44,12 @@ import numpy as np
 
 from bem import checks
 from bem.curve import ContactCurve
-from validation.run import models, sampling
+from validation.common import models
+from validation.common.models import ModelInputs
+from validation.run import sampling
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
                                   source_version)
-from validation.run.models import ModelInputs
 from validation.run.cost import remaining_seconds, schedule
 from validation.run.progress import Progress
 from validation.run.refine import solve_jobs
@@ -65,7 +66,7 @@ def __getattr__(name: str):
         import warnings
 
         warnings.warn("validation.run.runner.ASPERITY_MODELS is deprecated: use "
-                      "validation.run.models.entry(name).needs_summits", DeprecationWarning,
+                      "validation.common.models.entry(name).needs_summits", DeprecationWarning,
                       stacklevel=2)
         return tuple(n for n in models.names() if models.entry(n).needs_summits)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

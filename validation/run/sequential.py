@@ -28,7 +28,7 @@ from typing import Callable
 
 import numpy as np
 
-from validation.run import models
+from validation.common import models
 from validation.run.refine import RefineJob, merge_points, solver_tolerance, unavailable
 from validation.judge.verdicts import CONFIDENCE, REFERENCE_ACCURACY, UNDECIDED
 
