@@ -282,7 +282,7 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
 
 
 def _is_realization(item) -> bool:
-    """Whether ``item`` looks like a :class:`validation.run.runner.RealizationResult`."""
+    """Whether ``item`` looks like a :class:`validation.run.realization.RealizationResult`."""
     curves = getattr(item, "curves", None)
     return (hasattr(item, "task") and isinstance(curves, dict)
             and all(isinstance(curve, ContactCurve) for curve in curves.values()))
@@ -295,7 +295,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
 
     Parameters
     ----------
-    results : list of validation.run.runner.RealizationResult
+    results : list of validation.run.realization.RealizationResult
         Realizations of one surface family; each holds a curve per model.
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
@@ -314,7 +314,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     of the first realization: read such a comparison as one per separation point.
     """
     results = checks.instances("results", results, _is_realization, described=(
-        "realization results (validation.run.runner.RealizationResult: .task and .curves)"))
+        "realization results (validation.run.realization.RealizationResult: .task and .curves)"))
     tolerances = tuple(float(t) for t in checks.real_array(
         "tolerances", tolerances, ndim=1, min_size=1, minimum=0.0, exclusive=True))
     if reference_model is not None and not isinstance(reference_model, str):

@@ -201,7 +201,7 @@ def size_collapse(by_side: dict, m: float, reference_model: str | None = None
     Parameters
     ----------
     by_side : dict
-        Nominal side L [length] -> realizations (:class:`validation.run.runner.RealizationResult`)
+        Nominal side L [length] -> realizations (:class:`validation.run.realization.RealizationResult`)
         of one surface on windows of that side; realizations of equal seed are paired.
     m : float
         Interaction factor of d1 = d + m W / (E* sqrt A) (eq. T11).

@@ -117,7 +117,7 @@ def sample_realization(task, heights: Callable[[], np.ndarray], summits, inputs:
 
     Parameters
     ----------
-    task : validation.run.runner.RealizationTask
+    task : validation.run.realization.RealizationTask
     heights : callable
         Makes (once) the finest height map [length].
     summits : asperity.Summits or None

@@ -199,7 +199,7 @@ def extend_scene(scene, by_value: dict, run: Callable[[int], list],
                  refinement: "RefinementRecord | None" = None,
                  solve: Callable[[list], list] | None = None) -> SequentialRecord:
     """The looks of ``scene``'s plan on its realizations ``by_value`` (sweep value -> list of
-    :class:`validation.run.runner.RealizationResult`, extended in place): ``run(n)`` computes the
+    :class:`validation.run.realization.RealizationResult`, extended in place): ``run(n)`` computes the
     realizations that the first ``n`` seeds of every sweep value add to those there; each new
     one gets the finer reference of ``refinement`` at the same points (``solve`` as in
     :func:`finer_reference`)."""
