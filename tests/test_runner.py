@@ -6,7 +6,7 @@ from dataclasses import replace
 import numpy as np
 
 from validation.run.realization import plan_scene
-from validation.run.runner import run_scenes
+from validation import run_scenes
 from validation.scenes.reader import load_scene, parse_scene
 
 TINY = {

@@ -10,8 +10,8 @@ from validation.surfaces.self_affine import radial_power_spectrum, self_affine_s
 from validation.surfaces.topography import Topography, read_topography
 from validation.scenes.scene import Scene, SceneError
 from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
-from validation.run.runner import run_scenes
 from validation.judge.compare import compare_realizations, curve_errors, validity_range
+from validation.judge.decide import run_scenes
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",

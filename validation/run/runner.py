@@ -4,11 +4,11 @@ A scene's tasks (:func:`validation.run.realization.plan_scene`) fan out over any
 :class:`concurrent.futures.Executor`, in the order of their expected cost
 (:mod:`validation.run.cost`), with a progress bar; each computes one realization
 (:func:`validation.run.realization.run_realization`). Identical tasks of different scenes run
-once, and so do tasks that differ only in their quantities (with the union of them). Then a
-scene with a reference, where its cells are undecided, gets a finer reference where the band
-decides (``[bem] max_grid``, :mod:`validation.run.refine`) and more realizations, look by look
-(``[realizations] max``, :mod:`validation.run.sequential`); its result records both and why
-they stopped.
+once, and so do tasks that differ only in their quantities (with the union of them)
+(:func:`run_planned`). Where a scene's cells stay undecided, the judge asks for more
+(:mod:`validation.judge.decide`): realizations of the next seeds (:func:`more_realizations`)
+and the reference on finer grids (:func:`solve_refinements`, :mod:`validation.run.refine`); a
+scene's result records both (:mod:`validation.run.sequential`).
 """
 
 from __future__ import annotations
@@ -19,16 +19,18 @@ from dataclasses import dataclass, field, replace
 from typing import Iterable
 
 from bem import checks
+from bem.curve import ContactCurve
 from validation.common import models
 from validation.run.cache import model_quantities
 from validation.run.cost import remaining_seconds, schedule
 from validation.run.progress import Progress
 from validation.run.realization import RealizationResult, RealizationTask, plan_scene, run_realization
-from validation.run.refine import solve_jobs
-from validation.run.sequential import RefinementRecord, SequentialRecord, decide_scene
+from validation.run.refine import RefineJob, solve_jobs
+from validation.run.sequential import RefinementRecord, SequentialRecord
 from validation.scenes.scene import Scene
 
-__all__ = ["SceneResult", "model_quantities", "run_scenes", "Progress"]
+__all__ = ["SceneResult", "model_quantities", "more_realizations", "run_planned",
+           "solve_refinements", "Progress"]
 
 
 def __getattr__(name: str):
@@ -110,10 +112,26 @@ def _merged_tasks(tasks: Iterable[RealizationTask]) -> dict[RealizationTask, Rea
     return run_for
 
 
-def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
-               cache_dir: str | None = None, progress: bool = True, stream=None
-               ) -> list[SceneResult]:
-    """Run scenes: theory scenes in-process, realization tasks over ``executor``.
+def _check_where(executor, cache_dir, progress) -> None:
+    """Check where and how the run computes (the keywords of :func:`run_planned`)."""
+    checks.flag("progress", progress)
+    if cache_dir is not None:
+        checks.file_path("cache_dir", cache_dir)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
+                                    f"submit method) or None, got {type(executor).__name__}")
+
+
+def _bar(count: int, progress: bool, stream) -> Progress | None:
+    return Progress(count, stream=stream) if progress and count else None
+
+
+def run_planned(scenes: Iterable[Scene], *, executor: Executor | None = None,
+                cache_dir: str | None = None, progress: bool = True, stream=None
+                ) -> list[SceneResult]:
+    """Run the planned realizations of scenes: theory scenes in-process, realization tasks over
+    ``executor``. More realizations and a finer reference where cells stay undecided are
+    :func:`validation.judge.decide.run_scenes`' (which calls this first).
 
     Parameters
     ----------
@@ -128,12 +146,7 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     from validation.run.theory import theory_curves
 
     scenes = list(checks.instances("scenes", scenes, Scene))
-    checks.flag("progress", progress)
-    if cache_dir is not None:
-        checks.file_path("cache_dir", cache_dir)
-    if executor is not None and not callable(getattr(executor, "submit", None)):
-        raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
-                                    f"submit method) or None, got {type(executor).__name__}")
+    _check_where(executor, cache_dir, progress)
     names = [scene.name for scene in scenes]
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:
@@ -143,8 +156,7 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     plans = [plan_scene(scene, cache_dir=cache_dir) for scene in scenes]
     run_for = _merged_tasks(task for tasks in plans for task in tasks)
     unique = schedule(dict.fromkeys(run_for.values()))
-    done = _run_tasks(unique, executor, Progress(len(unique), stream=stream)
-                      if progress and unique else None)
+    done = _run_tasks(unique, executor, _bar(len(unique), progress, stream))
     # each scene sees its own task (so its own quantities) beside the shared curves
     results = {task: done[run] if run == task else replace(done[run], task=task)
                for task, run in run_for.items()}
@@ -159,35 +171,30 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
             by_value.setdefault(task.sweep_value, []).append(results[task])
         out.append(SceneResult(scene=scene, realizations=by_value,
                                seconds=time.perf_counter() - started))
-    # after the planned realizations: a finer reference, then more realizations, where cells
-    # are undecided (scene by scene)
-    for index, result in enumerate(out):
-        records = _decide(result, executor, cache_dir, progress, stream)
-        if records is not None:
-            out[index] = replace(result, refinement=records[0], sequential=records[1],
-                                 seconds=time.perf_counter() - started)
     return out
 
 
-def _decide(result: SceneResult, executor: Executor | None, cache_dir: str | None,
-            progress: bool, stream) -> tuple[RefinementRecord, SequentialRecord] | None:
-    """:func:`validation.run.sequential.decide_scene` on a scene's result (its realizations
-    extended in place) with this run's executor, cache and progress bars; None for a scene
-    without a BEM reference (nothing to decide)."""
-    scene = result.scene
-    if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
-        return None
+def more_realizations(result: SceneResult, count: int, *, executor: Executor | None = None,
+                      cache_dir: str | None = None, progress: bool = True, stream=None
+                      ) -> list[RealizationResult]:
+    """The realizations that the first ``count`` seeds of every sweep value of ``result``'s
+    scene add to those it has, in seed order (keywords as in :func:`run_planned`)."""
+    if not isinstance(result, SceneResult):
+        raise checks.InputTypeError(f"result must be a SceneResult, got {type(result).__name__}")
+    count = checks.integer("count", count, minimum=1)
+    _check_where(executor, cache_dir, progress)
+    known = {r.task for value in result.realizations.values() for r in value}
+    tasks = [t for t in plan_scene(replace(result.scene, realizations=count), cache_dir=cache_dir)
+             if t not in known]
+    done = _run_tasks(tasks, executor, _bar(len(tasks), progress, stream))
+    return [done[task] for task in tasks]
 
-    def run(count: int) -> list[RealizationResult]:
-        known = {r.task for value in result.realizations.values() for r in value}
-        tasks = [t for t in plan_scene(replace(scene, realizations=count), cache_dir=cache_dir)
-                 if t not in known]
-        done = _run_tasks(tasks, executor, Progress(len(tasks), stream=stream)
-                          if progress and tasks else None)
-        return [done[task] for task in tasks]  # in seed order
 
-    def solve(jobs: list) -> list:
-        return solve_jobs(jobs, executor, cache_dir,
-                          Progress(len(jobs), stream=stream) if progress and jobs else None)
-
-    return decide_scene(scene, result.realizations, run, solve)
+def solve_refinements(jobs: list[RefineJob], *, executor: Executor | None = None,
+                      cache_dir: str | None = None, progress: bool = True, stream=None
+                      ) -> list[tuple[ContactCurve, bool]]:
+    """The finer reference's jobs solved over ``executor`` with a progress bar
+    (:func:`validation.run.refine.solve_jobs`; keywords as in :func:`run_planned`)."""
+    jobs = list(checks.instances("jobs", jobs, RefineJob))
+    _check_where(executor, cache_dir, progress)
+    return solve_jobs(jobs, executor, cache_dir, _bar(len(jobs), progress, stream))
