@@ -15,7 +15,7 @@ import time
 from dataclasses import replace
 
 from validation.run.cost import remaining_seconds, schedule, task_cost
-from validation.run.runner import plan_scene, run_realization
+from validation.run.realization import plan_scene, run_realization
 from validation.scenes.reader import load_scene
 
 

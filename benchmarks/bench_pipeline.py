@@ -158,7 +158,7 @@ def figure_step(cache: pathlib.Path, out: pathlib.Path) -> tuple[float, float, i
 
     from validation.cli import DEFAULT_SCENES, _load_scene
     from validation.report.write import write_report
-    from validation.run.runner import run_scenes
+    from validation import run_scenes
 
     scenes = [_load_scene(name).quick_version() for name in DEFAULT_SCENES]
     results = run_scenes(scenes, executor=None, cache_dir=str(cache), progress=False)

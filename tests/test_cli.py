@@ -136,7 +136,7 @@ def test_the_size_scene_runs_in_the_full_and_published_reports_only(tmp_path, mo
                                                                     arguments, size_scene,
                                                                     quick):
     import validation.report.write
-    import validation.run.runner
+    import validation.judge.decide
 
     seen = {}
 
@@ -144,7 +144,7 @@ def test_the_size_scene_runs_in_the_full_and_published_reports_only(tmp_path, mo
         seen["scenes"] = list(scenes)
         return []
 
-    monkeypatch.setattr(validation.run.runner, "run_scenes", run)
+    monkeypatch.setattr(validation.judge.decide, "run_scenes", run)
     monkeypatch.setattr(validation.report.write, "write_report",
                         lambda results, out, **kwargs: out)
     out = str(tmp_path / "out")

@@ -142,7 +142,7 @@ def test_the_registry_says_which_reference_field_a_model_is_compared_with():
     # by default the fields come from the registry: a model registered with
     # reference_fields={"separation": "mean_gap"} is compared with the BEM's mean gap, the others
     # with its separation; no name of a model is needed outside the registry
-    from validation.run import models
+    from validation.common import models
     from validation.judge.compare import compare_realizations
 
     gap = {"mean_gap": np.array([3.2, 2.2, 1.2])}
@@ -166,7 +166,7 @@ def test_the_registry_says_which_reference_field_a_model_is_compared_with():
 
 def test_the_reference_is_the_registered_reference_whatever_its_name():
     # the registry, not a model name, says which curve is the reference
-    from validation.run import models
+    from validation.common import models
     from validation.judge.compare import compare_realizations
 
     results = [realization(k, LOAD, 1.1 * AREA, [3.0, 2.0, 1.0]) for k in (0, 1)]

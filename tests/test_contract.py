@@ -1,6 +1,6 @@
 """The contact-model contract (bem.model), checked for every registered model.
 
-A model registered in :mod:`validation.run.models` is picked up here automatically. The BEM runs on
+A model registered in :mod:`validation.common.models` is picked up here automatically. The BEM runs on
 a 32 x 32 grid; the asperity models use the summits of the same surface.
 """
 
@@ -13,7 +13,7 @@ import pytest
 import bem
 from bem.curve import CURVE_QUANTITIES
 from bem.model import ALWAYS_FILLED
-from validation.run import models
+from validation.common import models
 from validation.surfaces.wm import wm_surface
 
 N = 32

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import pytest
 
 from validation.run.cost import BEM_EXPONENT, remaining_seconds, schedule, task_cost
-from validation.run.runner import plan_scene
+from validation.run.realization import plan_scene
 from validation.scenes.reader import load_scene
 
 

@@ -11,7 +11,7 @@ import pytest
 distributed = pytest.importorskip("distributed")
 
 from validation.report.write import write_report  # noqa: E402
-from validation.run.runner import run_scenes  # noqa: E402
+from validation import run_scenes  # noqa: E402
 from validation.scenes.reader import parse_scene  # noqa: E402
 
 SCENE = """

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import validation.report.write
-from validation.run.runner import run_scenes
+from validation import run_scenes
 from validation.scenes.reader import parse_scene
 
 SWEEP = {

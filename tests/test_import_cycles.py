@@ -3,7 +3,7 @@
 The import graph is read from the sources with :mod:`ast`: every ``import`` and ``from ...
 import`` statement counts, at module level, inside functions and under ``TYPE_CHECKING`` alike.
 An edge goes to the module named, or to ``package.name`` when that is a module
-(``from validation.run import models``); implicit imports of parent packages are not edges.
+(``from validation.common import models``); implicit imports of parent packages are not edges.
 A cycle is a strongly connected component of more than one module (Tarjan's algorithm).
 """
 

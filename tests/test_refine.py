@@ -111,7 +111,7 @@ def test_merged_points_carry_the_finer_solve_and_its_band():
 
 
 def test_runner_refines_where_the_band_decides_and_new_realizations_follow(tmp_path):
-    from validation.run.runner import run_scenes
+    from validation import run_scenes
 
     scene = parse_scene(WM, source="test")
     (result,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
@@ -130,21 +130,22 @@ def test_runner_refines_where_the_band_decides_and_new_realizations_follow(tmp_p
 
 def test_leakage_is_solved_again_only_where_a_leakage_cell_is_held_by_the_band(tmp_path,
                                                                               monkeypatch):
-    from validation.run import sequential
-    from validation.run.runner import run_scenes
+    from validation import run_scenes
+    from validation.judge import decide
+    from validation.judge.decide import _apply
     from validation.run.refine import run_job
-    from validation.run.sequential import RefinementLevel, _apply
+    from validation.run.sequential import RefinementLevel
 
     # on 32^2 the leakage band holds everywhere: the band of the leakage cells is taken as
     # deciding nothing here, the other cells' as computed
-    decides = sequential.band_decides
+    decides = decide.band_decides
 
     def no_leakage_band(scene, results, confidence):
         _, band, held = decides(scene, results, confidence)
         held = {q: m for q, m in held.items() if q != "leakage"}
         return np.any(np.stack(list(held.values())), axis=0), band, held
 
-    monkeypatch.setattr(sequential, "band_decides", no_leakage_band)
+    monkeypatch.setattr(decide, "band_decides", no_leakage_band)
 
     leaky = WM | {"quantities": {"use": ["area", "load", "separation", "leakage"]},
                   "realizations": {"count": 3, "seed": 7}}

@@ -7,7 +7,7 @@ import pytest
 
 from validation.cli import main
 from validation.report.write import write_report
-from validation.run.runner import run_scenes
+from validation import run_scenes
 from validation.scenes.reader import parse_scene
 
 NEVER_CONVERGED = {

@@ -4,8 +4,10 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
-from validation.run.runner import plan_scene, run_scenes
+from validation import run_scenes
+from validation.run.realization import plan_scene
 from validation.scenes.reader import load_scene, parse_scene
 
 TINY = {
@@ -207,3 +209,21 @@ def test_tasks_that_differ_only_in_quantities_run_once_with_the_union():
         assert other.task.quantities == leaky.quantities
         # ... and both read the same curves, computed once with the leakage
         assert one.curves is other.curves and one.curves["gw"].leakage is not None
+
+
+def test_planned_realizations_first_then_the_next_seeds_when_asked(tmp_path):
+    # run_scenes = run_planned, then what the judge asks for (validation.judge.decide)
+    from validation.run.runner import more_realizations, run_planned, solve_refinements
+
+    scene = tiny(**{"realizations.max": 4, "models.use": ["gw", "bem"]})
+    (planned,) = run_planned([scene], progress=False, cache_dir=str(tmp_path))
+    assert planned.sequential is None and planned.refinement is None
+    assert [r.task.seed for r in planned.realizations[2.3]] == [7, 8]
+    added = more_realizations(planned, 3, progress=False, cache_dir=str(tmp_path))
+    assert [r.task.seed for r in added] == [9]
+    assert {"surface", "bem"} <= {e.split()[0] for e in added[0].computed}  # a new surface
+    assert more_realizations(planned, 2, progress=False, cache_dir=str(tmp_path)) == []
+    with pytest.raises(ValueError, match="count"):
+        more_realizations(planned, 0)
+    with pytest.raises(TypeError, match="jobs"):
+        solve_refinements(["not a job"])

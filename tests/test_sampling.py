@@ -11,7 +11,7 @@ from bem.curve import ContactCurve
 from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED
 from validation.judge.sampling import (KEY, sampling_finding, sampling_study,
                                        sampling_verdict)
-from validation.run.runner import run_scenes
+from validation import run_scenes
 from validation.run.sampling import Sampled, SummitStatistics, subsample
 from validation.scenes.reader import load_scene, parse_scene
 from validation.scenes.scene import SceneError

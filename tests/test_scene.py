@@ -138,7 +138,7 @@ def test_defaults_are_the_dataclass_defaults(tmp_path):
 
 
 def test_sealing_size_scene_sweeps_nested_windows_of_one_spacing():
-    from validation.run.runner import plan_scene
+    from validation.run.realization import plan_scene
 
     scene = load_scene("sealing-size")
     assert "leakage" in scene.quantities and {"gw", "improved_gw", "bem"} <= set(scene.models)

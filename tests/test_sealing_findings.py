@@ -74,7 +74,7 @@ def test_d1_finding_needs_the_leakage_and_sigma():
 def test_the_rules_of_finding_f_are_the_models_own():
     # GW's leakage at d is the rigid gap at d with s = sigma of the summits; improved GW's at d
     # is that at its d1, and its d1 is effective_separation of its own curve
-    from validation.run.models import ModelInputs, build
+    from validation.common.models import ModelInputs, build
     from validation.surfaces.wm import wm_surface
 
     heights = wm_surface(64, D=2.3, rms_slope=0.1, seed=3)

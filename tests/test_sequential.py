@@ -129,7 +129,7 @@ def test_scene_budget_is_validated_and_scaled_in_quick_mode():
 
 
 def test_runner_adds_realizations_in_looks_and_the_cache_keeps_them(tmp_path):
-    from validation.run.runner import run_scenes
+    from validation import run_scenes
     from validation.scenes.reader import parse_scene
 
     scene = parse_scene({

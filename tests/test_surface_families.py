@@ -9,7 +9,7 @@ import pytest
 
 from validation.report.write import write_report
 from validation.judge.analysis import analyse
-from validation.run.runner import run_scenes
+from validation import run_scenes
 from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec
 from validation.scenes.reader import load_scene, parse_scene
 from validation.surfaces.self_affine import self_affine_surface

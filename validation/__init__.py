@@ -2,6 +2,20 @@
 
 Weierstrass-Mandelbrot surfaces, declarative scenes, a runner that computes only what a scene
 asks for, and reports of where each asperity model holds against the exact half-space solution.
+
+Its sub-packages are layers, in the order data flows; each imports only itself and the layers
+below it (``tests/test_import_layers.py``):
+
+* :mod:`~validation.common` -- what every layer shares: the model registry, names and labels of
+  models and quantities, the scene field checks, the verdict names;
+* :mod:`~validation.surfaces` -- height maps (WM, self-affine, measured) and a scene's ``[surface]``;
+* :mod:`~validation.scenes` -- scene files read into frozen scenes;
+* :mod:`~validation.run` -- realizations computed and cached over an executor, finer reference
+  solves, the plan of looks;
+* :mod:`~validation.judge` -- errors against the reference, verdicts, findings, and where
+  verdicts stay open, more work asked of the run (:func:`~validation.judge.decide.run_scenes`);
+* :mod:`~validation.report` -- Markdown, figures and CSV tables;
+* the top: :mod:`validation.cli`, :mod:`~validation.campaigns` and this package's public names.
 """
 
 from validation._version import __version__
@@ -10,8 +24,8 @@ from validation.surfaces.self_affine import radial_power_spectrum, self_affine_s
 from validation.surfaces.topography import Topography, read_topography
 from validation.scenes.scene import Scene, SceneError
 from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
-from validation.run.runner import run_scenes
 from validation.judge.compare import compare_realizations, curve_errors, validity_range
+from validation.judge.decide import run_scenes
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",

@@ -114,7 +114,7 @@ def _load_scene(name: str):
 
 def _report(args: argparse.Namespace) -> int:
     from validation.report.write import write_report
-    from validation.run.runner import run_scenes
+    from validation.judge.decide import run_scenes
 
     quick = args.quick or (not args.full and not args.scenes and not args.publish)
     names = args.scenes or [name for name in DEFAULT_SCENES

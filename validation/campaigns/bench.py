@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from validation.run import models as _models
+from validation.common import models as _models
 
 __all__ = ["BenchRow", "run_bench", "pareto_front", "observed_order"]
 
@@ -315,7 +315,7 @@ def _tolerance_only(row: BenchRow, config: BenchConfig) -> bool:
 
 def _figure(rows: list[BenchRow], path: pathlib.Path, config: BenchConfig) -> None:
     from validation.report.figures import pyplot, subplots
-    from validation.report.labels import MODEL_LABELS, MODEL_STYLES
+    from validation.common.labels import MODEL_LABELS, MODEL_STYLES
 
     plt = pyplot()
     Ds = sorted({r.D for r in rows})

@@ -13,7 +13,7 @@ from validation.judge.verdicts import UNDECIDED
 from validation.judge.findings import Finding, check_findings
 from validation.judge.sampling import SamplingStudy, sampling_finding, sampling_study
 from validation.judge.sealing import SizeCollapse, d1_measures_leakage, sealing_size
-from validation.run import models
+from validation.common import models
 from validation.run.runner import SceneResult
 from validation.run.sequential import scene_plan
 from validation.surfaces.spec import SIDES_SWEEP

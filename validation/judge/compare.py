@@ -6,7 +6,7 @@ the disagreements about sealing counted apart (:mod:`validation.judge.errors`, w
 measures are defined point by point).
 
 A model may be compared with a different field of the reference than its own quantity's name:
-its registry entry says which (``validation.run.models.entry(name).reference_fields``; Persson's
+its registry entry says which (``validation.common.models.entry(name).reference_fields``; Persson's
 separation is a mean gap, compared with the reference's ``extras["mean_gap"]``).
 
 At each load point the errors over realizations give a mean, a Student-t confidence interval
@@ -29,7 +29,7 @@ from validation.judge.errors import (ABSOLUTE_QUANTITIES, LOG_QUANTITIES,
                                      RELATIVE_QUANTITIES, converged_points, curve_errors,
                                      field_values, pairwise_errors, reached_points,
                                      sealing_disagreements)
-from validation.run import models
+from validation.common import models
 from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
                                         surface_reasons)
 from validation.judge.verdicts import (
@@ -282,7 +282,7 @@ def _registered_fields(names) -> dict[str, dict[str, str]]:
 
 
 def _is_realization(item) -> bool:
-    """Whether ``item`` looks like a :class:`validation.run.runner.RealizationResult`."""
+    """Whether ``item`` looks like a :class:`validation.run.realization.RealizationResult`."""
     curves = getattr(item, "curves", None)
     return (hasattr(item, "task") and isinstance(curves, dict)
             and all(isinstance(curve, ContactCurve) for curve in curves.values()))
@@ -295,7 +295,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
 
     Parameters
     ----------
-    results : list of validation.run.runner.RealizationResult
+    results : list of validation.run.realization.RealizationResult
         Realizations of one surface family; each holds a curve per model.
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
@@ -303,7 +303,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         The model compared against; default: the registered reference among the curves.
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
-        (:func:`validation.run.models.reference_fields`).
+        (:func:`validation.common.models.reference_fields`).
     confidence : float
         Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
         sequential plan's, :mod:`validation.run.sequential`; default 95 %).
@@ -314,7 +314,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     of the first realization: read such a comparison as one per separation point.
     """
     results = checks.instances("results", results, _is_realization, described=(
-        "realization results (validation.run.runner.RealizationResult: .task and .curves)"))
+        "realization results (validation.run.realization.RealizationResult: .task and .curves)"))
     tolerances = tuple(float(t) for t in checks.real_array(
         "tolerances", tolerances, ndim=1, min_size=1, minimum=0.0, exclusive=True))
     if reference_model is not None and not isinstance(reference_model, str):

@@ -12,9 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from validation.run import models
+from validation.common import models
 from validation.judge.compare import Comparison, converged_points, pairwise_errors
-from validation.report.labels import model_label
+from validation.common.labels import model_label
 from validation.judge.verdicts import (
     FAILS,
     HOLDS,

@@ -25,8 +25,8 @@ from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, 
                                       compare_realizations, pairwise_errors)
 from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED, Finding
 from validation.judge.verdicts import FAILS, HOLDS, ErrorInterval, classify, confidence_interval
-from validation.report.labels import compared_label, model_label, model_order
-from validation.run import models
+from validation.common.labels import compared_label, model_label, model_order
+from validation.common import models
 
 __all__ = ["KEY", "CLAIM", "RULE", "SUMMIT_RATIOS", "SamplingStudy", "sampling_study",
            "sampling_verdict", "sampling_finding", "factor_label"]

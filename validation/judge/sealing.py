@@ -36,7 +36,7 @@ from validation.judge.verdicts import (
     confidence_interval,
     verdict_strip,
 )
-from validation.run import models
+from validation.common import models
 
 __all__ = ["LEVELS", "RULES", "SizeCollapse", "d1_measures_leakage", "effective_separation",
            "sealing_size", "size_collapse"]
@@ -201,7 +201,7 @@ def size_collapse(by_side: dict, m: float, reference_model: str | None = None
     Parameters
     ----------
     by_side : dict
-        Nominal side L [length] -> realizations (:class:`validation.run.runner.RealizationResult`)
+        Nominal side L [length] -> realizations (:class:`validation.run.realization.RealizationResult`)
         of one surface on windows of that side; realizations of equal seed are paired.
     m : float
         Interaction factor of d1 = d + m W / (E* sqrt A) (eq. T11).

@@ -31,6 +31,9 @@ import numpy as np
 from scipy import stats
 
 from bem import checks
+# the verdict names and their confidence are shared with the plan of realizations below the
+# judge, so they are defined at the bottom (validation.common.verdicts) and exported here too
+from validation.common.verdicts import CONFIDENCE, FAILS, HOLDS, UNDECIDED
 
 __all__ = [
     "CONFIDENCE",
@@ -54,14 +57,11 @@ __all__ = [
     "verdict_strip",
 ]
 
-HOLDS, FAILS, UNDECIDED = "holds", "fails", "undecided"
 #: Why a point is undecided (:func:`undecided_reasons`), in the report's words.
 REFERENCE_BAND, TOO_FEW_REALIZATIONS, UNCONVERGED = ("reference band", "too few realizations",
                                                      "unconverged")
 #: One character per verdict, for tables and figures.
 SYMBOLS = {HOLDS: "✔", FAILS: "✘", UNDECIDED: "?"}
-#: Confidence level of the interval over realizations.
-CONFIDENCE = 0.95
 #: A point is undecided where the reference band exceeds this fraction of the tolerance.
 REFERENCE_ACCURACY = 0.25
 

@@ -1,2 +1,2 @@
-"""The report: Markdown sections, CSV tables, figures and labels, assembled by
-:func:`validation.report.write.write_report`."""
+"""The report: Markdown sections, CSV tables and figures (names and styles from
+:mod:`validation.common.labels`), assembled by :func:`validation.report.write.write_report`."""

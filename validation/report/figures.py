@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from validation.judge.compare import Comparison, converged_points
-from validation.report.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, compared_label,
+from validation.common.labels import (ERROR_LABELS, MODEL_STYLES, QUANTITY_LABELS, compared_label,
                                model_label)
 from validation.judge.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
 from validation.report.layout import (clip_ticks, figure, panels_figure, png, pyplot, subplots,
@@ -144,7 +144,7 @@ def plot_against(ax, results, x: str, y: str, *, models, length: float, logx=Fal
 def _reference_mean_gap(ax, results, models, y: str, length: float, logy: bool) -> list:
     """The reference's mean gap ū/σ beside its separation d/σ (dotted): the quantity Persson's
     theory is compared with."""
-    from validation.run import models as registry
+    from validation.common import models as registry
 
     drawn = []
     for model in models:

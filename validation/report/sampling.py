@@ -10,7 +10,7 @@ import numpy as np
 from validation.judge.compare import ABSOLUTE_QUANTITIES
 from validation.judge.sampling import SUMMIT_RATIOS, SamplingStudy, factor_label
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED, ValidityRange
-from validation.report.labels import compared_label, model_label, model_order
+from validation.common.labels import compared_label, model_label, model_order
 from validation.report.sections import md_table, sweep_member
 
 __all__ = ["TABLES", "table_rows", "sampling_section"]

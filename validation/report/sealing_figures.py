@@ -12,8 +12,8 @@ import numpy as np
 from validation.judge.compare import converged_points
 from validation.judge.sealing import SizeCollapse, effective_separation
 from validation.report.figures import _quiet, dimensionless, panels_figure, plot_against, subplots
-from validation.report.labels import QUANTITY_LABELS, model_label
-from validation.run import models as registry
+from validation.common.labels import QUANTITY_LABELS, model_label
+from validation.common import models as registry
 
 __all__ = ["leakage_figure", "plot_leakage", "plot_reference_leakage_band", "size_figure"]
 

@@ -15,7 +15,7 @@ from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, 
                                       Comparison)
 from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                        verdict_strip)
-from validation.report.labels import compared_label, model_label, model_order, model_rank
+from validation.common.labels import compared_label, model_label, model_order, model_rank
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis

@@ -20,7 +20,7 @@ import numpy as np
 from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
-from validation.report.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
+from validation.common.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
 from validation.report.sampling import sampling_section
 from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
                                         holds_section, md_table, surface_text, sweep_member,

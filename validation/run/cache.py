@@ -232,12 +232,12 @@ _SOURCE_VERSION: str | None = None
 #: not part of its hash. Paths relative to the ``validation`` folder.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
                                  "run/cost.py", "report/figures.py", "judge/findings.py",
-                                 "report/labels.py", "run/progress.py", "report/write.py",
+                                 "common/labels.py", "run/progress.py", "report/write.py",
                                  "report/sections.py", "report/tables.py", "judge/verdicts.py",
                                  "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
                                  "report/sampling.py", "judge/sealing.py",
                                  "report/sealing_figures.py", "judge/errors.py",
-                                 "report/layout.py"})
+                                 "report/layout.py", "judge/decide.py", "common/verdicts.py"})
 
 
 def source_version() -> str:

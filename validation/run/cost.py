@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 from typing import Iterable
 
-from validation.run import models
+from validation.common import models
 
 __all__ = ["BEM_EXPONENT", "STIFFNESS_SHARE", "task_cost", "schedule", "remaining_seconds"]
 
@@ -52,7 +52,7 @@ def task_cost(task, computed: Iterable[str] | None = None) -> float:
 
     Parameters
     ----------
-    task : validation.run.runner.RealizationTask
+    task : validation.run.realization.RealizationTask
     computed : iterable of str, optional
         The finished result's ``computed`` log: only what was actually computed is counted
         (a task answered from the cache costs 0). Default: everything the task may compute.
@@ -93,7 +93,7 @@ def remaining_seconds(done, pending, workers: int = 1, elapsed: float | None = N
     Parameters
     ----------
     done : iterable of (task, result)
-        Finished tasks with their :class:`~validation.run.runner.RealizationResult`
+        Finished tasks with their :class:`~validation.run.realization.RealizationResult`
         (``result.seconds``: compute time per model; ``result.computed``: what was computed).
     pending : iterable of task
         Tasks not finished yet.

@@ -189,7 +189,7 @@ def merge_points(curve: ContactCurve, index: np.ndarray, finer: ContactCurve, gr
 class RefineJob:
     """One realization's reference to solve on a finer grid at some of its load points."""
 
-    task: object                  # validation.run.runner.RealizationTask
+    task: object                  # validation.run.realization.RealizationTask
     points: tuple[int, ...]       # load point indices
     factor: int                   # grid = factor * task.surface.n
     tol: float                    # solver tolerance of the finer solve (T40)

@@ -28,9 +28,9 @@ from typing import Callable
 import numpy as np
 
 from bem.curve import ContactCurve
-from validation.run import models
+from validation.common import models
 from validation.run.cache import cache_key
-from validation.run.models import ModelInputs
+from validation.common.models import ModelInputs
 from validation.surfaces.families import surface_identity
 
 __all__ = ["SummitStatistics", "Sampled", "subsample", "variant_name", "variant",
@@ -117,7 +117,7 @@ def sample_realization(task, heights: Callable[[], np.ndarray], summits, inputs:
 
     Parameters
     ----------
-    task : validation.run.runner.RealizationTask
+    task : validation.run.realization.RealizationTask
     heights : callable
         Makes (once) the finest height map [length].
     summits : asperity.Summits or None

@@ -1,9 +1,8 @@
-"""More realizations where the answer is open: a group-sequential plan with Bonferroni looks.
+"""The plan of realizations where the answer is open, and the records of what was done.
 
-First, where the reference band keeps cells undecided, the reference is solved on finer grids
-(:func:`finer_reference`, :mod:`validation.run.refine`). Then a scene with ``[realizations] max``
-gets, after its planned realizations, up to :data:`LOOKS` - 1 more looks at the data
-(docs/theory.md, "Sequential realizations", eq. T38):
+A scene with ``[realizations] max`` gets, after its planned realizations, up to :data:`LOOKS` - 1
+more looks at the data: a group-sequential plan with Bonferroni looks (docs/theory.md,
+"Sequential realizations", eq. T38):
 
 * the look sizes grow geometrically from the planned count ``n_1`` to the budget ``n_K = max``
   (``n_j = round(n_1 (max / n_1)^((j - 1)/(K - 1)))``; 25, 50, 100 for 25 and 100), and the
@@ -17,7 +16,12 @@ gets, after its planned realizations, up to :data:`LOOKS` - 1 more looks at the 
   sweep value, load point and tolerance of the scene) decides whether to look again: stop when
   no cell is undecided, when the share did not fall since the previous look, or at the budget.
 
-Without ``max`` there is one look, at the 95 % of :mod:`validation.judge.verdicts`, as before.
+Without ``max`` there is one look, at the 95 % of :mod:`validation.common.verdicts`, as before.
+
+This module holds the plan (:func:`look_plan`, :func:`run_looks`) and the records a scene's
+result keeps (:class:`SequentialRecord`, and :class:`RefinementRecord` of the finer reference
+solved first, :mod:`validation.run.refine`); the verdicts that steer them are the judge's, so
+the loop that takes the looks and refines the reference is :mod:`validation.judge.decide`.
 """
 
 from __future__ import annotations
@@ -28,13 +32,10 @@ from typing import Callable
 
 import numpy as np
 
-from validation.run import models
-from validation.run.refine import RefineJob, merge_points, solver_tolerance, unavailable
-from validation.judge.verdicts import CONFIDENCE, REFERENCE_ACCURACY, UNDECIDED
+from validation.common.verdicts import CONFIDENCE, UNDECIDED
 
 __all__ = ["ALPHA", "LOOKS", "LookPlan", "RefinementLevel", "RefinementRecord",
-           "SequentialRecord", "band_decides", "decide_scene", "extend_scene", "finer_reference", "look_plan",
-           "run_looks", "scene_plan", "scene_share", "undecided_share"]
+           "SequentialRecord", "look_plan", "run_looks", "scene_plan", "undecided_share"]
 
 #: Total error rate of the verdicts of a scene's cells (one minus the confidence).
 ALPHA = 1.0 - CONFIDENCE
@@ -181,69 +182,6 @@ def run_looks(plan: LookPlan, extend: Callable[[int], None],
         shares.append(float(share(plan.confidence_at(len(shares)))))
 
 
-def scene_share(scene, by_value: dict, confidence: float) -> float:
-    """Undecided share of a scene's cells: mean verdicts of every compared model and quantity,
-    sweep value, load point and tolerance, on the realizations of ``by_value``."""
-    from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
-
-    verdicts = []
-    for results in by_value.values():
-        comparison = compare_realizations(results, tolerances=scene.tolerances,
-                                          confidence=confidence)
-        verdicts += [v for (_, quantity), entry in comparison.models.items()
-                     if quantity in COMPARED_QUANTITIES for v in entry.verdicts]
-    return undecided_share(verdicts)
-
-
-def extend_scene(scene, by_value: dict, run: Callable[[int], list],
-                 refinement: "RefinementRecord | None" = None,
-                 solve: Callable[[list], list] | None = None) -> SequentialRecord:
-    """The looks of ``scene``'s plan on its realizations ``by_value`` (sweep value -> list of
-    :class:`validation.run.runner.RealizationResult`, extended in place): ``run(n)`` computes the
-    realizations that the first ``n`` seeds of every sweep value add to those there; each new
-    one gets the finer reference of ``refinement`` at the same points (``solve`` as in
-    :func:`finer_reference`)."""
-    def extend(count: int) -> None:
-        new = run(count)
-        for result in new:
-            by_value[result.task.sweep_value].append(result)
-        for level in (refinement.levels if refinement is not None else ()):
-            _apply(by_value, level, solve, only={r.task for r in new})
-
-    return run_looks(scene_plan(scene), extend,
-                     lambda confidence: scene_share(scene, by_value, confidence))
-
-
-def band_decides(scene, results: list, confidence: float
-                 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
-    """Load points of one sweep value where the reference band decides: some cell (a compared
-    model and quantity at a tolerance, on the mean or per surface) is undecided while the band
-    of its reference field exceeds a quarter of the tolerance. Returns the mask, the smallest
-    band over the fields at each point (NaN where none is known) and the mask of each compared
-    quantity alone (the mask is their union)."""
-    from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
-
-    comparison = compare_realizations(results, tolerances=scene.tolerances,
-                                      confidence=confidence)
-    held: dict[str, np.ndarray] = {}
-    smallest = np.full(comparison.load.shape, np.inf)
-    for (_, quantity), entry in comparison.models.items():
-        if quantity not in COMPARED_QUANTITIES or entry.band is None:
-            continue
-        band = np.asarray(entry.band, dtype=float)
-        smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
-        mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
-        for index, tolerance in enumerate(entry.tolerances):
-            open_ = entry.verdicts[index] == UNDECIDED
-            if entry.surface_verdicts:
-                open_ |= entry.surface_verdicts[index] == UNDECIDED
-            with np.errstate(invalid="ignore"):
-                mask |= open_ & (band > REFERENCE_ACCURACY * tolerance)
-    mask = (np.any(np.stack(list(held.values())), axis=0) if held
-            else np.zeros(comparison.load.shape, bool))
-    return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
-
-
 @dataclass(frozen=True)
 class RefinementLevel:
     """One refinement: the grid, and per sweep value the load points solved on it and the
@@ -283,86 +221,3 @@ class RefinementRecord:
             parts.append(f"{level.grid}²: {per_value} (solver tolerance {tolerances[0]:.1e}"
                          + (f"–{tolerances[-1]:.1e}" if len(tolerances) > 1 else "") + ")")
         return "refined on " + "; ".join(parts) + f"; stopped: {self.reason}"
-
-
-def _reference_name(result) -> str:
-    return models.reference_among(result.curves)
-
-
-def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
-    """Solve the points of ``level`` on its grid for every realization (or those in ``only``)
-    and merge them into each realization's reference curve, in place."""
-    from dataclasses import replace as replaced
-
-    jobs, where = [], []
-    for value, points in level.points.items():
-        with_leakage = tuple(level.leakage.get(value, ()))
-        without = tuple(k for k in points if k not in with_leakage)
-        parts = [(part, leakage) for part, leakage in ((without, False), (with_leakage, True))
-                 if part]
-        for index, result in enumerate(by_value[value]):
-            if only is not None and result.task not in only:
-                continue
-            factor = level.grid // result.task.surface.n
-            for part, leakage in parts:
-                jobs.append(RefineJob(result.task, part, factor, level.tolerances[value],
-                                      leakage))
-                where.append((value, index, part))
-    for (value, index, part), (curve, computed) in zip(where, solve(jobs)):
-        result = by_value[value][index]
-        name = _reference_name(result)
-        merged = merge_points(result.curves[name], np.array(part), curve,
-                              level.grid, result.task.surface.L / level.grid,
-                              result.task.surface.n)
-        log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
-                                 if computed else ())
-        by_value[value][index] = replaced(result, curves={**result.curves, name: merged},
-                                          computed=log)
-
-
-def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
-                    confidence: float) -> RefinementRecord:
-    """Refine the reference where its band decides (:func:`band_decides`), grid by grid up to
-    ``scene.bem.max_grid``: each level solves the points still decided by the band among those
-    solved on the level below. ``solve(jobs)`` runs :class:`validation.run.refine.RefineJob` s and
-    returns ``(curve, computed)`` per job (:func:`validation.run.refine.run_job`)."""
-    reason = unavailable(scene)
-    if reason is not None:
-        return RefinementRecord((), reason)
-    n, levels = scene.surface.n, []
-    grid = 2 * n
-    while True:
-        if grid > scene.bem.max_grid:
-            return RefinementRecord(tuple(levels), f"grid limit reached (max_grid = "
-                                    f"{scene.bem.max_grid})")
-        points, tolerances, leakage = {}, {}, {}
-        for value, results in by_value.items():
-            mask, band, held = band_decides(scene, results, confidence)
-            reference = results[0].curves[_reference_name(results[0])]
-            below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
-            chosen = np.flatnonzero(mask & below)
-            if chosen.size:
-                points[value] = tuple(int(k) for k in chosen)
-                leaky = held.get("leakage", np.zeros(mask.shape, bool))
-                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
-                # the band expected on the finer grid: half the present one (first order)
-                tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
-                                                     scene.bem.tol)
-        if not points:
-            return RefinementRecord(tuple(levels), "no undecided cell is held by the band"
-                                    + (" any more" if levels else ""))
-        level = RefinementLevel(grid, points, tolerances, leakage)
-        _apply(by_value, level, solve)
-        levels.append(level)
-        grid *= 2
-
-
-def decide_scene(scene, by_value: dict, run: Callable[[int], list],
-                 solve: Callable[[list], list]) -> tuple[RefinementRecord, SequentialRecord]:
-    """Everything a scene with a reference does after its planned realizations, to decide its
-    undecided cells: the finer reference where its band decides (:func:`finer_reference`),
-    then the looks of its sequential plan (:func:`extend_scene`; new realizations get the same
-    refinements). ``by_value`` is extended and updated in place; ``run`` and ``solve`` are as
-    in those functions (the runner gives its executor, cache and progress bars through them)."""
-    refinement = finer_reference(scene, by_value, solve, scene_plan(scene).confidence_at(0))
-    return refinement, extend_scene(scene, by_value, run, refinement, solve)

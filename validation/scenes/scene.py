@@ -9,7 +9,7 @@ reads them).
 The dataclasses below, with :class:`SurfaceSpec` (:mod:`validation.surfaces.spec`), are the
 single source of the rules and the defaults: each validates itself in ``__post_init__`` (so
 ``dataclasses.replace(scene, realizations=-2)`` raises too; the field checks are in
-:mod:`validation.scenes.checks`) and its field defaults are the defaults of the file format. A
+:mod:`validation.common.checks`) and its field defaults are the defaults of the file format. A
 file's tables and keys map onto them::
 
     name, title, description, kind      -> Scene (kind "surface", or "theory" for Figs. 1-3)
@@ -43,9 +43,9 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, dataclass, field, fields, replace
 
-from validation.run import models as _models
-from validation.scenes import checks as check
-from validation.scenes.checks import SceneError, SceneWarning
+from validation.common import models as _models
+from validation.common import checks as check
+from validation.common.checks import SceneError, SceneWarning
 from validation.surfaces.spec import FAMILIES, FAMILY_KEYS, MIN_TILE, SWEEPS, SurfaceSpec
 
 __all__ = [
@@ -55,7 +55,7 @@ __all__ = [
 ]
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
-#: :func:`validation.run.models.names`).
+#: :func:`validation.common.models.names`).
 MODELS = _models.default_names()
 #: Quantities a scene may ask for. ``leakage`` (the effective hydraulic aperture h_eff of the
 #: gap, docs/theory.md section 10) is computed only by scenes that list it: it costs the BEM a

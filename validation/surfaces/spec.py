@@ -9,7 +9,7 @@ import math
 import pathlib
 from dataclasses import dataclass, fields, replace
 
-from validation.scenes import checks as check
+from validation.common import checks as check
 
 __all__ = ["SurfaceSpec", "SWEEPS", "SIDES_SWEEP", "FAMILIES", "FAMILY_KEYS", "MIN_TILE",
            "READ_FIELDS", "read_keywords"]

@@ -1,10 +1,10 @@
-"""Names and plot styles of the models and quantities in reports. Model labels and styles come
-from the registry (:mod:`validation.run.models`); a model without an entry is shown under its own
-name, in a default style."""
+"""Names and plot styles of the models and quantities, as the report and the judge's findings
+write them. Model labels and styles come from the registry (:mod:`validation.common.models`); a
+model without an entry is shown under its own name, in a default style."""
 
 from __future__ import annotations
 
-from validation.run import models as _models
+from validation.common import models as _models
 
 __all__ = [
     "ERROR_LABELS",
@@ -16,7 +16,7 @@ __all__ = [
     "model_order",
 ]
 
-#: Model name -> label and plot style: live views of the registry (:mod:`validation.run.models`),
+#: Model name -> label and plot style: live views of the registry (:mod:`validation.common.models`),
 #: so a registered model appears in every table and figure without an edit here.
 MODEL_LABELS = _models.labels()
 MODEL_STYLES = _models.styles()

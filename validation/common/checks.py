@@ -1,7 +1,8 @@
 """Field checks shared by the scene dataclasses (:mod:`validation.scenes.scene`,
 :mod:`validation.surfaces.spec`): each reads one field of a frozen dataclass in its
 ``__post_init__``, normalises it in place (floats, tuples) and raises :class:`SceneError` naming
-the key and what is allowed.
+the key and what is allowed. They sit at the bottom of :mod:`validation` because the surface
+spec, a layer below the scenes, raises :class:`SceneError` too.
 """
 
 from __future__ import annotations

@@ -1,0 +1,219 @@
+"""Deciding what is open: more work where a scene's verdicts stay undecided.
+
+After a scene's planned realizations (:func:`validation.run.runner.run_planned`), the cells
+(a compared model and quantity at a load point and a tolerance) that stay undecided get
+
+* first, where the reference band keeps them undecided (:func:`band_decides`), the reference
+  solved on finer grids, level by level up to ``[bem] max_grid`` (:func:`finer_reference`,
+  docs/theory.md eq. T39, :mod:`validation.run.refine`);
+* then, with ``[realizations] max``, more realizations look by look, the error rate of the
+  verdicts split between the looks (:func:`extend_scene`; the plan is
+  :mod:`validation.run.sequential`, eq. T38); new realizations get the same refinements.
+
+The verdicts that steer this are the judge's (:func:`validation.judge.compare.compare_realizations`);
+the work is the run's, handed in as callables (``run(count)``, ``solve(jobs)``), so nothing
+here touches an executor or the cache. :func:`run_scenes` runs scenes to that decision.
+"""
+
+from __future__ import annotations
+
+import time
+from concurrent.futures import Executor
+from dataclasses import replace
+from typing import Callable, Iterable
+
+import numpy as np
+
+from validation.common import models
+from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
+from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
+from validation.run.refine import RefineJob, merge_points, solver_tolerance, unavailable
+from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
+from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
+                                       run_looks, scene_plan, undecided_share)
+from validation.scenes.scene import Scene
+
+__all__ = ["band_decides", "decide_scene", "extend_scene", "finer_reference", "run_scenes",
+           "scene_share"]
+
+
+def scene_share(scene, by_value: dict, confidence: float) -> float:
+    """Undecided share of a scene's cells: mean verdicts of every compared model and quantity,
+    sweep value, load point and tolerance, on the realizations of ``by_value``."""
+    verdicts = []
+    for results in by_value.values():
+        comparison = compare_realizations(results, tolerances=scene.tolerances,
+                                          confidence=confidence)
+        verdicts += [v for (_, quantity), entry in comparison.models.items()
+                     if quantity in COMPARED_QUANTITIES for v in entry.verdicts]
+    return undecided_share(verdicts)
+
+
+def extend_scene(scene, by_value: dict, run: Callable[[int], list],
+                 refinement: "RefinementRecord | None" = None,
+                 solve: Callable[[list], list] | None = None) -> SequentialRecord:
+    """The looks of ``scene``'s plan on its realizations ``by_value`` (sweep value -> list of
+    :class:`validation.run.realization.RealizationResult`, extended in place): ``run(n)`` computes the
+    realizations that the first ``n`` seeds of every sweep value add to those there; each new
+    one gets the finer reference of ``refinement`` at the same points (``solve`` as in
+    :func:`finer_reference`)."""
+    def extend(count: int) -> None:
+        new = run(count)
+        for result in new:
+            by_value[result.task.sweep_value].append(result)
+        for level in (refinement.levels if refinement is not None else ()):
+            _apply(by_value, level, solve, only={r.task for r in new})
+
+    return run_looks(scene_plan(scene), extend,
+                     lambda confidence: scene_share(scene, by_value, confidence))
+
+
+def band_decides(scene, results: list, confidence: float
+                 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+    """Load points of one sweep value where the reference band decides: some cell (a compared
+    model and quantity at a tolerance, on the mean or per surface) is undecided while the band
+    of its reference field exceeds a quarter of the tolerance. Returns the mask, the smallest
+    band over the fields at each point (NaN where none is known) and the mask of each compared
+    quantity alone (the mask is their union)."""
+    comparison = compare_realizations(results, tolerances=scene.tolerances,
+                                      confidence=confidence)
+    held: dict[str, np.ndarray] = {}
+    smallest = np.full(comparison.load.shape, np.inf)
+    for (_, quantity), entry in comparison.models.items():
+        if quantity not in COMPARED_QUANTITIES or entry.band is None:
+            continue
+        band = np.asarray(entry.band, dtype=float)
+        smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
+        mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
+        for index, tolerance in enumerate(entry.tolerances):
+            open_ = entry.verdicts[index] == UNDECIDED
+            if entry.surface_verdicts:
+                open_ |= entry.surface_verdicts[index] == UNDECIDED
+            with np.errstate(invalid="ignore"):
+                mask |= open_ & (band > REFERENCE_ACCURACY * tolerance)
+    mask = (np.any(np.stack(list(held.values())), axis=0) if held
+            else np.zeros(comparison.load.shape, bool))
+    return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
+
+
+def _reference_name(result) -> str:
+    return models.reference_among(result.curves)
+
+
+def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
+    """Solve the points of ``level`` on its grid for every realization (or those in ``only``)
+    and merge them into each realization's reference curve, in place."""
+    jobs, where = [], []
+    for value, points in level.points.items():
+        with_leakage = tuple(level.leakage.get(value, ()))
+        without = tuple(k for k in points if k not in with_leakage)
+        parts = [(part, leakage) for part, leakage in ((without, False), (with_leakage, True))
+                 if part]
+        for index, result in enumerate(by_value[value]):
+            if only is not None and result.task not in only:
+                continue
+            factor = level.grid // result.task.surface.n
+            for part, leakage in parts:
+                jobs.append(RefineJob(result.task, part, factor, level.tolerances[value],
+                                      leakage))
+                where.append((value, index, part))
+    for (value, index, part), (curve, computed) in zip(where, solve(jobs)):
+        result = by_value[value][index]
+        name = _reference_name(result)
+        merged = merge_points(result.curves[name], np.array(part), curve,
+                              level.grid, result.task.surface.L / level.grid,
+                              result.task.surface.n)
+        log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
+                                 if computed else ())
+        by_value[value][index] = replace(result, curves={**result.curves, name: merged},
+                                          computed=log)
+
+
+def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
+                    confidence: float) -> RefinementRecord:
+    """Refine the reference where its band decides (:func:`band_decides`), grid by grid up to
+    ``scene.bem.max_grid``: each level solves the points still decided by the band among those
+    solved on the level below. ``solve(jobs)`` runs :class:`validation.run.refine.RefineJob` s and
+    returns ``(curve, computed)`` per job (:func:`validation.run.refine.run_job`)."""
+    reason = unavailable(scene)
+    if reason is not None:
+        return RefinementRecord((), reason)
+    n, levels = scene.surface.n, []
+    grid = 2 * n
+    while True:
+        if grid > scene.bem.max_grid:
+            return RefinementRecord(tuple(levels), f"grid limit reached (max_grid = "
+                                    f"{scene.bem.max_grid})")
+        points, tolerances, leakage = {}, {}, {}
+        for value, results in by_value.items():
+            mask, band, held = band_decides(scene, results, confidence)
+            reference = results[0].curves[_reference_name(results[0])]
+            below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
+            chosen = np.flatnonzero(mask & below)
+            if chosen.size:
+                points[value] = tuple(int(k) for k in chosen)
+                leaky = held.get("leakage", np.zeros(mask.shape, bool))
+                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
+                # the band expected on the finer grid: half the present one (first order)
+                tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
+                                                     scene.bem.tol)
+        if not points:
+            return RefinementRecord(tuple(levels), "no undecided cell is held by the band"
+                                    + (" any more" if levels else ""))
+        level = RefinementLevel(grid, points, tolerances, leakage)
+        _apply(by_value, level, solve)
+        levels.append(level)
+        grid *= 2
+
+
+def decide_scene(scene, by_value: dict, run: Callable[[int], list],
+                 solve: Callable[[list], list]) -> tuple[RefinementRecord, SequentialRecord]:
+    """Everything a scene with a reference does after its planned realizations, to decide its
+    undecided cells: the finer reference where its band decides (:func:`finer_reference`),
+    then the looks of its sequential plan (:func:`extend_scene`; new realizations get the same
+    refinements). ``by_value`` is extended and updated in place; ``run`` and ``solve`` are as
+    in those functions (:func:`run_scenes` gives the runner's executor, cache and progress bars
+    through them)."""
+    refinement = finer_reference(scene, by_value, solve, scene_plan(scene).confidence_at(0))
+    return refinement, extend_scene(scene, by_value, run, refinement, solve)
+
+
+def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
+               cache_dir: str | None = None, progress: bool = True, stream=None
+               ) -> list[SceneResult]:
+    """Run scenes to a decision: their planned realizations
+    (:func:`validation.run.runner.run_planned`), then, for every scene with a reference, a finer
+    reference and more realizations where its cells stay undecided (:func:`decide_scene`).
+
+    Parameters
+    ----------
+    scenes : iterable of Scene
+    executor : concurrent.futures.Executor, optional
+        Where realization tasks and finer solves run; ``None`` runs them in this process, one
+        after another.
+    cache_dir : str, optional
+        Cache folder; ``None`` disables the cache.
+    progress : bool
+        Draw progress bars on ``stream`` (stderr by default).
+
+    Returns
+    -------
+    list of validation.run.runner.SceneResult
+        One per scene, in order; ``refinement`` and ``sequential`` record what was added and
+        why it stopped (None for a scene without a reference: nothing to decide).
+    """
+    started = time.perf_counter()
+    out = run_planned(scenes, executor=executor, cache_dir=cache_dir, progress=progress,
+                      stream=stream)
+    where = dict(executor=executor, cache_dir=cache_dir, progress=progress, stream=stream)
+    for index, result in enumerate(out):
+        scene = result.scene
+        if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
+            continue
+        refinement, sequential = decide_scene(
+            scene, result.realizations,
+            run=lambda count: more_realizations(result, count, **where),
+            solve=lambda jobs: solve_refinements(jobs, **where))
+        out[index] = replace(result, refinement=refinement, sequential=sequential,
+                             seconds=time.perf_counter() - started)
+    return out
