@@ -13,7 +13,7 @@ import numpy as np
 from bem.scalar_checks import InputTypeError, _describe
 
 __all__ = ["boolean_map", "frozen_array", "height_map", "integer_array", "no_overflow", "points",
-           "real_array", "separations"]
+           "real_array", "record_array", "record_arrays", "separations"]
 
 
 def _as_array(name: str, values: Any, allowed: str) -> np.ndarray:
@@ -148,3 +148,33 @@ def frozen_array(values: Any, dtype=float) -> np.ndarray | None:
     array = np.array(values, dtype=dtype, copy=True)
     array.setflags(write=False)
     return array
+
+
+def record_array(name: str, values: Any, *, ndim: int | None = None,
+                 allow_infinity: bool = False) -> np.ndarray:
+    """A field of a result record (a curve, a solution) as a read-only float array: real, no
+    NaN, no -inf (+inf only with ``allow_infinity``: out of contact, an overflowed load), of
+    ``ndim`` dimensions when given. An array that is already read-only float64 is kept as is,
+    anything else copied."""
+    array = points(name, values, allow_infinity=allow_infinity)
+    if ndim is not None and array.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array, got {array.ndim} dimension(s) "
+                         f"(shape {array.shape})")
+    return frozen_array(array) if array.flags.writeable else array
+
+
+def record_arrays(record: Any, names: tuple[str, ...], *, optional: tuple[str, ...] = (),
+                  ndim: int | None = None, allow_infinity: bool = False) -> None:
+    """Check the array fields ``names`` of a frozen dataclass (a result record) with
+    :func:`record_array` and store them back read-only; all must have one shape. A field in
+    ``optional`` may be None."""
+    shapes = {}
+    for name in names:
+        value = getattr(record, name)
+        if value is None and name in optional:
+            continue
+        array = record_array(name, value, ndim=ndim, allow_infinity=allow_infinity)
+        object.__setattr__(record, name, array)
+        shapes[name] = array.shape
+    if len(set(shapes.values())) > 1:
+        raise ValueError(f"{', '.join(shapes)} must have one shape, got {shapes}")

@@ -28,14 +28,16 @@ from typing import Any
 import numpy as np
 
 from bem.array_checks import (boolean_map, frozen_array, height_map, integer_array, no_overflow,
-                              points, real_array, separations)
+                              points, real_array, record_array, record_arrays,
+                              separations)
 from bem.scalar_checks import (InputTypeError, choice, file_path, flag, instances, integer, names,
-                               non_negative, optional_integer, positive, random_generator,
-                               real_number)
+                               non_negative, non_negative_or_infinite, optional_callable,
+                               optional_integer, positive, random_generator, real_number)
 
 __all__ = [
     "InputTypeError",
     "SUPPORTED_MAGNITUDE",
+    "below_supported_magnitude",
     "boolean_map",
     "choice",
     "contact_heights",
@@ -53,12 +55,16 @@ __all__ = [
     "names",
     "no_overflow",
     "non_negative",
+    "non_negative_or_infinite",
+    "optional_callable",
     "optional_integer",
     "points",
     "positive",
     "random_generator",
     "real_array",
     "real_number",
+    "record_array",
+    "record_arrays",
     "separations",
     "supported_magnitude",
 ]
@@ -86,6 +92,14 @@ def supported_magnitude(name: str, value: float) -> float:
         raise ValueError(f"{name} = {value!r} is outside the supported range: its magnitude "
                          f"must be 0 or between {low:g} and {high:g} (rescale the units)")
     return value
+
+
+def below_supported_magnitude(name: str, values: np.ndarray) -> np.ndarray:
+    """``values`` if no magnitude exceeds the upper end of :data:`SUPPORTED_MAGNITUDE` (loads
+    and separations of a model: small ones are fine, huge ones overflow its forces)."""
+    if values.size and float(np.max(np.abs(values))) > SUPPORTED_MAGNITUDE[1]:
+        supported_magnitude(f"max |{name}|", float(np.max(np.abs(values))))
+    return values
 
 
 def contact_number(name: str, value: Any, *, minimum: float | None = None,

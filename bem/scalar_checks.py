@@ -16,7 +16,8 @@ from typing import Any
 import numpy as np
 
 __all__ = ["InputTypeError", "choice", "file_path", "flag", "instances", "integer", "names",
-           "non_negative", "optional_integer", "positive", "random_generator", "real_number"]
+           "non_negative", "non_negative_or_infinite", "optional_callable", "optional_integer", "positive",
+           "random_generator", "real_number"]
 
 
 class InputTypeError(TypeError, ValueError):
@@ -82,6 +83,18 @@ def non_negative(name: str, value: Any) -> float:
     return real_number(name, value, minimum=0.0)
 
 
+def non_negative_or_infinite(name: str, value: Any) -> float:
+    """A real number >= 0, or +inf (an unbounded stiffness, a ratio whose denominator is 0)."""
+    if isinstance(value, (float, np.floating)) and value == math.inf:
+        return math.inf
+    try:
+        return real_number(name, value, minimum=0.0)
+    except ValueError as error:
+        error.args = (str(error).replace("a finite real number >= 0",
+                                         "a real number >= 0 or +inf"),)
+        raise
+
+
 def integer(name: str, value: Any, *, minimum: int | None = None,
             maximum: int | None = None) -> int:
     """``int(value)`` if it is an integer (not a bool) within the bounds."""
@@ -120,6 +133,15 @@ def _hashable(value: Any) -> bool:
     except TypeError:
         return False
     return True
+
+
+def optional_callable(name: str, value: Any) -> Callable | None:
+    """``None``, or a callable (a callback); anything else is a :class:`TypeError` naming
+    ``name``, raised before any work rather than at the first call."""
+    if value is not None and not callable(value):
+        raise InputTypeError(f"{name} must be a callable or None, got {type(value).__name__} "
+                             f"{_describe(value)}")
+    return value
 
 
 def optional_integer(name: str, value: Any, *, minimum: int | None = None) -> int | None:
