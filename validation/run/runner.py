@@ -336,7 +336,7 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     cache_dir : str, optional
         Cache folder; ``None`` disables the cache.
     progress : bool
-        Draw a progress bar on ``stream`` (stderr by default).
+        Draw a progress bar on ``stream`` (a text stream; stderr by default).
     """
     from validation.run.theory import theory_curves
 
@@ -347,6 +347,9 @@ def run_scenes(scenes: Iterable[Scene], *, executor: Executor | None = None,
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
                                     f"submit method) or None, got {type(executor).__name__}")
+    if stream is not None and not callable(getattr(stream, "write", None)):
+        raise checks.InputTypeError(f"stream must be a text stream (with a write method) or "
+                                    f"None, got {type(stream).__name__}")
     names = [scene.name for scene in scenes]
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:
