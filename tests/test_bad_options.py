@@ -253,3 +253,10 @@ def test_options_are_checked_when_given_not_at_the_first_use():
         asperity.DiscreteAsperityModel(_summits()).at_load([1e301])
     with pytest.raises(ValueError, match=r"max \|separation\| = .* is outside the supported"):
         asperity.DiscreteAsperityModel(_summits()).at_separation([-1e205])
+
+
+def test_a_validity_range_over_no_loads_is_an_error_not_nan_bounds():
+    with pytest.raises(ValueError, match="loads must have at least 1 entries, got 0"):
+        validation.validity_range([], [], 0.1)
+    nowhere = validation.validity_range([1.0, 2.0], [1.0, 1.0], 0.1)
+    assert not nowhere.holds_anywhere and nowhere.describe() == "nowhere"
