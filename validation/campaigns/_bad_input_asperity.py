@@ -41,6 +41,7 @@ def _discrete():
 
 
 def rows() -> tuple[EntryPoint, ...]:
+    """One row per name :mod:`asperity` exports, and per public method with arguments."""
     import asperity
 
     z = surface

@@ -27,6 +27,7 @@ def _solution_fields() -> dict:
 
 
 def rows() -> tuple[EntryPoint, ...]:
+    """One row per name :mod:`bem` exports, and per public method with arguments."""
     import bem
 
     z = surface

@@ -55,6 +55,7 @@ EXAMPLE = str(pathlib.Path(__file__).resolve().parents[2] / "examples" / "exampl
 
 @functools.lru_cache(maxsize=1)
 def surface() -> np.ndarray:
+    """An 8 x 8 WM height map (read-only, built once)."""
     from validation.surfaces.wm import wm_surface
 
     heights = wm_surface(N, D=2.3, rms_slope=0.1, seed=1)
@@ -63,14 +64,17 @@ def surface() -> np.ndarray:
 
 
 def points():
+    """Three spot or summit positions x, y."""
     return dict(x=np.array([0.0, 1.0, 2.0]), y=np.array([0.0, 0.0, 1.0]))
 
 
 def gw(**extra):
+    """Arguments of a GW-type theory: density, radius, sigma, plus ``extra``."""
     return dict(density=50.0, radius=0.05, sigma=0.01, **extra)
 
 
 def curve():
+    """A GW contact curve at two loads."""
     from asperity import GreenwoodWilliamson
 
     return GreenwoodWilliamson(**gw()).at_load(np.array([1e-4, 1e-3]))
@@ -78,6 +82,7 @@ def curve():
 
 @functools.lru_cache(maxsize=1)
 def summits():
+    """The summits of :func:`surface` (built once)."""
     from asperity import find_summits
 
     return find_summits(surface(), SPACING)
@@ -109,6 +114,7 @@ def theories(model, load=(1e-4, 1e-3), separation=(0.0, 0.01)):
 
 
 def validity_range_call(**arguments):
+    """``validation.validity_range``, its points and total."""
     from validation import validity_range
 
     found = validity_range(**arguments)   # NaN bounds mean "holds nowhere", by design

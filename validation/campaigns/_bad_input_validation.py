@@ -34,6 +34,7 @@ def _statistics() -> dict:
 
 
 def rows() -> tuple[EntryPoint, ...]:
+    """One row per name :mod:`validation` exports, and per public method with arguments."""
     import validation
 
     z = surface
