@@ -54,12 +54,23 @@ class DimensionlessCurve:
     area : A_real / L^2
     conductance : 2 S sigma / (E* L^2) = -2 dLoad/dSeparation, or None if the curve has no
         stiffness
+
+    Raises
+    ------
+    ValueError
+        Fields of different shapes, NaN or -inf entries (+inf is allowed: out of contact);
+        a :class:`TypeError` for strings, None or objects where numbers are due.
     """
 
     separation: np.ndarray
     load: np.ndarray
     area: np.ndarray
     conductance: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        checks.record_arrays(self, ("separation", "load", "area", "conductance"),
+                             optional=("conductance",), allow_infinity=True)
+
 
 
 def dimensionless(curve: ContactCurve, sigma: float, length: float) -> DimensionlessCurve:
@@ -75,6 +86,9 @@ def dimensionless(curve: ContactCurve, sigma: float, length: float) -> Dimension
     length : float
         Sample length L [length]; the nominal area is L^2.
     """
+    if not isinstance(curve, ContactCurve):
+        raise checks.InputTypeError(f"curve must be a bem.ContactCurve, got "
+                                    f"{type(curve).__name__}")
     sigma = _positive("sigma", sigma)
     length = _positive("length", length)
     scale = curve.e_star * length ** 2

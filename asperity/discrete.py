@@ -141,7 +141,8 @@ class DiscreteAsperityModel:
         Parameters
         ----------
         separation : float or array_like
-            Separations d [length] (finite; any shape, numpy's rule: a scalar gives 0-d
+            Separations d [length] (finite, of magnitude <= 1e30,
+            :data:`bem.checks.SUPPORTED_MAGNITUDE`; any shape, numpy's rule: a scalar gives 0-d
             fields). Solved as a warm-started path from large to small d; results are returned
             in the caller's order.
         quantities : sequence of str
@@ -170,7 +171,8 @@ class DiscreteAsperityModel:
         (typically 5 to 40) plus one per line-search trial; along a path 3 to 6 iterations per
         point. See ``benchmarks/bench_discrete.py`` for measured times.
         """
-        points = check_points("separation", separation)
+        points = checks.below_supported_magnitude("separation",
+                                                  check_points("separation", separation))
         want = check_quantities(quantities, DISCRETE_QUANTITIES)
         if points.size == 0:
             return self._empty_curve(want)
@@ -184,7 +186,7 @@ class DiscreteAsperityModel:
                                   want).reshaped(points.shape)
 
     def at_load(self, load: ArrayLike, *, quantities=CURVE_QUANTITIES) -> ContactCurve:
-        """Solve the discrete model at given total loads W [force] (>= 0, any shape).
+        """Solve the discrete model at given total loads W [force] (>= 0 and <= 1e30, any shape).
 
         The separation is an unknown solved together with the approaches (bordered Newton
         system). W = 0 gives the separation of first contact (the highest summit). Loads are
@@ -192,7 +194,8 @@ class DiscreteAsperityModel:
         a point that fails on the path is solved again as if alone. See
         :meth:`at_separation` for ``quantities`` and the returned fields.
         """
-        points = check_points("load", load, non_negative=True)
+        points = checks.below_supported_magnitude("load",
+                                                  check_points("load", load, non_negative=True))
         want = check_quantities(quantities, DISCRETE_QUANTITIES)
         if points.size == 0:
             return self._empty_curve(want)

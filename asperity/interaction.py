@@ -65,10 +65,9 @@ _METHODS = ("auto", "fft", "direct")
 
 
 def _as_index(name: str, value, n: int) -> np.ndarray:
-    index = np.asarray(value)
-    if index.ndim != 1 or not (np.issubdtype(index.dtype, np.integer) or index.size == 0):
+    if checks.real_array(name, value).ndim != 1:
         raise ValueError(f"{name} must be a 1-D array of integer asperity indices")
-    index = index.astype(np.intp, copy=False)
+    index = checks.integer_array(name, value)
     if index.size and (index.min() < 0 or index.max() >= n):
         raise ValueError(f"{name} must lie in [0, {n}), got values in "
                          f"[{index.min()}, {index.max()}]")
@@ -192,6 +191,11 @@ class PointForceInteraction:
     def from_summits(cls, summits, *, e_star: float = 1.0, method: str = "auto",
                      **kwargs) -> "PointForceInteraction":
         """Build the operator of a :class:`asperity.Summits` record (lattice when it has one)."""
+        from asperity.summits import Summits
+
+        if not isinstance(summits, Summits):
+            raise checks.InputTypeError(f"summits must be an asperity.Summits, got "
+                                        f"{type(summits).__name__}")
         if summits.row is not None:
             return cls(summits.x, summits.y, e_star=e_star, spacing=summits.spacing,
                        row=summits.row, column=summits.column, shape=summits.shape,
@@ -339,6 +343,7 @@ class PointForceInteraction:
         otherwise the cheaper of those per product.
         """
         indices = _as_index("indices", indices, self.size)
+        products = checks.integer("products", products, minimum=1)
         n = indices.size
         if n == 0:
             return lambda values: np.zeros(0)

@@ -56,7 +56,7 @@ from asperity.persson_kernel import (YANG_PERSSON_GAMMA, _separation_kernel, _st
                                      separation_kernel)
 from asperity.roots import monotone_root
 from asperity.spectrum import IsotropicSpectrum, radial_power_spectrum
-from bem.checks import points, positive, real_number
+from bem.checks import integer, points, positive, real_array, real_number
 from bem.curve import ContactCurve
 from bem.model import check_quantities
 from bem.warnings import ConvergenceWarning
@@ -136,15 +136,14 @@ class Persson:
         For a callable, ``wavevector`` is ``(q_L, q_1)`` and C is sampled at ``samples``
         log-spaced points; exact for power laws, otherwise interpolation error O(dln q^2).
         """
+        samples = integer("samples", samples, minimum=2)
         if callable(psd):
-            q_bounds = np.asarray(wavevector, dtype=float).ravel()
+            q_bounds = real_array("wavevector", wavevector).ravel()
             if q_bounds.size != 2:
                 raise ValueError("wavevector must be (q_L, q_1) when psd is a callable")
-            if not isinstance(samples, (int, np.integer)) or samples < 2:
-                raise ValueError(f"samples must be an integer >= 2, got {samples!r}")
             q = np.geomspace(positive("q_L", q_bounds[0]), positive("q_1", q_bounds[1]),
-                             int(samples))
-            psd = np.asarray(psd(q), dtype=float)
+                             samples)
+            psd = real_array("psd(wavevector)", psd(q), finite=False)
             wavevector = q
         return cls(IsotropicSpectrum(wavevector, psd), nominal_area, e_star=e_star, gamma=gamma)
 

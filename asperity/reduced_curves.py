@@ -63,6 +63,13 @@ class InteractionCurves:
     improved_stiffness: np.ndarray
     gw_stiffness: np.ndarray
 
+    def __post_init__(self) -> None:
+        for name in ("interaction_parameter", "m"):
+            object.__setattr__(self, name, _non_negative(name, getattr(self, name)))
+        checks.record_arrays(self, ("separation", "effective_separation", "gw_pressure",
+                                    "improved_pressure", "effective_stiffness",
+                                    "improved_stiffness", "gw_stiffness"), allow_infinity=True)
+
 
 def interaction_curves(interaction_parameter: float, *, m: float = 1.0,
                        separation: ArrayLike | None = None) -> InteractionCurves:

@@ -166,7 +166,11 @@ def spectral_moments(heights: ArrayLike, spacing: float, *, periodic: bool = Fal
     for name, value in (("m2", m2), ("m4", m4)):
         if not value > 0.0:
             raise ValueError(f"heights: the map is flat to finite differences ({name} = 0)")
-    return SpectralMoments(m0, m2, m4)
+    try:
+        return SpectralMoments(m0, m2, m4)
+    except ValueError as error:   # a moment beyond the supported range: say which input
+        raise ValueError(f"heights and spacing give spectral moments outside the supported "
+                         f"range ({error}); rescale the length unit") from None
 
 
 def profile_moments(z: np.ndarray, z_x: np.ndarray, z_y: np.ndarray, z_xx: np.ndarray,

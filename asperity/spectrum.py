@@ -32,8 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem.checks import (choice, frozen_array, height_map, positive, real_number,
-                        supported_magnitude)
+from bem.checks import (choice, frozen_array, height_map, points, positive, real_array,
+                        real_number, supported_magnitude)
 
 __all__ = ["WINDOWS", "IsotropicSpectrum", "power_spectrum_2d", "radial_power_spectrum"]
 
@@ -74,11 +74,8 @@ class IsotropicSpectrum:
     psd: np.ndarray
 
     def __post_init__(self) -> None:
-        try:
-            q = np.asarray(self.wavevector, dtype=float)
-            c = np.asarray(self.psd, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError("wavevector and psd must be arrays of real numbers") from None
+        q = real_array("wavevector", self.wavevector, finite=False)
+        c = real_array("psd", self.psd, finite=False)
         if q.ndim != 1 or q.size < 2 or c.shape != q.shape:
             raise ValueError(f"wavevector and psd must be 1-D of one length >= 2, got shapes "
                              f"{q.shape} and {c.shape}")
@@ -109,9 +106,10 @@ class IsotropicSpectrum:
 
     def cumulative_moment(self, order: int, wavevector: ArrayLike) -> np.ndarray:
         """integral_{q_L}^q q'^order C(q') dq' at each q (clipped to [q_L, q_1]), closed form
-        on each piece [length^(3 - order)]."""
+        on each piece [length^(3 - order)]; ``wavevector`` may hold +inf (clipped to q_1)."""
         q_all, c_all = self.wavevector, self.psd
-        q = np.clip(np.asarray(wavevector, dtype=float), q_all[0], q_all[-1])
+        order = real_number("order", order)
+        q = np.clip(points("wavevector", wavevector, allow_infinity=True), q_all[0], q_all[-1])
         below = np.concatenate(([0.0], np.cumsum(self._piece_moments(order))))
         piece = np.clip(np.searchsorted(q_all, q, side="right") - 1, 0, q_all.size - 2)
         q_k = q_all[piece]
@@ -126,10 +124,11 @@ class IsotropicSpectrum:
     def wavevector_at_fourth_moment(self, m: ArrayLike) -> np.ndarray:
         """The inverse of m(q) = integral_{q_L}^q q'^3 C dq' (closed form on each piece).
 
-        ``m`` is clipped to ``[0, m(q_1)]``; returns q [1/length], same shape.
+        ``m`` (real, +inf allowed, no NaN) is clipped to ``[0, m(q_1)]``; returns q
+        [1/length], same shape.
         """
         cumulative = self.cumulative_fourth_moment()
-        m = np.clip(np.asarray(m, dtype=float), 0.0, cumulative[-1])
+        m = np.clip(points("m", m, allow_infinity=True), 0.0, cumulative[-1])
         piece = np.clip(np.searchsorted(cumulative, m, side="right") - 1, 0,
                         self.wavevector.size - 2)
         q_k, c_k = self.wavevector[piece], self.psd[piece]

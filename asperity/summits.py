@@ -14,6 +14,7 @@ summit heights are reported as given, never shifted.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -102,6 +103,8 @@ class Summits:
         if np.any(self.radius <= 0):
             raise ValueError("Summits radius must be > 0 for every summit")
         set_("area", _finite_positive("area", self.area))
+        set_("curvature", checks.choice("curvature", self.curvature, _CURVATURES + ("given",)))
+        set_("periodic", checks.flag("periodic", self.periodic))
         if n > 1:
             positions = np.column_stack((self.x, self.y))
             if np.unique(positions, axis=0).shape[0] != n:
@@ -109,7 +112,8 @@ class Summits:
         if self.spacing is not None:
             set_("spacing", _finite_positive("spacing", self.spacing))
             if self.row is None or self.column is None:
-                raise ValueError("Summits on a lattice need row and column indices")
+                raise ValueError("Summits on a lattice (a spacing given) need row and column "
+                                 "indices")
             set_("row", _frozen(self.row, np.intp))
             set_("column", _frozen(self.column, np.intp))
             if self.row.size != n or self.column.size != n:
@@ -186,18 +190,34 @@ class Summits:
 
     @classmethod
     def from_arrays(cls, arrays) -> "Summits":
-        """Rebuild a record written by :meth:`to_arrays` (validated like any other)."""
+        """Rebuild a record written by :meth:`to_arrays` (validated like any other).
+
+        ``arrays`` is a mapping (a dict, an ``np.load`` archive) with the entries of
+        :meth:`to_arrays`; anything else is a :class:`TypeError`, a missing or malformed entry a
+        :class:`ValueError`, naming ``arrays``.
+        """
+        if not isinstance(arrays, Mapping):
+            raise checks.InputTypeError(f"arrays must be a mapping of the summit arrays (as "
+                                        f"written by Summits.to_arrays), got "
+                                        f"{type(arrays).__name__}")
         try:
-            spacing = float(arrays["spacing"])
+            spacing = float(checks.real_array("arrays['spacing']", arrays["spacing"],
+                                              finite=False))
             lattice = math.isfinite(spacing)
-            shape = tuple(int(v) for v in np.asarray(arrays["shape"]).ravel())
-            neighbours = int(arrays["neighbours"])
+            shape = tuple(checks.integer_array("arrays['shape']", arrays["shape"]).tolist())
+            neighbours = checks.integer("arrays['neighbours']", np.asarray(arrays["neighbours"]))
+        except KeyError as missing:
+            raise ValueError(f"summit arrays lack the entry {missing}") from None
+        except (TypeError, ValueError) as error:
+            raise ValueError(f"arrays holds a malformed entry: {error}") from None
+        try:
             return cls(arrays["x"], arrays["y"], arrays["height"], arrays["radius"],
-                       area=float(arrays["area"]), spacing=spacing if lattice else None,
+                       area=np.asarray(arrays["area"])[()], spacing=spacing if lattice else None,
                        shape=shape if shape[0] >= 0 else None,
                        row=arrays["row"] if lattice else None,
                        column=arrays["column"] if lattice else None,
-                       periodic=bool(arrays["periodic"]), curvature=str(arrays["curvature"]),
+                       periodic=np.asarray(arrays["periodic"])[()],
+                       curvature=str(arrays["curvature"]),
                        neighbours=None if neighbours < 0 else neighbours,
                        rejected_row=arrays["rejected_row"],
                        rejected_column=arrays["rejected_column"])
@@ -378,6 +398,9 @@ def find_summits(heights, spacing: float, *, neighbours: int = 8, periodic: bool
 
 def summits_to_arrays(summits: Summits) -> dict[str, np.ndarray]:
     """:meth:`Summits.to_arrays` as a function (for caches that store plain arrays)."""
+    if not isinstance(summits, Summits):
+        raise checks.InputTypeError(f"summits must be an asperity.Summits, got "
+                                    f"{type(summits).__name__}")
     return summits.to_arrays()
 
 

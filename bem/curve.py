@@ -59,6 +59,7 @@ from typing import Any, Iterable, Mapping
 import numpy as np
 
 from bem.checks import InputTypeError
+from bem.checks import integer as _integer
 from bem.checks import frozen_array as _frozen_array
 from bem.checks import positive as _positive
 
@@ -167,7 +168,11 @@ class ContactCurve:
         """The same curve with every field, and the leading axis of every per-point extra,
         reshaped to ``shape`` (same number of points)."""
         count = len(self)
-        shape = tuple(shape)
+        if isinstance(shape, (str, bytes)) or not isinstance(shape, (tuple, list)):
+            raise InputTypeError(f"shape must be a tuple of integers >= 0, got "
+                                 f"{type(shape).__name__} {shape!r}")
+        shape = tuple(_integer(f"shape[{index}]", value, minimum=0)
+                      for index, value in enumerate(shape))
         if int(np.prod(shape, dtype=int)) != count:
             raise ValueError(f"shape {shape} does not hold the curve's {count} points")
         state = {f.name: getattr(self, f.name) for f in fields(self)}

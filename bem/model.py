@@ -52,12 +52,15 @@ from typing import Any, Iterable, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
+from bem import checks
 from bem.checks import points as check_points  # loads and separations of every model
-from bem.checks import positive as _positive
 from bem.curve import CURVE_QUANTITIES, ContactCurve, check_quantities
 
 __all__ = ["ContactModel", "BoundaryElementModel", "check_points", "check_quantities",
            "empty_curve"]
+
+#: Keywords of :func:`bem.contact_curve` that each call of a model sets itself.
+_PER_CALL = frozenset({"heights", "spacing", "loads", "separations", "quantities"})
 
 #: The quantities a model fills whether asked or not.
 ALWAYS_FILLED = ("separation", "load", "area", "mean_pressure")
@@ -108,7 +111,9 @@ class BoundaryElementModel:
         Grid step h [length].
     **options
         Passed unchanged to :func:`bem.contact_curve` on every call (``e_star``, ``periodic``,
-        ``tol``, ``max_iter``, ...), so new options of the solver need no change here.
+        ``tol``, ``max_iter``, ...), so new options of the solver need no change here. Names
+        that are not its keywords, and bad heights, spacing, ``e_star``, ``tol``, ``max_iter`` or
+        ``periodic``, are refused here rather than at the first solve.
 
     Each call solves its points as one warm-started path (:func:`bem.contact_curve`).
     Extras: ``converged``, ``iterations``, ``residual``, ``mean_gap`` and whatever else
@@ -118,12 +123,23 @@ class BoundaryElementModel:
     name = "bem"
 
     def __init__(self, heights: ArrayLike, spacing: float, **options: Any) -> None:
-        heights = np.array(heights, dtype=float, copy=True)
-        if heights.ndim != 2:
-            raise ValueError(f"heights must be a 2-D array, got {heights.ndim} dimension(s)")
+        import inspect
+
+        from bem.path import contact_curve
+        from bem.solver import MINIMUM_GRID
+
+        keywords = inspect.signature(contact_curve).parameters
+        unknown = sorted(set(options) - set(keywords) | set(options) & _PER_CALL)
+        if unknown:
+            raise TypeError(f"options must be keywords of bem.contact_curve other than "
+                            f"{sorted(_PER_CALL)}, got {unknown}")
+        given = {name: options.get(name, keywords[name].default)
+                 for name in ("e_star", "tol", "max_iter", "periodic")}
+        heights, spacing, *_ = checks.contact_problem(heights, spacing, **given,
+                                                      minimum_grid=MINIMUM_GRID)
         heights.setflags(write=False)
         self.heights = heights
-        self.spacing = _positive("spacing", spacing)
+        self.spacing = spacing
         self.options = dict(options)
 
     def __repr__(self) -> str:

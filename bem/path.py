@@ -198,6 +198,7 @@ def contact_curve(
     area_estimator = checks.choice("area_estimator", area_estimator, AREA_ESTIMATORS)
     error_estimate = checks.flag("error_estimate", error_estimate)
     preconditioned = checks.flag("preconditioned", preconditioned)
+    callback = checks.optional_callable("callback", callback)
     if error_estimate and (min(z.shape) < 8 or z.shape[0] % 2 or z.shape[1] % 2):
         raise ValueError(f"error_estimate needs an even grid, at least 8 x 8 (the half grid "
                          f"covers the same window), got {z.shape}")

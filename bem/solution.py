@@ -3,10 +3,11 @@ displacements, gaps and the scalar results, all arrays read-only."""
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
+
+from bem import checks
 
 __all__ = ["ContactSolution"]
 
@@ -62,7 +63,15 @@ class ContactSolution:
         Composite modulus E* [pressure].
     pixel_area : float
         h^2 times the number of contact pixels [length^2] (what most codes report; its error
-        is of the order of the perimeter times h, see :mod:`bem.area`).
+        is of the order of the perimeter times h, see :mod:`bem.area`). Default: that count
+        times ``nominal_area / contact.size``.
+
+    Raises
+    ------
+    ValueError
+        A field of the wrong type or out of its range (negative loads or areas, NaN or inf
+        in the fields, maps of different shapes); a :class:`TypeError` for strings, None or
+        objects where numbers are due. The message names the field.
     """
 
     pressure: np.ndarray
@@ -81,7 +90,35 @@ class ContactSolution:
     stiffness: float | None = None
     nominal_area: float = 1.0
     e_star: float = 1.0
-    pixel_area: float = math.nan
+    pixel_area: float | None = None
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        checks.record_arrays(self, ("pressure", "displacement", "gap"), ndim=2)
+        contact = checks.boolean_map("contact", self.contact)
+        if contact.shape != self.pressure.shape:
+            raise ValueError(f"contact must have the shape of pressure, {self.pressure.shape}, "
+                             f"got {contact.shape}")
+        set_(self, "contact", contact if not contact.flags.writeable
+             else checks.frozen_array(contact, dtype=bool))
+        for name in ("load", "mean_pressure", "area"):
+            set_(self, name, checks.non_negative(name, getattr(self, name)))
+        for name in ("separation", "mean_gap"):
+            set_(self, name, checks.real_number(name, getattr(self, name)))
+        set_(self, "converged", checks.flag("converged", self.converged))
+        set_(self, "iterations", checks.integer("iterations", self.iterations, minimum=0))
+        set_(self, "residual", checks.non_negative_or_infinite("residual", self.residual))
+        if not isinstance(self.message, str):
+            raise checks.InputTypeError(f"message must be a str, got "
+                                        f"{type(self.message).__name__}")
+        if self.stiffness is not None:
+            set_(self, "stiffness", checks.non_negative_or_infinite("stiffness", self.stiffness))
+        for name in ("nominal_area", "e_star"):
+            set_(self, name, checks.positive(name, getattr(self, name)))
+        if self.pixel_area is None:
+            set_(self, "pixel_area", self.nominal_area * np.count_nonzero(contact) / contact.size)
+        else:
+            set_(self, "pixel_area", checks.non_negative("pixel_area", self.pixel_area))
 
     @property
     def conductance(self) -> float | None:

@@ -121,11 +121,9 @@ def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:
 def _check_initial(initial, shape) -> np.ndarray | None:
     if initial is None:
         return None
-    initial = np.array(initial, dtype=float, copy=True)
+    initial = np.array(checks.real_array("initial", initial), dtype=float, copy=True)
     if initial.shape != tuple(shape):
         raise ValueError(f"initial must have the heights' shape {tuple(shape)}, got {initial.shape}")
-    if not np.all(np.isfinite(initial)):
-        raise ValueError("initial must be finite (no NaN or inf)")
     np.maximum(initial, 0.0, out=initial)
     return initial
 

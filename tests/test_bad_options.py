@@ -191,3 +191,72 @@ def _results():
     task = SimpleNamespace(seed=0, surface=SimpleNamespace(L=1.0, sweep_name="D"),
                            quantities=("area",), sweep_value=2.3)
     return [SimpleNamespace(task=task, curves={"bem": curve, "gw": curve}, sigma=0.01)]
+
+
+# ---------------------------------------------------------------------------------------------
+# found when the campaign grew to every exported name
+
+def test_a_flat_surface_has_no_statistics_and_says_why():
+    with pytest.raises(ValueError, match=r"heights is flat.*rms height, gradient and curvature "
+                                         r"are 0 and Nayak's parameter .* is undefined"):
+        validation.surface_statistics(np.full((8, 8), 0.3), 1 / 8)
+    checkerboard = np.indices((8, 8)).sum(axis=0) % 2 * 1.0     # central differences all 0
+    assert validation.surface_statistics(checkerboard, 1 / 8, periodic=True).nayak == math.inf
+
+
+def test_objects_and_callbacks_of_the_wrong_kind_are_type_errors_naming_them():
+    curve = asperity.GreenwoodWilliamson(50.0, 0.05, 0.01).at_load([1e-3])
+    for call, match in [
+            (lambda: bem.contact_curve(_z(), 1 / 8, loads=[1e-4], callback="print"),
+             "callback must be a callable or None"),
+            (lambda: asperity.dimensionless(None, 0.01, 1.0), "curve must be a bem.ContactCurve"),
+            (lambda: asperity.summits_to_arrays([1.0]), "summits must be an asperity.Summits"),
+            (lambda: asperity.Summits.from_arrays(None), "arrays must be a mapping"),
+            (lambda: asperity.PointForceInteraction.from_summits("abc"),
+             "summits must be an asperity.Summits"),
+            (lambda: validation.curve_errors([1.0], curve, 0.01, ("area",)),
+             "model must be a bem.ContactCurve"),
+            (lambda: validation.run_scenes((), progress=False, stream="stderr"),
+             "stream must be a text stream"),
+            (lambda: curve.reshaped("1"), "shape must be a tuple of integers")]:
+        with pytest.raises(TypeError, match=match):
+            call()
+
+
+def test_result_records_check_their_fields():
+    solution = bem.solve_contact(_z(), 1 / 8, load=1e-3, tol=1e-6)
+    fields = {name: getattr(solution, name) for name in solution.__dataclass_fields__}
+    rebuilt = bem.ContactSolution(**{**fields, "pixel_area": None})
+    assert rebuilt.pixel_area == pytest.approx(solution.pixel_area, rel=1e-12)
+    with pytest.raises(ValueError, match="gap must be finite"):
+        bem.ContactSolution(**{**fields, "gap": np.full(_z().shape, np.nan)})
+    with pytest.raises(TypeError, match="load must be a finite real number"):
+        bem.ContactSolution(**{**fields, "load": "1"})
+    with pytest.raises(TypeError, match="separation must be real numbers"):
+        asperity.DimensionlessCurve(separation=["a"], load=[1.0], area=[1.0])
+    with pytest.raises(TypeError, match="rms_height must be a finite real number"):
+        validation.SurfaceStatistics(None, 0.1, 1.0, 1.0, 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="unit must be one of"):
+        validation.Topography(_z(), 1 / 8, (1.0, 1.0), "inch", "memory")
+
+
+def test_options_are_checked_when_given_not_at_the_first_use():
+    with pytest.raises(TypeError, match=r"options must be keywords of bem.contact_curve.*'tolerance'"):
+        bem.BoundaryElementModel(_z(), 1 / 8, tolerance=1e-6)
+    with pytest.raises(TypeError, match="max_iter must be an integer"):
+        bem.BoundaryElementModel(_z(), 1 / 8, max_iter="50")
+    with pytest.raises(ValueError, match="heights must be finite"):
+        bem.BoundaryElementModel(np.full((8, 8), np.nan), 1 / 8)
+    with pytest.raises(ValueError, match=r"confidence must be a finite real number >= 0.5"):
+        validation.compare_realizations(_results() * 3, confidence=1e-300)
+    with pytest.raises(ValueError, match=r"max \|load\| = .* is outside the supported range"):
+        asperity.DiscreteAsperityModel(_summits()).at_load([1e301])
+    with pytest.raises(ValueError, match=r"max \|separation\| = .* is outside the supported"):
+        asperity.DiscreteAsperityModel(_summits()).at_separation([-1e205])
+
+
+def test_a_validity_range_over_no_loads_is_an_error_not_nan_bounds():
+    with pytest.raises(ValueError, match="loads must have at least 1 entries, got 0"):
+        validation.validity_range([], [], 0.1)
+    nowhere = validation.validity_range([1.0, 2.0], [1.0, 1.0], 0.1)
+    assert not nowhere.holds_anywhere and nowhere.describe() == "nowhere"

@@ -161,9 +161,9 @@ def test_bad_arguments_are_named(bad):
                                         (float("nan"), ValueError), ("0.95", TypeError),
                                         (None, TypeError)])
 def test_a_comparison_names_a_bad_confidence(bad, error):
-    from validation.campaigns._bad_input_table import _realizations
+    from validation.campaigns._bad_input_fixtures import realizations
     from validation.judge.compare import compare_realizations
 
-    assert compare_realizations(_realizations(), confidence=0.99).confidence == 0.99
+    assert compare_realizations(realizations(), confidence=0.99).confidence == 0.99
     with pytest.raises(error, match="confidence"):
-        compare_realizations(_realizations(), confidence=bad)
+        compare_realizations(realizations(), confidence=bad)

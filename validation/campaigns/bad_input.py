@@ -1,12 +1,14 @@
 """Bad-input campaign: every public entry point against strings (numeric ones too), bytes,
-None, NaN, +-inf, 1e+-300, complex numbers, arrays where a number or a name is expected,
-fractional counts, wrong-type objects, arrays of objects, empty and mis-shaped arrays, and
-read-only arrays.
+None, NaN, +-inf, 1e+-300, complex numbers, arrays where a number, a name, an object or a
+callback is expected, fractional counts, wrong-type objects, arrays of objects, arrays with one
+string or None entry, empty, all-zero, constant (flat) and mis-shaped arrays, and read-only
+arrays.
 
 ``python benchmarks/bad_input_campaign.py`` prints the count of each outcome class; the test
 catalogue ``tests/test_bad_input.py`` draws from the same table with hypothesis. A new public
 entry point is covered by adding one :class:`~validation.campaigns._bad_input_table.EntryPoint`
-row to :func:`~validation.campaigns._bad_input_table.table`.
+row to the table (:mod:`validation.campaigns._bad_input_table`); the test catalogue fails when an
+exported name has none.
 
 Outcome classes (``GOOD`` are acceptable):
 
@@ -51,7 +53,7 @@ BAD_SCALARS: tuple[tuple[Any, str, bool], ...] = (
     (2.5, "2.5 for an integer", False),
 )
 #: Scalar domains where no value of BAD_SCALARS is valid (None only when "optional").
-NAMED_DOMAINS = ("choice", "object")
+NAMED_DOMAINS = ("choice", "object", "callable")
 
 
 def _invalid_in_domain(value: Any, domain: str) -> bool:
@@ -59,6 +61,8 @@ def _invalid_in_domain(value: Any, domain: str) -> bool:
         return False
     if domain.startswith(NAMED_DOMAINS):
         return True
+    if domain.startswith(("text", "path")):
+        return not isinstance(value, str)
     if not isinstance(value, float):
         return False
     if domain.startswith("positive"):
@@ -80,11 +84,18 @@ def bad_arrays(valid: np.ndarray) -> tuple[tuple[Any, str, bool | None], ...]:
     with_inf.flat[-1] = math.inf
     read_only = valid.copy()
     read_only.setflags(write=False)
+    string_entry = valid.astype(object)
+    string_entry.flat[0] = "1"
+    none_entry = valid.astype(object)
+    none_entry.flat[-1] = None
+    constant = np.full(valid.shape, valid.flat[0] if valid.size and valid.flat[0] else 1.0)
     cases = [
         (None, "None", True), ("abc", "string", True), (with_nan, "NaN entry", True),
         (with_inf, "inf entry", True), (valid.astype(complex) + 1j, "complex", True),
         (valid.astype(str), "strings", True), (np.zeros(valid.shape, dtype=bool), "bools", True),
-        (valid.astype(object), "objects", True),
+        (valid.astype(object), "objects", True), (string_entry.tolist(), "string entry", True),
+        (none_entry.tolist(), "None entry", True),
+        (np.zeros(valid.shape), "zeros", False), (constant, "constant", False),
         (valid * 1e300, "x 1e300", False), (valid * 1e-300, "x 1e-300", False),
         (np.zeros((0,) * valid.ndim), "empty", False), (valid.ravel()[:3] if valid.ndim > 1
                                                         else valid[:, None], "wrong ndim", False),
@@ -171,11 +182,14 @@ def cases(entry: EntryPoint):
         for value, label, never_valid in BAD_SCALARS:
             if label.endswith("for an integer") and not domain.startswith("integer"):
                 continue
-            invalid = _invalid_in_domain(value, domain) if value is None else (
-                never_valid or _invalid_in_domain(value, domain))
+            if isinstance(value, str) and domain.startswith("path"):
+                continue     # a valid path: writing there is no test of the checks
+            invalid = _invalid_in_domain(value, domain) if value is None or domain.startswith(
+                ("text", "path")) else (never_valid or _invalid_in_domain(value, domain))
             yield parameter, value, label, invalid
         # a numpy scalar of the valid value must be accepted
-        if not domain.startswith(("integer",) + NAMED_DOMAINS) and parameter in valid:
+        if (not domain.startswith(("integer", "text", "path") + NAMED_DOMAINS)
+                and isinstance(valid.get(parameter), (int, float))):
             yield parameter, np.float64(valid[parameter]), "numpy float", None
     for parameter, domain in entry.arrays.items():
         for value, label, invalid in bad_arrays(valid[parameter]):

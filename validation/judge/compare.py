@@ -305,8 +305,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.common.models.reference_fields`).
     confidence : float
-        Confidence of the intervals and verdicts, on the mean and per surface, in (0, 1) (the
-        sequential plan's, :mod:`validation.run.sequential`; default 95 %).
+        Confidence of the intervals and verdicts, on the mean and per surface, in [0.5, 1)
+        (the sequential plan's, :mod:`validation.run.sequential`; default 95 %): below one
+        half an interval states nothing, and near 0 its per-surface bounds are infinite.
 
     Notes
     -----
@@ -323,8 +324,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if reference_fields is not None and not isinstance(reference_fields, dict):
         raise checks.InputTypeError(f"reference_fields must be a dict (model -> {{quantity: "
                                     f"field}}) or None, got {type(reference_fields).__name__}")
-    confidence = checks.real_number("confidence", confidence, minimum=0.0, exclusive=True,
-                                    maximum=1.0, exclusive_maximum=True)
+    confidence = checks.real_number("confidence", confidence, minimum=0.5, maximum=1.0,
+                                    exclusive_maximum=True)
     if not results:
         raise ValueError("results holds no realizations to compare")
     first = results[0]

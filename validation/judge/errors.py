@@ -106,8 +106,13 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
         error, where only one of the two is sealed for the leakage, where either curve's solver did
         not converge, or where the model did not reach the reference's load).
     """
+    for name, curve in (("model", model), ("reference", reference)):
+        if not isinstance(curve, ContactCurve):
+            raise checks.InputTypeError(f"{name} must be a bem.ContactCurve, got "
+                                        f"{type(curve).__name__}")
     sigma, quantities = checks.curve_error_arguments(
         sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES + LOG_QUANTITIES)
+    load_rtol = checks.non_negative("load_rtol", load_rtol)
     reached = reached_points(model, reference, load_rtol=load_rtol)
     fields = reference_fields or {}
     unconverged = ~(converged_points(model) & converged_points(reference) & reached)

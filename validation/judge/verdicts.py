@@ -287,11 +287,14 @@ def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
     """Longest contiguous run of points where the point estimate ``|errors| <= tolerance``.
 
     The range of a single error curve without its uncertainty (NaN counts as not holding);
-    reports use :func:`classify` and :func:`verdict_range` instead.
+    reports use :func:`classify` and :func:`verdict_range` instead. Where the model holds
+    nowhere, ``first`` is None and the bounds are NaN (``describe()`` says "nowhere"); the area
+    bounds are NaN without ``area_fraction``. No load points at all is a ValueError naming
+    ``loads``: a range over nothing states nothing.
     """
     errors = checks.real_array("errors", errors, finite=False)
     tolerance = checks.positive("tolerance", tolerance)
-    loads = checks.real_array("loads", loads, ndim=1)
+    loads = checks.real_array("loads", loads, ndim=1, min_size=1)
     if errors.shape != loads.shape:
         raise ValueError(f"loads and errors must be 1-D arrays of one length, got shapes "
                          f"{loads.shape} and {errors.shape}")

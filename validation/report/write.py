@@ -17,6 +17,7 @@ from functools import partial
 
 import numpy as np
 
+from bem import checks
 from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
@@ -302,6 +303,24 @@ def _theory_section(figures: _Figures, result: SceneResult) -> None:
                                "largest separation shift (d₁ − d)/σ"], rows)
 
 
+def _check_arguments(results, folder, seconds, mode, command, executor, cache_dir
+                     ) -> pathlib.Path:
+    """The checks of :func:`write_report`'s arguments (bem.checks rules); returns the folder."""
+    checks.instances("results", results, SceneResult)
+    for name, value in (("mode", mode), ("command", command)):
+        if not (isinstance(value, str) or value is None and name == "command"):
+            raise checks.InputTypeError(f"{name} must be a str{' or None' * (name == 'command')}"
+                                        f", got {type(value).__name__}")
+    if seconds is not None:
+        checks.non_negative("seconds", seconds)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor or None, "
+                                    f"got {type(executor).__name__}")
+    if cache_dir is not None:
+        checks.file_path("cache_dir", cache_dir)
+    return checks.file_path("folder", folder)
+
+
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
                  executor=None, cache_dir: str | pathlib.Path | None = None) -> pathlib.Path:
@@ -317,7 +336,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     """
     from validation.report.tables import write_tables
 
-    folder = pathlib.Path(folder)
+    folder = _check_arguments(results, folder, seconds, mode, command, executor, cache_dir)
     for path in previous_report(folder):
         path.unlink()
     folder.mkdir(parents=True, exist_ok=True)

@@ -112,7 +112,7 @@ def _merged_tasks(tasks: Iterable[RealizationTask]) -> dict[RealizationTask, Rea
     return run_for
 
 
-def _check_where(executor, cache_dir, progress) -> None:
+def _check_where(executor, cache_dir, progress, stream=None) -> None:
     """Check where and how the run computes (the keywords of :func:`run_planned`)."""
     checks.flag("progress", progress)
     if cache_dir is not None:
@@ -120,6 +120,9 @@ def _check_where(executor, cache_dir, progress) -> None:
     if executor is not None and not callable(getattr(executor, "submit", None)):
         raise checks.InputTypeError(f"executor must be a concurrent.futures.Executor (with a "
                                     f"submit method) or None, got {type(executor).__name__}")
+    if stream is not None and not callable(getattr(stream, "write", None)):
+        raise checks.InputTypeError(f"stream must be a text stream (with a write method) or "
+                                    f"None, got {type(stream).__name__}")
 
 
 def _bar(count: int, progress: bool, stream) -> Progress | None:
@@ -141,12 +144,12 @@ def run_planned(scenes: Iterable[Scene], *, executor: Executor | None = None,
     cache_dir : str, optional
         Cache folder; ``None`` disables the cache.
     progress : bool
-        Draw a progress bar on ``stream`` (stderr by default).
+        Draw a progress bar on ``stream`` (a text stream; stderr by default).
     """
     from validation.run.theory import theory_curves
 
     scenes = list(checks.instances("scenes", scenes, Scene))
-    _check_where(executor, cache_dir, progress)
+    _check_where(executor, cache_dir, progress, stream)
     names = [scene.name for scene in scenes]
     duplicates = sorted({name for name in names if names.count(name) > 1})
     if duplicates:
@@ -182,7 +185,7 @@ def more_realizations(result: SceneResult, count: int, *, executor: Executor | N
     if not isinstance(result, SceneResult):
         raise checks.InputTypeError(f"result must be a SceneResult, got {type(result).__name__}")
     count = checks.integer("count", count, minimum=1)
-    _check_where(executor, cache_dir, progress)
+    _check_where(executor, cache_dir, progress, stream)
     known = {r.task for value in result.realizations.values() for r in value}
     tasks = [t for t in plan_scene(replace(result.scene, realizations=count), cache_dir=cache_dir)
              if t not in known]
@@ -196,5 +199,5 @@ def solve_refinements(jobs: list[RefineJob], *, executor: Executor | None = None
     """The finer reference's jobs solved over ``executor`` with a progress bar
     (:func:`validation.run.refine.solve_jobs`; keywords as in :func:`run_planned`)."""
     jobs = list(checks.instances("jobs", jobs, RefineJob))
-    _check_where(executor, cache_dir, progress)
+    _check_where(executor, cache_dir, progress, stream)
     return solve_jobs(jobs, executor, cache_dir, _bar(len(jobs), progress, stream))

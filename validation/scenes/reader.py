@@ -226,6 +226,9 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     if not isinstance(data, dict):
         raise InputTypeError(f"data must be a dict (a parsed TOML scene), got "
                              f"{type(data).__name__}")
+    if name is not None and not isinstance(name, str):
+        raise InputTypeError(f"name must be a str or None, got {type(name).__name__}")
+    folder = None if folder is None else file_path("folder", folder)
     top = _Reader(data, "", source)
     base = defaults(Scene)
     scene_name = top.get("name", name or "scene", "string")
@@ -243,7 +246,7 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     else:
         if "theory" in data:
             top.fail("theory", "belongs only in a scene with kind = \"theory\"")
-        fields.update(_surface_parts(top, base, None if folder is None else pathlib.Path(folder)))
+        fields.update(_surface_parts(top, base, folder))
     top.finish()
     with _keys(source, mapping=_SCENE_KEYS):
         scene = Scene(**fields)

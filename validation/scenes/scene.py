@@ -203,10 +203,10 @@ class Scene:
     source: str = "<memory>"
 
     def __post_init__(self) -> None:
-        check.choice(self, "kind", KINDS)
-        for key in ("name", "title", "description", "source"):
+        for key in ("kind", "name", "title", "description", "source"):
             if not isinstance(getattr(self, key), str):
                 check.fail(self, key, f"must be a string, got {getattr(self, key)!r}")
+        check.choice(self, "kind", KINDS)
         check.integer(self, "realizations", 1)
         check.integer(self, "seed", 0)
         check.number(self, "e_star", above=0.0)
@@ -222,6 +222,8 @@ class Scene:
                      theory=TheorySpec)
         for key, kind in parts.items():
             value = getattr(self, key)
+            if value is None and key in ("loads", "bem", "quick"):   # their defaults, not None
+                check.fail(self, key, f"must be a {kind.__name__}, got None")
             if value is not None and not isinstance(value, kind):
                 check.fail(self, key, f"must be a {kind.__name__}, got {type(value).__name__}")
         if self.kind == "surface" and self.surface is None:

@@ -77,7 +77,7 @@ def radial_power_spectrum(heights: np.ndarray, spacing: float, *, bins: int = 32
     """
     bins = integer("bins", bins, minimum=1)
     q, spectrum = power_spectrum(heights, spacing)
-    q_low = 2.0 * np.pi / (max(heights.shape) * spacing)
+    q_low = 2.0 * np.pi / (max(q.shape) * spacing)     # q has the shape of the heights
     edges = np.geomspace(q_low * (1 - 1e-9), np.pi / spacing * (1 + 1e-9), bins + 1)
     index = np.digitize(q.ravel(), edges) - 1
     inside = (index >= 0) & (index < bins)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem import checks
 from bem.checks import choice, file_path, frozen_array, optional_integer, positive
 from validation.surfaces.resample import RESAMPLE, resample_square
 
@@ -55,6 +56,13 @@ class Topography:
         Length unit of heights, spacing and size (a key of :data:`LENGTH_UNITS`).
     source : str
         The file and the reader that read it.
+
+    Raises
+    ------
+    ValueError
+        Heights that are not a finite 2-D map, a spacing or size that is not > 0, an unknown
+        unit; a :class:`TypeError` for strings, None or objects where numbers are due. The
+        message names the field.
     """
 
     heights: np.ndarray
@@ -62,6 +70,20 @@ class Topography:
     physical_size: tuple[float, float]
     unit: str
     source: str
+
+    def __post_init__(self) -> None:
+        checks.record_arrays(self, ("heights",), ndim=2)
+        object.__setattr__(self, "spacing", positive("spacing", self.spacing))
+        size = self.physical_size
+        if (isinstance(size, (str, bytes)) or not isinstance(size, (tuple, list))
+                or len(size) != 2):
+            raise checks.InputTypeError(f"physical_size must be a pair (width, height) of "
+                                        f"lengths > 0, got {size!r}")
+        object.__setattr__(self, "physical_size", tuple(
+            positive(f"physical_size[{index}]", value) for index, value in enumerate(size)))
+        choice("unit", self.unit, LENGTH_UNITS)
+        if not isinstance(self.source, str):
+            raise checks.InputTypeError(f"source must be a str, got {type(self.source).__name__}")
 
 
 def _unit_factor(name: str, unit: str) -> float:

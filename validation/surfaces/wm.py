@@ -191,7 +191,8 @@ def wm_surface(
         heights *= wm_amplitude(G, D=D, L=L, gamma=gamma, M=M)
     else:
         unit = heights if slope_grid == n else _unit_wm(slope_grid, D, L, gamma, M, phases, side)
-        unit_slope = surface_statistics(unit, side / slope_grid).rms_gradient
+        flat = np.all(unit == unit.flat[0])
+        unit_slope = 0.0 if flat else surface_statistics(unit, side / slope_grid).rms_gradient
         if not unit_slope > 0.0:
             raise ValueError("the surface is flat on this grid; rms_slope cannot be reached")
         heights *= rms_slope / unit_slope
@@ -200,7 +201,9 @@ def wm_surface(
 
 @dataclass(frozen=True)
 class SurfaceStatistics:
-    """Statistics of a sampled height map (see :func:`surface_statistics`)."""
+    """Statistics of a sampled height map (see :func:`surface_statistics`): real numbers >= 0,
+    ``nayak`` possibly +inf; a :class:`ValueError` or :class:`TypeError` naming the field
+    otherwise."""
 
     rms_height: float
     rms_gradient: float
@@ -209,6 +212,11 @@ class SurfaceStatistics:
     m2: float
     m4: float
     nayak: float
+
+    def __post_init__(self) -> None:
+        for name in ("rms_height", "rms_gradient", "rms_curvature", "m0", "m2", "m4"):
+            object.__setattr__(self, name, checks.non_negative(name, getattr(self, name)))
+        object.__setattr__(self, "nayak", checks.non_negative_or_infinite("nayak", self.nayak))
 
 
 def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = False
@@ -227,12 +235,25 @@ def surface_statistics(heights: np.ndarray, spacing: float, *, periodic: bool = 
         * ``rms_curvature`` = sqrt(<((z_xx + z_yy)/2)^2>), the rms mean curvature [1/length];
         * Nayak's profile spectral moments, averaged over the x and y directions:
           ``m0 = <z^2>``, ``m2 = (<z_x^2> + <z_y^2>)/2``, ``m4 = (<z_xx^2> + <z_yy^2>)/2``;
-        * ``nayak`` = m0 m4 / m2^2 (bandwidth parameter alpha).
+        * ``nayak`` = m0 m4 / m2^2 (bandwidth parameter alpha); +inf where the differences
+          vanish but the heights do not (a checkerboard, whose central differences are 0).
+
+    Raises
+    ------
+    ValueError
+        A flat map (all heights equal): its rms height, gradient and curvature are 0, but
+        Nayak's parameter m0 m4 / m2^2 = 0/0 has no value, and no statistic of the roughness
+        exists; the message says so. Also heights that are not a finite 2-D map of at least
+        3 x 3 points, or a spacing that is not > 0 (a :class:`TypeError` for strings, None
+        or objects).
     """
     heights = checks.height_map("heights", heights)
     checks.supported_magnitude("max |heights|", float(np.max(np.abs(heights))))
     spacing = checks.supported_magnitude("spacing", checks.positive("spacing", spacing))
     periodic = checks.flag("periodic", periodic)
+    if np.all(heights == heights.flat[0]):
+        raise ValueError("heights is flat (all heights equal): its rms height, gradient and "
+                         "curvature are 0 and Nayak's parameter m0 m4 / m2^2 is undefined (0/0)")
 
     z = heights - heights.mean()
     z_x, z_y, z_xx, z_yy = height_derivatives(z, spacing, periodic=periodic)
