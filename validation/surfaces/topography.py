@@ -3,7 +3,8 @@
 :func:`read_topography` reads the file (:mod:`validation.surfaces.formats`: text matrices and
 ``.npy`` built in, every other format through SurfaceTopography, the optional extra), converts
 its units (:mod:`validation.surfaces.units`), puts it on square pixels, crops it, removes its
-plane and fills its missing points when asked.
+plane, fills its missing points when asked and cuts its short wavelengths when asked
+(:func:`validation.surfaces.cutoff.short_wavelength_cutoff`).
 """
 
 from __future__ import annotations
@@ -15,9 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from bem.checks import choice, file_path, frozen_array, optional_integer, positive
+from validation.surfaces.cutoff import check_cutoff, short_wavelength_cutoff
 from validation.surfaces.formats import load_map
 from validation.surfaces.resample import RESAMPLE, resample_square
-from validation.surfaces.units import LENGTH_UNITS, parse_length, unit_factor
+from validation.surfaces.units import LENGTH_UNITS, length_in, parse_length, unit_factor
 
 __all__ = ["LENGTH_UNITS", "MIN_SIDE", "Topography", "read_topography", "write_gwyddion_ascii"]
 
@@ -107,6 +109,7 @@ def read_topography(
     channel: int | None = None,
     reader: str = "auto",
     resample: str | None = None,
+    short_cutoff: float | str | None = None,
 ) -> Topography:
     """Read a measured height map into heights [height_unit] and a grid spacing.
 
@@ -155,6 +158,13 @@ def read_topography(
         in amplitude at pi/dy); coarsening removes the band above the new Nyquist pi/h, and
         the pixel mean damps but does not remove its folding back. Missing points are filled
         first (``fill``); square pixels are left as they are.
+    short_cutoff : float or str, optional
+        Remove every wavelength shorter than this from the returned map, last (after the
+        crop, the detrending and the filling): a number in ``height_unit`` or a string with
+        its unit (``"20 nm"``), at least two pixels and shorter than the map's shorter side.
+        A sharp circular low-pass of the map's mirror extension that keeps its plane
+        (:func:`validation.surfaces.cutoff.short_wavelength_cutoff`, which says what it does
+        to the spectrum and to the rms height and slope). Default: the map as measured.
 
     Returns
     -------
@@ -166,7 +176,8 @@ def read_topography(
     ValueError
         Line scans, maps of fewer than :data:`MIN_SIDE` pixels along a side, maps without a
         valid point, missing data without ``fill``, missing size or unit, pixels that are not
-        square (without ``resample``), unknown units or options, files that no reader reads (corrupted or truncated: the message names each
+        square (without ``resample``), unknown units or options, a ``short_cutoff`` out of
+        range, files that no reader reads (corrupted or truncated: the message names each
         reader tried and its reason).
     ImportError
         An instrument format without the ``[topography]`` extra installed.
@@ -185,6 +196,8 @@ def read_topography(
     if file_unit is not None:
         unit_factor("file_unit", file_unit)
     user_size = None if physical_size is None else _physical_size(physical_size)
+    cutoff = None if short_cutoff is None else length_in("short_cutoff", short_cutoff,
+                                                         height_unit)
 
     heights, size, unit, source = load_map(path, reader, channel)
     if size is not None and user_size is not None:
@@ -218,6 +231,10 @@ def read_topography(
                          f"the contact models need at least {MIN_SIDE} x {MIN_SIDE}")
     heights = _clean(heights, detrend, fill, path)
     heights *= file_factor / out_factor
+    if cutoff is not None:
+        heights = short_wavelength_cutoff(heights, spacing,
+                                          check_cutoff("short_cutoff", cutoff, spacing,
+                                                       heights.shape, height_unit))
     return Topography(heights=frozen_array(heights), spacing=spacing,
                       physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
                       unit=height_unit, source=f"{path} ({source})")
