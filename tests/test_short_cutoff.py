@@ -121,3 +121,86 @@ def test_read_topography_applies_the_cutoff_last_in_its_own_unit(tmp_path):
         read_topography(path, height_unit="nm", short_cutoff="3 nm")
     with pytest.raises(ValueError, match="short_cutoff"):
         read_topography(path, short_cutoff="20 furlong")
+
+
+# --- the scene key ---------------------------------------------------------------------------
+
+SCENE = """
+name = "cut"
+[surface]
+family = "file"
+path = "scan.txt"
+unit = "nm"
+{cutoff}
+[loads]
+min = 1e-3
+max = 1e-2
+count = 2
+[models]
+use = ["gw", "bem"]
+"""
+
+
+@pytest.fixture()
+def scan(tmp_path):
+    """A 64 x 64 scan of 2 nm pixels with roughness down to the pixel (white noise added)."""
+    heights = self_affine_surface(64, hurst=0.8, rms_height=1.0, seed=6)
+    heights += 0.3 * np.random.default_rng(6).standard_normal(heights.shape)
+    write_gwyddion_ascii(tmp_path / "scan.txt", heights * 1e-9, 2e-9)
+    return tmp_path
+
+
+def load(folder, cutoff=""):
+    from validation import load_scene
+
+    path = folder / "scene.toml"
+    path.write_text(SCENE.format(cutoff=cutoff), encoding="utf-8")
+    with pytest.warns(UserWarning, match="1 realization"):
+        return load_scene(path)
+
+
+def test_the_scene_key_filters_every_tile_and_enters_the_cache_key(scan):
+    from validation.run.cache import cache_key
+    from validation.surfaces.families import surface_heights, surface_identity
+
+    plain, cut = load(scan), load(scan, 'short_cutoff = "20 nm"')
+    assert cut.surface.short_cutoff == "20 nm" and cut.surface.short_cutoff_length == 20.0
+    assert plain.surface.short_cutoff is None and "short_cutoff" not in surface_identity(
+        plain.surface, 0)                       # the cache keys of scenes without it are kept
+    expected = short_wavelength_cutoff(read_topography(scan / "scan.txt", height_unit="nm")
+                                       .heights, 2.0, 20.0)
+    np.testing.assert_allclose(surface_heights(cut.surface, 0), expected - expected.mean(),
+                               atol=1e-9)
+    keys = {cache_key("bem", "v", surface=surface_identity(scene.surface, 0))
+            for scene in (plain, cut)}
+    assert len(keys) == 2
+    # the same cutoff written as a number in the scene's unit, or in another unit: one key
+    for same in ("short_cutoff = 20", 'short_cutoff = "0.02 um"', 'short_cutoff = "200 A"'):
+        again = load(scan, same)
+        assert surface_identity(again.surface, 0)["short_cutoff"] == pytest.approx(20.0)
+    assert surface_identity(load(scan, "short_cutoff = 16").surface, 0) != surface_identity(
+        cut.surface, 0)
+
+
+@pytest.mark.parametrize("value, detail", [
+    ('"3 nm"', r"'surface.short_cutoff'.*at least two pixels.*\[4, 128\) nm, got 3 nm"),
+    ("200", r"'surface.short_cutoff'.*shorter than the map's shorter side"),
+    ('"20 furlong"', r"'surface.short_cutoff' must be a length"),
+    ("true", r"'surface.short_cutoff' must be a length"),
+    ("[20, 30]", r"'surface.short_cutoff' must be a length"),
+])
+def test_a_bad_scene_cutoff_names_the_key(scan, value, detail):
+    from validation import SceneError, load_scene
+
+    path = scan / "scene.toml"
+    path.write_text(SCENE.format(cutoff=f"short_cutoff = {value}"), encoding="utf-8")
+    with pytest.raises(SceneError, match=detail):
+        load_scene(path)
+
+
+def test_the_report_names_the_cutoff(scan):
+    from validation.report.sections import surface_text
+
+    text = surface_text(load(scan, 'short_cutoff = "20 nm"'), 1)
+    assert "short-wavelength cutoff 20 nm" in text
+    assert "cutoff" not in surface_text(load(scan), 1)
