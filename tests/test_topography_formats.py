@@ -98,10 +98,14 @@ def test_without_the_extra_text_is_still_read_and_binary_says_how_to_install(tmp
 
 def test_small_empty_and_sizeless_maps_are_refused(tmp_path):
     path = write_gwyddion_ascii(tmp_path / "small.txt", noise(MIN_SIDE - 1, 64), 1e-9)
-    with pytest.raises(ValueError, match=r"a map of 31 x 31 points.*at least 32 x 32"):
+    with pytest.raises(ValueError, match=r"a map of 31 x 64 points.*at least 32 x 32"):
         read_topography(path)
     with pytest.raises(ValueError, match=r"a map of 31 x 64 points"):
         read_topography(path, square="keep")
+    np.save(tmp_path / "coarse.npy", noise(40, 40))      # dy = 1.5 dx: x coarsened to 27 pixels
+    with pytest.raises(ValueError, match=r"a map of 40 x 27 points"):
+        read_topography(tmp_path / "coarse.npy", file_unit="nm", physical_size=(40.0, 60.0),
+                        resample="coarser", square="keep")
     np.save(tmp_path / "empty.npy", np.full((32, 32), np.nan))
     with pytest.raises(ValueError, match="no valid height"):
         read_topography(tmp_path / "empty.npy", file_unit="nm", physical_size=1.0, fill="mean")

@@ -168,6 +168,8 @@ def _read_surfacetopography(path: pathlib.Path, channel: int | None) -> Loaded:
     """
     reader = _open_surfacetopography(path)
     try:
+        if not reader.channels:                         # a header cut before its first channel
+            raise _Unreadable(f"its {reader.format()} reader finds no channel in it")
         if channel is not None and not 0 <= channel < len(reader.channels):
             raise ValueError(f"channel must index one of the {len(reader.channels)} channels "
                              f"of {path}, got {channel!r}")

@@ -218,7 +218,10 @@ def read_topography(
                       for v, u in size))
     rows, columns = heights.shape
     spacing, spacing_y = width / columns, height / rows
-    if not math.isclose(spacing, spacing_y, rel_tol=1e-6):
+    square_pixels = math.isclose(spacing, spacing_y, rel_tol=1e-6)
+    if min(rows, columns) < (MIN_SIDE if square_pixels or resample is None else 4):
+        _too_small(path, heights.shape)     # (a cubic spline resamples 4 points or more)
+    if not square_pixels:
         if resample is None:
             raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = "
                              f"{spacing_y:g} {height_unit}); pass resample='finer' or "
@@ -227,8 +230,7 @@ def read_topography(
                                            spacing_y, resample)
     heights = _crop(heights) if square == "crop" else heights
     if min(heights.shape) < MIN_SIDE:
-        raise ValueError(f"{path}: a map of {heights.shape[0]} x {heights.shape[1]} points; "
-                         f"the contact models need at least {MIN_SIDE} x {MIN_SIDE}")
+        _too_small(path, heights.shape)
     heights = _clean(heights, detrend, fill, path)
     heights *= file_factor / out_factor
     if cutoff is not None:
@@ -238,6 +240,11 @@ def read_topography(
     return Topography(heights=frozen_array(heights), spacing=spacing,
                       physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
                       unit=height_unit, source=f"{path} ({source})")
+
+
+def _too_small(path: pathlib.Path, shape: tuple[int, int]) -> None:
+    raise ValueError(f"{path}: a map of {shape[0]} x {shape[1]} points; the contact models need "
+                     f"at least {MIN_SIDE} x {MIN_SIDE}")
 
 
 def _crop(heights: np.ndarray) -> np.ndarray:
