@@ -127,3 +127,12 @@ def test_masked_points_of_an_instrument_file_are_filled_as_asked(st, tmp_path):
     np.testing.assert_allclose(filled.heights, heights.data, atol=1e-12)
     mean = read_topography(path, fill="mean", detrend=None, height_unit="nm")
     assert mean.heights[11, 6] == pytest.approx(heights.mean())
+
+
+def test_gaps_whose_valid_border_spans_no_triangle_take_the_nearest_value(tmp_path):
+    heights = np.full((32, 32), np.nan)
+    heights[0] = np.arange(32.0)                    # the only valid row: collinear points
+    np.save(tmp_path / "row.npy", heights)
+    top = read_topography(tmp_path / "row.npy", file_unit="m", physical_size=32.0,
+                          fill="interpolate", detrend=None)
+    np.testing.assert_array_equal(top.heights, np.broadcast_to(np.arange(32.0), (32, 32)))

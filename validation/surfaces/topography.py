@@ -77,18 +77,22 @@ def _fill(heights: np.ndarray, valid: np.ndarray, fill: str) -> np.ndarray:
     """Missing points filled with the mean of the valid ones, or interpolated: piecewise linear
     on a Delaunay triangulation of the valid points next to a missing one (within two pixels:
     the rest of the map cannot change a gap's values, and a 500^2 map with a few holes is
-    triangulated in milliseconds, not a minute), nearest valid value outside their hull (the
-    nearest valid point of a missing one always borders a missing point)."""
+    triangulated in milliseconds, not a minute), nearest valid value outside their hull or
+    when they span no triangle (the nearest valid point of a missing one always borders a
+    missing point)."""
     if fill == "mean":
         return np.where(valid, heights, heights[valid].mean())
     from scipy.interpolate import griddata
     from scipy.ndimage import binary_dilation
+    from scipy.spatial import QhullError
 
     border = binary_dilation(~valid, structure=np.ones((3, 3), dtype=bool), iterations=2) & valid
     points = np.argwhere(border)
     missing = np.argwhere(~valid)
-    values = (griddata(points, heights[border], missing, method="linear") if len(points) > 2
-              else np.full(len(missing), np.nan))
+    try:
+        values = griddata(points, heights[border], missing, method="linear")
+    except QhullError:          # fewer than 3 valid points, or all of them on one line
+        values = np.full(len(missing), np.nan)
     outside = ~np.isfinite(values)
     if outside.any():
         values[outside] = griddata(points, heights[border], missing[outside], method="nearest")
