@@ -130,20 +130,20 @@ def test_square_pixels_are_left_alone_and_missing_points_filled_first(tmp_path):
     heights = np.random.default_rng(1).standard_normal((8, 8))
     same, h = resample_square(heights, 0.5, 0.5, "coarser")
     np.testing.assert_array_equal(same, heights) and h == 0.5
-    heights = np.random.default_rng(2).standard_normal((10, 20))
+    heights = np.random.default_rng(2).standard_normal((16, 40))
     heights[4, 7] = np.nan
     np.save(tmp_path / "gap.npy", heights)
-    options = dict(file_unit="um", physical_size=(20.0, 25.0), resample="finer")
+    options = dict(file_unit="um", physical_size=(40.0, 40.0), resample="finer")
     with pytest.raises(ValueError, match="missing"):
         read_topography(tmp_path / "gap.npy", **options)
     top = read_topography(tmp_path / "gap.npy", fill="interpolate", square="keep", **options)
-    assert top.heights.shape == (25, 20) and np.isfinite(top.heights).all()
+    assert top.heights.shape == (40, 40) and np.isfinite(top.heights).all()
 
 
 def test_x3p_with_pixels_longer_in_y(tmp_path):
     st = pytest.importorskip("SurfaceTopography")
-    heights = surface(centres(ROWS, DY, 100.0)[:, None], centres(16, DX, 16.0)[None, :])
-    instrument = st.Topography(heights.T.copy(), (16.0, 100.0), unit="µm")    # [x, y]
+    heights = surface(centres(ROWS, DY, 100.0)[:, None], centres(32, DX, 32.0)[None, :])
+    instrument = st.Topography(heights.T.copy(), (32.0, 100.0), unit="µm")    # [x, y]
     if not hasattr(instrument, "to_x3p"):
         pytest.skip("this SurfaceTopography version has no x3p writer")
     instrument.to_x3p(str(tmp_path / "scan.x3p"))
@@ -151,8 +151,8 @@ def test_x3p_with_pixels_longer_in_y(tmp_path):
         read_topography(tmp_path / "scan.x3p")
     top = read_topography(tmp_path / "scan.x3p", resample="finer", square="keep", detrend=None,
                           height_unit="um")
-    assert top.heights.shape == (100, 16) and top.spacing == pytest.approx(1.0)
-    assert top.physical_size == pytest.approx((16.0, 100.0))
+    assert top.heights.shape == (100, 32) and top.spacing == pytest.approx(1.0)
+    assert top.physical_size == pytest.approx((32.0, 100.0))
 
 
 def test_file_scene_family_takes_the_resample_key(anisotropic):

@@ -27,12 +27,12 @@ def plane(rows, columns, a=0.3, b=-0.02, c=0.05):
 
 
 def test_gwyddion_ascii_units_spacing_and_plane(tmp_path):
-    heights = rough(16, 16) + plane(16, 16)          # numbers in µm
+    heights = rough(32, 32) + plane(32, 32)          # numbers in µm
     path = write_gwyddion_ascii(tmp_path / "map.txt", heights, 0.25, unit="µm")
     top = read_topography(path)
     assert top.unit == "m" and top.spacing == pytest.approx(0.25e-6)
-    assert top.physical_size == pytest.approx((4e-6, 4e-6))
-    residual = heights - plane(16, 16)
+    assert top.physical_size == pytest.approx((8e-6, 8e-6))
+    residual = heights - plane(32, 32)
     y, x = np.indices(residual.shape, dtype=float)
     basis = np.stack((np.ones(x.size), x.ravel(), y.ravel()), axis=1)
     fitted = basis @ np.linalg.lstsq(basis, residual.ravel(), rcond=None)[0]
@@ -45,59 +45,64 @@ def test_gwyddion_ascii_units_spacing_and_plane(tmp_path):
 
 def test_gwyddion_header_with_si_values_and_micrometre_size(tmp_path):
     """Gwyddion's own export: Width in µm, values in m, tab separated."""
-    text = ("# Channel: Topography\n# Width: 3.000 µm\n# Height: 2.000 µm\n# Value units: m\n"
-            "1e-9\t2e-9\t3e-9\n4e-9\t5e-9\t6e-9\n")
+    values = np.arange(32 * 48).reshape(32, 48) * 1e-9              # m
+    text = ("# Channel: Topography\n# Width: 48.000 µm\n# Height: 32.000 µm\n# Value units: m\n"
+            + "".join("\t".join(f"{v:g}" for v in row) + "\n" for row in values))
     path = tmp_path / "gwy.txt"
     path.write_text(text, encoding="utf-8")
     top = read_topography(path, detrend=None, square="keep", height_unit="um")
-    assert top.heights.shape == (2, 3) and top.spacing == pytest.approx(1.0)
-    np.testing.assert_allclose(top.heights, [[1e-3, 2e-3, 3e-3], [4e-3, 5e-3, 6e-3]])
+    assert top.heights.shape == (32, 48) and top.spacing == pytest.approx(1.0)
+    np.testing.assert_allclose(top.heights, values * 1e6)
 
 
 def test_csv_with_comment_header_needs_unit_and_size(tmp_path):
-    heights = rough(6, 6)
+    heights = rough(32, 32)
     path = tmp_path / "map.csv"
     np.savetxt(path, heights, delimiter=",", header="exported by hand\nanother line")
     with pytest.raises(ValueError, match="file_unit"):
         read_topography(path, physical_size=6.0)
     with pytest.raises(ValueError, match="physical_size"):
         read_topography(path, file_unit="nm")
-    top = read_topography(path, file_unit="nm", physical_size="3 um", detrend="mean",
+    top = read_topography(path, file_unit="nm", physical_size="16 um", detrend="mean",
                           height_unit="um")
     assert top.spacing == pytest.approx(0.5)
     np.testing.assert_allclose(top.heights, (heights - heights.mean()) * 1e-3, atol=1e-15)
-    same = read_topography(path, file_unit="nm", physical_size=3e-6, detrend="mean")
+    same = read_topography(path, file_unit="nm", physical_size=16e-6, detrend="mean")
     np.testing.assert_allclose(same.heights, top.heights * 1e-6, atol=1e-20)
 
 
 def test_decimal_comma_and_comma_space_separated(tmp_path):
-    (tmp_path / "de.txt").write_text("# Width: 2,000 mm\n# Height: 2 mm\n# Value units: nm\n"
-                                     "1,5\t2,5\n3,5\t-4,5e1\n", encoding="utf-8")
+    values = np.tile([1.5, 2.5, 3.5, -45.0], (32, 8))                 # 32 x 32, nm
+    rows = ["\t".join(f"{v:g}".replace(".", ",") for v in row) for row in values]
+    rows[1] = rows[1].replace("-45", "-4,5e1")
+    (tmp_path / "de.txt").write_text("# Width: 32,000 mm\n# Height: 32 mm\n# Value units: nm\n"
+                                     + "\n".join(rows) + "\n", encoding="utf-8")
     top = read_topography(tmp_path / "de.txt", detrend=None, square="keep", height_unit="nm")
-    np.testing.assert_allclose(top.heights, [[1.5, 2.5], [3.5, -45.0]])
+    np.testing.assert_allclose(top.heights, values)
     assert top.spacing == pytest.approx(1e6)
-    (tmp_path / "en.csv").write_text("1.5, 2.5\n3.5, -45\n", encoding="utf-8")
+    (tmp_path / "en.csv").write_text("".join(", ".join(f"{v:g}" for v in row) + "\n"
+                                             for row in values), encoding="utf-8")
     top = read_topography(tmp_path / "en.csv", detrend=None, file_unit="nm", physical_size=2.0,
                           height_unit="nm")
-    np.testing.assert_allclose(top.heights, [[1.5, 2.5], [3.5, -45.0]])
+    np.testing.assert_allclose(top.heights, values)
 
 
 def test_npy_non_square_is_cropped_to_centred_square_or_kept(tmp_path):
-    heights = rough(8, 12)
+    heights = rough(32, 48)
     path = tmp_path / "map.npy"
     np.save(path, heights)
-    top = read_topography(path, file_unit="m", physical_size=(12.0, 8.0), detrend=None)
-    np.testing.assert_array_equal(top.heights, heights[:, 2:10])
-    assert top.physical_size == (8.0, 8.0) and top.spacing == 1.0
-    kept = read_topography(path, file_unit="m", physical_size=(12.0, 8.0), detrend=None,
+    top = read_topography(path, file_unit="m", physical_size=(48.0, 32.0), detrend=None)
+    np.testing.assert_array_equal(top.heights, heights[:, 8:40])
+    assert top.physical_size == (32.0, 32.0) and top.spacing == 1.0
+    kept = read_topography(path, file_unit="m", physical_size=(48.0, 32.0), detrend=None,
                            square="keep")
-    assert kept.heights.shape == (8, 12) and kept.physical_size == (12.0, 8.0)
+    assert kept.heights.shape == (32, 48) and kept.physical_size == (48.0, 32.0)
     with pytest.raises(ValueError, match="not square"):
-        read_topography(path, file_unit="m", physical_size=(12.0, 12.0))
+        read_topography(path, file_unit="m", physical_size=(48.0, 48.0))
 
 
 def test_result_is_frozen_and_read_only(tmp_path):
-    path = write_gwyddion_ascii(tmp_path / "map.txt", rough(4, 4), 1.0)
+    path = write_gwyddion_ascii(tmp_path / "map.txt", rough(32, 32), 1.0)
     top = read_topography(path)
     assert isinstance(top, validation.Topography)
     with pytest.raises(dataclasses.FrozenInstanceError):
@@ -117,20 +122,23 @@ def test_line_scan_is_an_error(tmp_path, shape):
 
 
 def test_missing_data_error_or_explicit_fill(tmp_path):
-    heights = plane(12, 12)
+    heights = plane(32, 32)
     heights[3:5, 6] = np.nan
+    heights[20:26, 10:17] = np.nan                            # a larger gap
     heights[0, 0] = np.nan                                    # on the hull: nearest value
     path = write_gwyddion_ascii(tmp_path / "holes.txt", heights, 1.0)
-    with pytest.raises(ValueError, match="3 of 144 points are missing"):
+    with pytest.raises(ValueError, match="45 of 1024 points are missing"):
         read_topography(path)
     filled = read_topography(path, fill="interpolate", detrend=None)
     inside = np.ones_like(heights, dtype=bool)
     inside[0, 0] = False
-    np.testing.assert_allclose(filled.heights[inside], plane(12, 12)[inside], rtol=1e-12)
+    np.testing.assert_allclose(filled.heights[inside], plane(32, 32)[inside], atol=1e-12)
+    nearest = (plane(32, 32)[0, 1], plane(32, 32)[1, 0])                # equally near
+    assert min(abs(filled.heights[0, 0] - value) for value in nearest) < 1e-12
     mean = read_topography(path, fill="mean", detrend="plane")
     assert np.all(np.isfinite(mean.heights))
     np.testing.assert_allclose(mean.heights, 0.0, atol=1e-12)    # plane fitted on valid points
-    np.save(tmp_path / "empty.npy", np.full((4, 4), np.nan))
+    np.save(tmp_path / "empty.npy", np.full((32, 32), np.nan))
     with pytest.raises(ValueError, match="no valid height"):
         read_topography(tmp_path / "empty.npy", file_unit="m", physical_size=1.0, fill="mean")
 
@@ -164,7 +172,10 @@ def test_bad_files(tmp_path):
     path = write_gwyddion_ascii(tmp_path / "map.txt", rough(4, 4), 1.0)
     with pytest.raises(ValueError, match="states its physical size"):
         read_topography(path, physical_size=4.0)
-    (tmp_path / "odd.txt").write_text("# Value units: furlong\n# Width: 1 m\n# Height: 1 m\n1 2\n3 4\n")
+    write_gwyddion_ascii(tmp_path / "odd.txt", rough(32, 32), 1.0)
+    (tmp_path / "odd.txt").write_text((tmp_path / "odd.txt").read_text(encoding="utf-8")
+                                      .replace("Value units: m", "Value units: furlong"),
+                                      encoding="utf-8")
     with pytest.raises(ValueError, match="furlong"):
         read_topography(tmp_path / "odd.txt")
 
@@ -197,8 +208,9 @@ def test_example_file_is_what_the_script_writes(tmp_path):
 
 
 def test_writer_size_unit_differs_from_value_unit(tmp_path):
-    path = write_gwyddion_ascii(tmp_path / "a.txt", np.ones((3, 3)) * 2e-9, 1e-6, size_unit="µm")
-    assert "# Width: 3 µm" in path.read_text(encoding="utf-8")
+    path = write_gwyddion_ascii(tmp_path / "a.txt", np.ones((32, 32)) * 2e-9, 1e-6,
+                                size_unit="µm")
+    assert "# Width: 32 µm" in path.read_text(encoding="utf-8")
     top = read_topography(path, detrend=None, height_unit="nm")
     assert top.spacing == pytest.approx(1000.0)
     np.testing.assert_allclose(top.heights, 2.0)
@@ -217,38 +229,40 @@ class TestSurfaceTopographyReader:
         self.st = pytest.importorskip("SurfaceTopography")
 
     def test_x3p_transposed_to_row_y_and_converted(self, tmp_path):
-        heights = rough(10, 14)                               # heights[j, i]: 10 rows (y), 14 x
-        instrument = self.st.Topography(heights.T.copy(), (7.0, 5.0), unit="µm")  # [x, y]
+        heights = rough(40, 56)                               # heights[j, i]: 40 rows (y), 56 x
+        instrument = self.st.Topography(heights.T.copy(), (28.0, 20.0), unit="µm")  # [x, y]
         if not hasattr(instrument, "to_x3p"):
             pytest.skip("this SurfaceTopography version has no x3p writer")
         instrument.to_x3p(str(tmp_path / "scan.x3p"))
         top = read_topography(tmp_path / "scan.x3p", square="keep", detrend=None,
                               height_unit="nm")
-        assert top.heights.shape == (10, 14) and top.spacing == pytest.approx(500.0)
+        assert top.heights.shape == (40, 56) and top.spacing == pytest.approx(500.0)
         np.testing.assert_allclose(top.heights, heights * 1e3, rtol=1e-6, atol=1e-6)
         assert "SurfaceTopography" in top.source
 
     def test_netcdf_and_forced_reader(self, tmp_path):
-        heights = rough(8, 8)
-        self.st.Topography(heights.T.copy(), (4.0, 4.0), unit="nm").to_netcdf(str(tmp_path / "a.nc"))
+        heights = rough(32, 32)
+        self.st.Topography(heights.T.copy(), (16.0, 16.0), unit="nm").to_netcdf(
+            str(tmp_path / "a.nc"))
         top = read_topography(tmp_path / "a.nc", detrend=None)
         np.testing.assert_allclose(top.heights, heights * 1e-9, rtol=1e-12)
         assert top.spacing == pytest.approx(0.5e-9)
 
     def test_masked_points_are_missing_data_and_size_from_the_caller(self, tmp_path):
-        heights = np.ma.masked_array(rough(6, 6), mask=np.zeros((6, 6), dtype=bool))
+        heights = np.ma.masked_array(rough(32, 32), mask=np.zeros((32, 32), dtype=bool))
         heights.mask[2, 3] = True
-        self.st.Topography(heights.T.copy(), (3.0, 3.0), unit="nm").to_netcdf(str(tmp_path / "m.nc"))
-        with pytest.raises(ValueError, match="1 of 36 points are missing"):
+        self.st.Topography(heights.T.copy(), (16.0, 16.0), unit="nm").to_netcdf(
+            str(tmp_path / "m.nc"))
+        with pytest.raises(ValueError, match="1 of 1024 points are missing"):
             read_topography(tmp_path / "m.nc")
         assert np.isfinite(read_topography(tmp_path / "m.nc", fill="mean").heights).all()
-        np.save(tmp_path / "bare.npy", rough(6, 6))          # states neither size nor unit
+        np.save(tmp_path / "bare.npy", rough(32, 32))        # states neither size nor unit
         with pytest.raises(ValueError, match="physical_size"):
             read_topography(tmp_path / "bare.npy", reader="surfacetopography", file_unit="nm")
         top = read_topography(tmp_path / "bare.npy", reader="surfacetopography", file_unit="nm",
-                              physical_size="3 um", detrend=None, height_unit="nm")
+                              physical_size="16 um", detrend=None, height_unit="nm")
         assert top.spacing == pytest.approx(500.0)
-        np.testing.assert_allclose(top.heights, rough(6, 6).T, rtol=1e-12)  # its [x, y] order
+        np.testing.assert_allclose(top.heights, rough(32, 32).T, rtol=1e-12)  # its [x, y] order
 
     def test_builtin_gwyddion_parser_agrees_with_surfacetopography(self):
         ours = read_topography(EXAMPLE, reader="builtin")

@@ -22,6 +22,7 @@ from validation._version import __version__
 from validation.surfaces.wm import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
 from validation.surfaces.self_affine import radial_power_spectrum, self_affine_surface
 from validation.surfaces.topography import Topography, read_topography
+from validation.surfaces.cutoff import short_wavelength_cutoff
 from validation.scenes.scene import Scene, SceneError
 from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
 from validation.judge.compare import compare_realizations, curve_errors, validity_range
@@ -30,7 +31,8 @@ from validation.judge.decide import run_scenes
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
            "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__",
-           "self_affine_surface", "radial_power_spectrum", "read_topography", "Topography"]
+           "self_affine_surface", "radial_power_spectrum", "read_topography", "Topography",
+           "short_wavelength_cutoff"]
 
 
 def write_report(*args, **kwargs):

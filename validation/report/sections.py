@@ -396,12 +396,15 @@ def surface_text(scene, count: int) -> str:
 
         scan = read_map(s)
         rows, columns = s.grid
+        cutoff = ("" if s.short_cutoff is None else
+                  f", short-wavelength cutoff {s.short_cutoff_length:.4g} {s.unit} (shorter "
+                  f"wavelengths removed before every model and the BEM see the map)")
         family = (f"measured map `{pathlib.Path(s.path).name}` (SHA-256 "
                   f"{file_digest(s.path)[:12]}…), {' × '.join(map(str, scan.heights.shape))}"
                   f"{' (uncropped)' if s.square == 'keep' else ''} pixels of "
                   f"{scan.spacing:.4g} {s.unit}"
                   f"{'' if s.resample == 'none' else f' (resampled to the {s.resample} spacing)'}"
-                  f", detrend {s.detrend}; realizations: {s.tiles} "
+                  f", detrend {s.detrend}{cutoff}; realizations: {s.tiles} "
                   f"non-overlapping tile(s) of {rows} × {columns} pixels, "
                   f"{columns * s.spacing:.4g} × {rows * s.spacing:.4g} {s.unit}; "
                   f"lengths in {s.unit}")

@@ -52,7 +52,8 @@ class _Reader:
 
     def get(self, key: str, default: Any = None, kind: str = "any") -> Any:
         """The value of ``key`` (``default`` if absent), checked to be of ``kind``:
-        "number", "integer", "boolean", "string", "numbers" (one or a list) or "strings"."""
+        "number", "integer", "boolean", "string", "numbers" (one or a list), "strings" or
+        "length" (a number, or a string with its unit: "20 nm")."""
         self.used.add(key)
         if key not in self.table:
             return default
@@ -64,6 +65,7 @@ class _Reader:
             "string": lambda v: isinstance(v, str),
             "strings": lambda v: isinstance(v, list) and all(isinstance(x, str) for x in v),
             "numbers": lambda v: isinstance(v, (int, float, list)) and not isinstance(v, bool),
+            "length": lambda v: isinstance(v, (int, float, str)) and not isinstance(v, bool),
             "any": lambda v: True,
         }
         if not checks[kind](value):
@@ -119,7 +121,7 @@ def _build(kind: type, reader: _Reader, kinds: dict[str, str]):
 _SURFACE_KINDS = dict(
     D="numbers", rms_slope="number", G="number", gamma="number", M="integer", n_max="integer",
     L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
-    rolloff="number", short_cutoff="number", window="integer", path="string",
+    rolloff="number", short_cutoff="length", window="integer", path="string",
     physical_size="any", file_unit="string", unit="string", detrend="string", resample="string",
     square="string", tiles="integer", wavelength="number", sides="numbers")
 #: Keys a family needs in a file: each entry is one key, or alternatives (one of them).

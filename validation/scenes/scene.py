@@ -17,7 +17,8 @@ file's tables and keys map onto them::
                wm: D rms_slope G gamma M n_max L n
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
-               file: path physical_size file_unit unit detrend resample square tiles, and
+               file: path physical_size file_unit unit detrend resample square
+                     short_cutoff tiles, and
                      every other keyword of read_topography (fill channel reader ...)
     [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
     [material]  e_star                  -> Scene.e_star

@@ -50,19 +50,22 @@ def file_digest(path: str) -> str:
 @functools.lru_cache(maxsize=8)
 def _read(path: str, digest: str, physical_size, unit: str, detrend: str | None,
           file_unit: str | None, resample: str | None = None, square: str = "crop",
-          options: tuple = ()) -> Topography:
+          options: tuple = (), short_cutoff: float | str | None = None) -> Topography:
     return read_topography(path, physical_size=physical_size, height_unit=unit, detrend=detrend,
-                           file_unit=file_unit, resample=resample, square=square, **dict(options))
+                           file_unit=file_unit, resample=resample, square=square,
+                           short_cutoff=short_cutoff, **dict(options))
 
 
 def read_map(surface) -> Topography:
     """The measured map of a ``"file"`` surface as :func:`validation.read_topography` reads it
-    (heights and spacing in ``surface.unit``, the scene's other reader keywords passed on),
-    read once per process and per file content."""
+    (heights and spacing in ``surface.unit``, its short wavelengths cut when the scene asks,
+    the scene's other reader keywords passed on), read once per process and per file
+    content."""
     s = surface
     return _read(s.path, file_digest(s.path), s.physical_size, s.unit,
                  None if s.detrend == "none" else s.detrend, s.file_unit,
-                 None if s.resample == "none" else s.resample, s.square, s.read_options)
+                 None if s.resample == "none" else s.resample, s.square, s.read_options,
+                 s.short_cutoff)
 
 
 def tile(heights: np.ndarray, tiles: int, index: int,
@@ -159,6 +162,8 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
                      ("square", "crop")) if getattr(s, key) != default})
     if s.read_options:
         identity["read_options"] = dict(s.read_options)
+    if s.short_cutoff is not None:  # in the scene's unit: "20 nm" and 20 (unit nm) are one key
+        identity["short_cutoff"] = s.short_cutoff_length
     if s.square == "keep":
         identity["shape"] = list(s.grid)
     return identity

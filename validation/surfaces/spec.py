@@ -28,7 +28,7 @@ FAMILY_KEYS = {
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
                     "window", "L", "n"),
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
-             "tiles", "n"),
+             "short_cutoff", "tiles", "n"),
 }
 #: Keywords of :func:`validation.read_topography` with a field of their own in a file scene
 #: (``height_unit`` is the scene's ``unit``); every other keyword of it is passed through as
@@ -36,7 +36,7 @@ FAMILY_KEYS = {
 #: reader does, including what its error messages recommend.
 READ_FIELDS = {"path": "path", "physical_size": "physical_size", "file_unit": "file_unit",
                "detrend": "detrend", "height_unit": "unit", "resample": "resample",
-               "square": "square"}
+               "square": "square", "short_cutoff": "short_cutoff"}
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
 #: Smallest tile of a measured map, in pixels per side.
@@ -69,6 +69,10 @@ class SurfaceSpec:
     ``resample`` ("none", or "finer"/"coarser": non-square pixels onto square ones of the finer
     or coarser spacing, :func:`validation.read_topography`), ``square`` ("crop": a rectangular
     map is cropped to its largest centred square; "keep": it is used whole),
+    ``short_cutoff`` (a length with its unit like ``physical_size``, ``"20 nm"``, or a number
+    in ``unit``: every wavelength shorter than it is removed from the map, before it is cut
+    into tiles and before every model and the BEM see it,
+    :func:`validation.surfaces.cutoff.short_wavelength_cutoff`; default none),
     ``read_options`` (a dict, stored as sorted ``(key, value)`` pairs) the other keywords of
     :func:`validation.read_topography` (:func:`read_keywords`: ``fill``, ``channel``,
     ``reader``, ...), passed to it unchanged;
@@ -96,7 +100,7 @@ class SurfaceSpec:
     rms_height: float | None = None
     long_cutoff: float | None = None
     rolloff: float | None = None
-    short_cutoff: float | None = None
+    short_cutoff: float | str | None = None
     window: int = 2
     path: str | None = None
     physical_size: float | str | tuple[float, float] | None = None
@@ -199,6 +203,7 @@ class SurfaceSpec:
         check.choice(self, "detrend", ("plane", "mean", "none"))
         check.choice(self, "resample", ("none", "finer", "coarser"))
         check.choice(self, "square", ("crop", "keep"))
+        self._check_short_cutoff()
         check.integer(self, "tiles", 1)
         per_side = math.isqrt(self.tiles)
         if per_side**2 != self.tiles:
@@ -222,6 +227,29 @@ class SurfaceSpec:
                 check.fail(self, key, f"= {given!r} conflicts with the tile of the file "
                            f"({value:g}); leave it out")
             object.__setattr__(self, key, value if key == "L" else int(value))
+
+    def _check_short_cutoff(self) -> None:
+        """A measured map's cutoff: a positive number (in ``unit``) or a length string; its
+        range (two pixels up to the map's side) is the reader's to check."""
+        from validation.surfaces.units import length_in
+
+        if self.short_cutoff is None:
+            return
+        try:
+            length_in("short_cutoff", self.short_cutoff, self.unit)
+        except (TypeError, ValueError):
+            check.fail(self, "short_cutoff", f"must be a length: a number in the scene's unit "
+                       f"({self.unit}) or a string with its unit like '20 nm', got "
+                       f"{self.short_cutoff!r}")
+
+    @property
+    def short_cutoff_length(self) -> float | None:
+        """A measured map's ``short_cutoff`` in ``unit`` (None when there is none)."""
+        from validation.surfaces.units import length_in
+
+        if self.family != "file" or self.short_cutoff is None:
+            return None
+        return length_in("short_cutoff", self.short_cutoff, self.unit)
 
     def _check_read_options(self) -> None:
         options = self.read_options
@@ -302,7 +330,7 @@ def _refuse_map(spec: SurfaceSpec, error: Exception) -> None:
     import re
 
     message = str(error)
-    options = ("resample", "square") + read_keywords()
+    options = ("resample", "square", "short_cutoff") + read_keywords()
     keys = [k for k in ("file_unit", "physical_size") if re.search(rf"\b{k}\b", message)] + [
         k for k in options if re.search(rf"\b{k}(=| must)", message)]
     advice = re.sub(r"\b(\w+)='([^']*)'", r'\1 = "\2"', message).replace("pass ", "set ")

@@ -1,43 +1,32 @@
 """Measured height maps from instrument files, as heights z[j, i] and a grid spacing.
 
-Built in (no extra dependency): ``.npy`` arrays and plain-text matrices (``.txt``, ``.csv``,
-``.asc``, ``.dat``, ``.tsv``: whitespace- or comma-separated, or whitespace-separated with
-decimal commas; ``#`` comment lines), including
-Gwyddion's "ASCII data matrix" export with its informational header::
-
-    # Channel: Height
-    # Width: 10.000 µm
-    # Height: 10.000 µm
-    # Value units: m
-
-With the optional extra ``pip install "asperity-validation[topography]"`` every other format
-that SurfaceTopography (ContactEngineering) reads (AFM ``.di``, ``.ibw``, ``.x3p``, ``.opd``,
-``.plu``, ``.sur``, ``.gwy``, netCDF, ...) is read through its reader.
+:func:`read_topography` reads the file (:mod:`validation.surfaces.formats`: text matrices and
+``.npy`` built in, every other format through SurfaceTopography, the optional extra), converts
+its units (:mod:`validation.surfaces.units`), puts it on square pixels, crops it, removes its
+plane, fills its missing points when asked and cuts its short wavelengths when asked
+(:func:`validation.surfaces.cutoff.short_wavelength_cutoff`).
 """
 
 from __future__ import annotations
 
 import math
 import pathlib
-import re
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from bem import checks
 from bem.checks import choice, file_path, frozen_array, optional_integer, positive
+from validation.surfaces.cutoff import check_cutoff, short_wavelength_cutoff
+from validation.surfaces.formats import load_map
 from validation.surfaces.resample import RESAMPLE, resample_square
+from validation.surfaces.units import LENGTH_UNITS, length_in, parse_length, unit_factor
 
-__all__ = ["LENGTH_UNITS", "Topography", "read_topography", "write_gwyddion_ascii"]
+__all__ = ["LENGTH_UNITS", "MIN_SIDE", "Topography", "read_topography", "write_gwyddion_ascii"]
 
-#: Metres per unit, for every spelling accepted in files and arguments.
-LENGTH_UNITS: dict[str, float] = {
-    "m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "micron": 1e-6,
-    "nm": 1e-9, "A": 1e-10, "\u00c5": 1e-10, "\u212b": 1e-10, "angstrom": 1e-10, "pm": 1e-12,
-}
-TEXT_SUFFIXES = (".txt", ".csv", ".asc", ".dat", ".tsv")
-_HEADER = re.compile(r"^#\s*([^:]+?)\s*:\s*(.*?)\s*$")
+#: Fewest pixels along each side of a map: the smallest tile a scene solves
+#: (:data:`validation.surfaces.spec.MIN_TILE`), whose summits and BEM band mean something.
+MIN_SIDE = 32
 
 
 @dataclass(frozen=True)
@@ -86,125 +75,12 @@ class Topography:
             raise checks.InputTypeError(f"source must be a str, got {type(self.source).__name__}")
 
 
-def _unit_factor(name: str, unit: str) -> float:
-    if not isinstance(unit, str) or unit.strip() not in LENGTH_UNITS:
-        raise ValueError(f"{name} must be a length unit, one of {sorted(set(LENGTH_UNITS))}, "
-                         f"got {unit!r}")
-    return LENGTH_UNITS[unit.strip()]
-
-
-def _length(name: str, value: float | str) -> tuple[float, str | None]:
-    """A length as (number, unit or None): ``2.5`` or ``"10 µm"``."""
-    if isinstance(value, str):
-        match = re.fullmatch(r"\s*([-+0-9.,eE]+)\s*(\S+)\s*", value.replace(",", "."))
-        if match is None:
-            raise ValueError(f"{name} must be a number or 'number unit' like '10 um', got {value!r}")
-        unit = match.group(2)
-        _unit_factor(f"the unit of {name}", unit)
-        try:
-            number = float(match.group(1))
-        except ValueError:
-            raise ValueError(f"{name} must be a number or 'number unit' like '10 um', "
-                             f"got {value!r}") from None
-        return positive(name, number), unit
-    return positive(name, value), None
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
-
-
-def _read_text(path: pathlib.Path) -> tuple[np.ndarray, tuple | None, str | None, str]:
-    """Plain-text matrix; header keys Width/Height/Value units (Gwyddion ASCII) are honoured."""
-    header: dict[str, str] = {}
-    first_data = ""
-    with path.open(encoding="utf-8", errors="replace") as stream:
-        for line in stream:
-            match = _HEADER.match(line)
-            if match:
-                header[match.group(1).lower()] = match.group(2)
-            elif line.strip() and not line.lstrip().startswith("#"):
-                first_data = line
-                break
-    delimiter, decimal_comma = None, False
-    if "," in first_data:                   # "1.5, 2.5" separates; "1,5\t2,5" is a decimal comma
-        delimiter = "," if all(_is_number(field) for field in first_data.split(",")) else None
-        decimal_comma = delimiter is None
-    try:
-        with path.open(encoding="utf-8", errors="replace") as stream:
-            lines = (line.replace(",", ".") for line in stream) if decimal_comma else stream
-            heights = np.loadtxt(lines, comments="#", delimiter=delimiter, ndmin=2)
-    except ValueError as error:
-        raise ValueError(f"{path}: not a numeric matrix ({error})") from None
-    unit = header.get("value units")
-    size = None
-    if "width" in header or "height" in header:
-        if not ("width" in header and "height" in header):
-            raise ValueError(f"{path}: the header gives only one of Width and Height")
-        size = (_length("Width", header["width"]), _length("Height", header["height"]))
-    reader = "Gwyddion ASCII" if {"width", "height", "value units"} <= set(header) else "text"
-    return heights, size, unit, reader
-
-
-def _read_surfacetopography(path: pathlib.Path, channel: int | None
-                            ) -> tuple[np.ndarray, tuple | None, str | None, str]:
-    """Heights[j, i] through SurfaceTopography's reader (its arrays are [x, y]: transposed).
-
-    Size and unit that the file does not state come back as None; read_topography applies
-    the caller's.
-    """
-    try:
-        from SurfaceTopography import open_topography
-    except ImportError:
-        raise ImportError(f"reading {path.suffix or path.name!r} files needs the optional extra: "
-                          "pip install 'asperity-validation[topography]' (SurfaceTopography)"
-                          ) from None
-    try:
-        reader = open_topography(str(path))
-    except Exception as error:  # noqa: BLE001 -- the readers' exception types vary by format
-        raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
-    try:
-        if channel is not None and not 0 <= channel < len(reader.channels):
-            raise ValueError(f"channel must index one of the {len(reader.channels)} channels "
-                             f"of {path}, got {channel!r}")
-        info = reader.default_channel if channel is None else reader.channels[channel]
-        if len(info.nb_grid_pts) != 2:
-            raise ValueError(f"{path}: a line scan ({info.nb_grid_pts} points), not a height map")
-        arguments: dict = {"channel_index": info.index}
-        if info.physical_sizes is None:
-            arguments["physical_sizes"] = (1.0, 1.0)    # placeholder, replaced by the caller's
-        if info.unit is None:
-            arguments["unit"] = "m"                     # placeholder, replaced by file_unit
-        try:
-            topography = reader.topography(**arguments)
-        except Exception as error:  # noqa: BLE001
-            raise ValueError(f"{path}: SurfaceTopography cannot read it ({error})") from None
-        if topography.dim != 2 or not topography.is_uniform:
-            raise ValueError(f"{path}: not a uniform 2-D height map (line scan or scattered "
-                             "points)")
-        heights = np.array(np.ma.filled(np.ma.asarray(topography.heights(), dtype=float),
-                                        np.nan).T)      # a copy: the file may be memory-mapped
-        (width, height), unit = topography.physical_sizes, topography.unit
-        del topography                                  # release the mapping before closing
-    finally:
-        with warnings.catch_warnings():  # scipy's netCDF warns that the reader keeps a mapping
-            warnings.filterwarnings("ignore", "Cannot close a netcdf_file", RuntimeWarning)
-            reader.close()
-    size = None if info.physical_sizes is None else ((float(width), None), (float(height), None))
-    unit = None if info.unit is None else unit
-    return heights, size, unit, f"SurfaceTopography, channel {info.name!r}"
-
-
 def _physical_size(value) -> tuple[tuple[float, str | None], tuple[float, str | None]]:
     if isinstance(value, (tuple, list)):
         if len(value) != 2:
             raise ValueError(f"physical_size must be a length or (width, height), got {value!r}")
-        return _length("physical_size", value[0]), _length("physical_size", value[1])
-    side = _length("physical_size", value)
+        return parse_length("physical_size", value[0]), parse_length("physical_size", value[1])
+    side = parse_length("physical_size", value)
     return side, side
 
 
@@ -220,16 +96,28 @@ def _detrend(heights: np.ndarray, valid: np.ndarray, detrend: str | None) -> np.
 
 
 def _fill(heights: np.ndarray, valid: np.ndarray, fill: str) -> np.ndarray:
+    """Missing points filled with the mean of the valid ones, or interpolated: piecewise linear
+    on a Delaunay triangulation of the valid points next to a missing one (within two pixels:
+    the rest of the map cannot change a gap's values, and a 500^2 map with a few holes is
+    triangulated in milliseconds, not a minute), nearest valid value outside their hull or
+    when they span no triangle (the nearest valid point of a missing one always borders a
+    missing point)."""
     if fill == "mean":
         return np.where(valid, heights, heights[valid].mean())
     from scipy.interpolate import griddata
+    from scipy.ndimage import binary_dilation
+    from scipy.spatial import QhullError
 
-    points = np.argwhere(valid)
+    border = binary_dilation(~valid, structure=np.ones((3, 3), dtype=bool), iterations=2) & valid
+    points = np.argwhere(border)
     missing = np.argwhere(~valid)
-    values = griddata(points, heights[valid], missing, method="linear")
+    try:
+        values = griddata(points, heights[border], missing, method="linear")
+    except QhullError:          # fewer than 3 valid points, or all of them on one line
+        values = np.full(len(missing), np.nan)
     outside = ~np.isfinite(values)
     if outside.any():
-        values[outside] = griddata(points, heights[valid], missing[outside], method="nearest")
+        values[outside] = griddata(points, heights[border], missing[outside], method="nearest")
     filled = heights.copy()
     filled[~valid] = values
     return filled
@@ -247,14 +135,19 @@ def read_topography(
     channel: int | None = None,
     reader: str = "auto",
     resample: str | None = None,
+    short_cutoff: float | str | None = None,
 ) -> Topography:
     """Read a measured height map into heights [height_unit] and a grid spacing.
 
     Parameters
     ----------
     path : str or path-like
-        The file. ``.npy`` and plain-text matrices are read built in (row = y, column = x);
-        any other suffix through SurfaceTopography (optional extra ``[topography]``).
+        The file. ``.npy`` and plain-text matrices are read built in (row = y, column = x),
+        every other format through SurfaceTopography (optional extra ``[topography]``): the
+        built-in reader is tried first for the suffixes ``.npy``, ``.txt``, ``.csv``, ``.asc``,
+        ``.dat`` and ``.tsv``, SurfaceTopography first for any other, then the other one (a
+        Zygo MetroPro ``.dat`` is read by SurfaceTopography; a text matrix of two or three
+        columns is taken for a list of x, (y,) z points and left to it as well).
     physical_size : float, str or (width, height), optional
         Size of the whole map along x and y, required exactly when the file does not state
         it. Numbers are in ``height_unit``; strings carry their unit (``"10 um"``). A single
@@ -279,7 +172,7 @@ def read_topography(
         SurfaceTopography stores arrays as [x, y]; they are transposed to [y, x] here (so an
         ``.npy`` read with ``reader="surfacetopography"`` comes back transposed).
     reader : {"auto", "builtin", "surfacetopography"}
-        Force the built-in reader or SurfaceTopography's.
+        Both in turn (default, see ``path``), or only the built-in reader or SurfaceTopography's.
     resample : {None, "finer", "coarser"}
         Pixels that are not square (dx != dy) are an error by default; with this option the
         map is resampled onto square pixels of the finer or the coarser of the two spacings,
@@ -291,6 +184,13 @@ def read_topography(
         in amplitude at pi/dy); coarsening removes the band above the new Nyquist pi/h, and
         the pixel mean damps but does not remove its folding back. Missing points are filled
         first (``fill``); square pixels are left as they are.
+    short_cutoff : float or str, optional
+        Remove every wavelength shorter than this from the returned map, last (after the
+        crop, the detrending and the filling): a number in ``height_unit`` or a string with
+        its unit (``"20 nm"``), at least two pixels and shorter than the map's shorter side.
+        A sharp circular low-pass of the map's mirror extension that keeps its plane
+        (:func:`validation.surfaces.cutoff.short_wavelength_cutoff`, which says what it does
+        to the spectrum and to the rms height and slope). Default: the map as measured.
 
     Returns
     -------
@@ -300,8 +200,11 @@ def read_topography(
     Raises
     ------
     ValueError
-        Line scans, missing data without ``fill``, missing size or unit, pixels that are not
-        square (without ``resample``), unknown units or options, unreadable files.
+        Line scans, maps of fewer than :data:`MIN_SIDE` pixels along a side, maps without a
+        valid point, missing data without ``fill``, missing size or unit, pixels that are not
+        square (without ``resample``), unknown units or options, a ``short_cutoff`` out of
+        range, files that no reader reads (corrupted or truncated: the message names each
+        reader tried and its reason).
     ImportError
         An instrument format without the ``[topography]`` extra installed.
     """
@@ -315,12 +218,14 @@ def read_topography(
                                  ("resample", resample, (None, *RESAMPLE))):
         choice(name, value, allowed)
     optional_integer("channel", channel, minimum=0)
-    out_factor = _unit_factor("height_unit", height_unit)
+    out_factor = unit_factor("height_unit", height_unit)
     if file_unit is not None:
-        _unit_factor("file_unit", file_unit)
+        unit_factor("file_unit", file_unit)
     user_size = None if physical_size is None else _physical_size(physical_size)
+    cutoff = None if short_cutoff is None else length_in("short_cutoff", short_cutoff,
+                                                         height_unit)
 
-    heights, size, unit, source = _load(path, reader, channel)
+    heights, size, unit, source = load_map(path, reader, channel)
     if size is not None and user_size is not None:
         raise ValueError(f"{path} states its physical size; leave physical_size out")
     # everything the file lacks is said at once
@@ -332,48 +237,40 @@ def read_topography(
         raise ValueError(f"{path} does not state {' or '.join(m[0] for m in missing)}: pass "
                          + " and ".join(f"{name}, e.g. {example}" for _, name, example in missing))
     unit = file_unit if unit is None else unit
-    file_factor = _unit_factor(f"the height unit in {path}", unit)
+    file_factor = unit_factor(f"the height unit in {path}", unit)
     width, height = ((v * (LENGTH_UNITS[u] / out_factor if u else 1.0) for v, u in user_size)
                      if size is None else
-                     (v * _unit_factor(f"the size unit in {path}", u or unit) / out_factor
+                     (v * unit_factor(f"the size unit in {path}", u or unit) / out_factor
                       for v, u in size))
     rows, columns = heights.shape
     spacing, spacing_y = width / columns, height / rows
-    if not math.isclose(spacing, spacing_y, rel_tol=1e-6):
+    square_pixels = math.isclose(spacing, spacing_y, rel_tol=1e-6)
+    if min(rows, columns) < (MIN_SIDE if square_pixels or resample is None else 4):
+        _too_small(path, heights.shape)     # (a cubic spline resamples 4 points or more)
+    if not square_pixels:
         if resample is None:
             raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = "
                              f"{spacing_y:g} {height_unit}); pass resample='finer' or "
                              "'coarser' to resample the map onto square pixels")
         heights, spacing = resample_square(_clean(heights, None, fill, path), spacing,
                                            spacing_y, resample)
-    heights = _clean(_crop(heights) if square == "crop" else heights, detrend, fill, path)
+    heights = _crop(heights) if square == "crop" else heights
+    if min(heights.shape) < MIN_SIDE:
+        _too_small(path, heights.shape)
+    heights = _clean(heights, detrend, fill, path)
     heights *= file_factor / out_factor
+    if cutoff is not None:
+        heights = short_wavelength_cutoff(heights, spacing,
+                                          check_cutoff("short_cutoff", cutoff, spacing,
+                                                       heights.shape, height_unit))
     return Topography(heights=frozen_array(heights), spacing=spacing,
                       physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
                       unit=height_unit, source=f"{path} ({source})")
 
 
-def _load(path: pathlib.Path, reader: str, channel: int | None
-          ) -> tuple[np.ndarray, tuple | None, str | None, str]:
-    """Heights[j, i] as stored, the size and unit the file states (or None), the reader."""
-    suffix = path.suffix.lower()
-    if reader == "builtin" or (reader == "auto" and suffix in (".npy",) + TEXT_SUFFIXES):
-        if suffix == ".npy":
-            try:
-                heights, size, unit, source = np.load(path, allow_pickle=False), None, None, "npy"
-            except ValueError as error:
-                raise ValueError(f"{path}: not a numeric .npy array ({error})") from None
-        else:
-            heights, size, unit, source = _read_text(path)
-    else:
-        heights, size, unit, source = _read_surfacetopography(path, channel)
-    heights = np.asarray(heights)
-    if not (np.issubdtype(heights.dtype, np.integer) or np.issubdtype(heights.dtype, np.floating)):
-        raise ValueError(f"{path}: heights must be real numbers, got dtype {heights.dtype}")
-    if heights.ndim != 2 or min(heights.shape) < 2:
-        raise ValueError(f"{path}: a line scan or single point (shape {heights.shape}), "
-                         "not a height map")
-    return heights.astype(float), size, unit, source
+def _too_small(path: pathlib.Path, shape: tuple[int, int]) -> None:
+    raise ValueError(f"{path}: a map of {shape[0]} x {shape[1]} points; the contact models need "
+                     f"at least {MIN_SIDE} x {MIN_SIDE}")
 
 
 def _crop(heights: np.ndarray) -> np.ndarray:
@@ -410,7 +307,7 @@ def write_gwyddion_ascii(path: str | pathlib.Path, heights: np.ndarray, spacing:
         raise ValueError(f"heights must be a 2-D array, got shape {heights.shape}")
     spacing = positive("spacing", spacing)
     size_unit = unit if size_unit is None else size_unit
-    scale = _unit_factor("unit", unit) / _unit_factor("size_unit", size_unit)
+    scale = unit_factor("unit", unit) / unit_factor("size_unit", size_unit)
     rows, columns = heights.shape
     header = (f"Channel: {channel}\nWidth: {columns * spacing * scale:.6g} {size_unit}\n"
               f"Height: {rows * spacing * scale:.6g} {size_unit}\nValue units: {unit}")

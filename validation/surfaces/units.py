@@ -1,0 +1,60 @@
+"""Length units of measured maps: the accepted spellings and lengths written with their unit
+(``"10 um"``, ``"20 nm"``), shared by the file readers (:mod:`validation.surfaces.formats`),
+:func:`validation.read_topography` and the scene keys that take a length.
+"""
+
+from __future__ import annotations
+
+import re
+
+from bem.checks import positive
+
+__all__ = ["LENGTH_UNITS", "unit_factor", "parse_length", "length_in"]
+
+#: Metres per unit, for every spelling accepted in files and arguments.
+LENGTH_UNITS: dict[str, float] = {
+    "m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "micron": 1e-6,
+    "nm": 1e-9, "A": 1e-10, "\u00c5": 1e-10, "\u212b": 1e-10, "angstrom": 1e-10, "pm": 1e-12,
+}
+
+
+def unit_factor(name: str, unit: str) -> float:
+    """Metres per ``unit``; a ValueError naming ``name`` for a spelling not in
+    :data:`LENGTH_UNITS`."""
+    if not isinstance(unit, str) or unit.strip() not in LENGTH_UNITS:
+        raise ValueError(f"{name} must be a length unit, one of {sorted(set(LENGTH_UNITS))}, "
+                         f"got {unit!r}")
+    return LENGTH_UNITS[unit.strip()]
+
+
+def parse_length(name: str, value: float | str) -> tuple[float, str | None]:
+    """A positive length as (number, unit or None): ``2.5`` gives ``(2.5, None)``, ``"10 µm"``
+    (or ``"10µm"``, ``"1,5 nm"``) gives ``(10.0, "µm")``.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: not a number, not positive, or an unknown unit.
+    """
+    if isinstance(value, str):
+        match = re.fullmatch(r"\s*([-+0-9.,eE]+)\s*(\S+)\s*", value.replace(",", "."))
+        if match is None:
+            raise ValueError(f"{name} must be a number or 'number unit' like '10 um', got {value!r}")
+        unit = match.group(2)
+        unit_factor(f"the unit of {name}", unit)
+        try:
+            number = float(match.group(1))
+        except ValueError:
+            raise ValueError(f"{name} must be a number or 'number unit' like '10 um', "
+                             f"got {value!r}") from None
+        return positive(name, number), unit
+    return positive(name, value), None
+
+
+def length_in(name: str, value: float | str, unit: str) -> float:
+    """A positive length in ``unit``: a number is taken as already in ``unit``, a string with
+    its own unit (``"20 nm"``) is converted."""
+    number, given = parse_length(name, value)
+    if given is None:
+        return number
+    return number * unit_factor(f"the unit of {name}", given) / unit_factor("unit", unit)
