@@ -179,10 +179,13 @@ def synthetic(errors, *, band=0.0, converged=True):
     ([0.0, 0.01, -0.01], 0.3, True, "undecided: reference band"),
     ([0.0, 0.01, -0.01], np.nan, True, "undecided: reference band"),
     ([0.5, 0.52, 0.49], np.nan, True, "undecided: reference band"),
-    ([0.0], 0.0, True, "undecided: too few realizations"),
     ([0.3, -0.3, 0.1], 0.0, True, "undecided: too few realizations"),
     ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
     ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+    # one surface: judged by its band alone, never "too few realizations"
+    ([0.0], 0.0, True, "1.0e-04 – 1.0e-02 (area 1 % – 20 %) [whole range]"),
+    ([0.1], 0.15, True, "undecided: reference band"),
+    ([0.5], 0.1, True, "fails everywhere"),
 ])
 def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, converged, cell):
     from validation.judge.compare import compare_realizations
@@ -200,6 +203,7 @@ def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, con
     ([0.0, 0.01], 0.0, True, "undecided: too few realizations"),
     ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
     ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+    ([0.0], 0.0, True, "–"),     # one surface has no per-surface reading
 ])
 def test_the_summary_says_why_per_surface_too(errors, band, converged, cell):
     from validation.judge.compare import compare_realizations
@@ -210,15 +214,21 @@ def test_the_summary_says_why_per_surface_too(errors, band, converged, cell):
     assert holds_cell(comparison.models[("gw", "area")], per_surface=True).startswith(cell)
 
 
-def test_fewer_than_two_realizations_are_warned_about_at_load_time(tmp_path, measured, capsys):
+def test_one_generated_realization_is_warned_about_and_one_scan_is_not(tmp_path, measured,
+                                                                      capsys):
+    # one realization of a generated family is judged as that one surface, which a scene that
+    # names a family may not mean; a measured map with tiles = 1 is one surface by intent
+    import warnings
+
     from validation.cli import main
     from validation.scenes.scene import SceneWarning
 
     single = write(tmp_path, TINY.replace("count = 3\n[loads]", "count = 1\n[loads]"))
-    with pytest.warns(SceneWarning, match=r"1 realization.*every verdict will be undecided.*"
+    with pytest.warns(SceneWarning, match=r"1 realization.*that one surface.*"
                                           r"\[realizations\] count = 2"):
         load_scene(single)
-    with pytest.warns(SceneWarning, match=r"surface.tiles = 4"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", SceneWarning)
         load_scene(write(measured, MEASURED.format(name="one", tiles=1), "one.toml"))
     # the command line says it once, before computing, as a plain line
     assert main(["report", str(single), "--out", str(tmp_path / "out"), "--no-cache",

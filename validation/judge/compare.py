@@ -15,6 +15,10 @@ a verdict (holds / fails / undecided; :mod:`validation.judge.verdicts`). The val
 tolerance is the longest run of "holds". Beside it, a verdict on single surfaces from a normal
 tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
 where at least 90 % of surfaces are within the tolerance, with the same confidence.
+
+A scene of one realization (one measured scan) is one surface, not a sample of a population:
+its verdicts come from its error and the reference band alone
+(:func:`validation.judge.verdicts.one_surface_verdicts`), and it has no per-surface reading.
 """
 
 from __future__ import annotations
@@ -42,6 +46,8 @@ from validation.judge.verdicts import (
     ValidityRange,
     classify,
     confidence_interval,
+    one_surface_reasons,
+    one_surface_verdicts,
     reference_band,
     undecided_reasons,
     validity_range,
@@ -118,6 +124,14 @@ class ModelComparison:
     # (all of them, and those the reference's error estimate resolves); None for other fields
     sealing: np.ndarray | None = None
     sealing_resolved: np.ndarray | None = None
+    # the errors themselves, shape (realizations, points), NaN where not compared
+    errors: np.ndarray | None = None
+
+    @property
+    def one_surface(self) -> bool:
+        """Whether the comparison is of one surface (one realization), judged by the reference
+        band alone (:func:`validation.judge.verdicts.one_surface_verdicts`)."""
+        return self.errors is not None and np.shape(self.errors)[0] == 1
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
@@ -144,6 +158,10 @@ class ModelComparison:
         if self.interval is None:
             return np.full(np.shape(self.verdicts[index]), "")
         band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        if self.one_surface:
+            return self._sealing_reasons(
+                one_surface_reasons(self.errors[0], band, self.tolerances[index]),
+                self.verdicts[index])
         return self._sealing_reasons(
             undecided_reasons(self.interval, band, self.tolerances[index],
                               complete=self.complete),
@@ -239,7 +257,9 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
                                  for r in results]) & reached, axis=0)
-    verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    single = errors.shape[0] == 1   # one surface: judged by the reference band alone
+    verdicts = tuple(one_surface_verdicts(errors[0], band, tol) if single
+                     else classify(interval, band, tol, complete=complete) for tol in tolerances)
     sealing = resolved = None
     if quantity in LOG_QUANTITIES:
         # a resolved disagreement about sealing is an infinite error: the point fails; an
@@ -247,10 +267,12 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
         sealing, resolved = _sealing_counts(results, model, reference_model, field_name)
         verdicts = tuple(np.where(resolved > 0, FAILS, np.where(sealing > 0, UNDECIDED, v))
                          for v in verdicts)
-    surface = surface_interval(interval.mean, interval.std, interval.count,
-                               confidence=confidence)
-    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
-                             for tol in tolerances)
+    surface, surface_verdicts = None, ()
+    if not single:
+        surface = surface_interval(interval.mean, interval.std, interval.count,
+                                   confidence=confidence)
+        surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                                 for tol in tolerances)
     if sealing is not None:
         # an infinite error of some surface: per surface, nothing holds where sealing disagrees
         surface_verdicts = tuple(np.where((sealing > 0) & (v == HOLDS), UNDECIDED, v)
@@ -264,7 +286,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name, complete,
                            int(np.count_nonzero(~reached)), surface, surface_verdicts,
-                           surface_ranges, sealing, resolved)
+                           surface_ranges, sealing, resolved, errors)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:

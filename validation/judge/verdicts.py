@@ -20,6 +20,15 @@ The interval widened by the band, ``[m_k - h_k - b_k, m_k + h_k + b_k]``, decide
   band is above a quarter of the tolerance or was not estimated (NaN: an unknown band is
   never taken as zero), or no converged realization).
 
+**One surface** (a scene of one realization: one measured scan, ``tiles = 1``) is not a
+population: the BEM solves that very surface, so its error ``e_k`` is known but for the
+reference band ``b_k``, and realization statistics do not apply (:func:`one_surface_verdicts`):
+
+* **holds** where ``|e_k| + b_k <= tol``;
+* **fails** where ``|e_k| - b_k > tol``;
+* **undecided** only where the band straddles the tolerance (reason :data:`REFERENCE_BAND`),
+  or where the band or the error is unknown (NaN: not estimated, or :data:`UNCONVERGED`).
+
 A validity range is the longest contiguous run of points that hold.
 """
 
@@ -46,6 +55,8 @@ __all__ = [
     "ValidityRange",
     "classify",
     "confidence_interval",
+    "one_surface_reasons",
+    "one_surface_verdicts",
     "reference_band",
     "undecided_reasons",
     "validity_range",
@@ -196,6 +207,60 @@ def undecided_reasons(interval: ErrorInterval, band: np.ndarray, tolerance: floa
     reasons[undecided] = TOO_FEW_REALIZATIONS
     reasons[undecided & (exact != UNDECIDED)] = REFERENCE_BAND
     reasons[undecided & ((if_complete == HOLDS) | (np.asarray(interval.count) == 0))] = UNCONVERGED
+    return reasons
+
+
+def one_surface_verdicts(error: np.ndarray, band: np.ndarray, tolerance: float) -> np.ndarray:
+    """Verdict per point on one surface, from its error and the reference band alone.
+
+    ``"holds"`` where ``|error| + band <= tolerance``, ``"fails"`` where
+    ``|error| - band > tolerance``, ``"undecided"`` otherwise: where the band straddles the
+    tolerance, or where the error or the band is NaN (unknown: never taken as zero). No
+    realization statistics and no reference-accuracy rule: the only open thing about one
+    surface is the reference's own error (module docstring).
+
+    Parameters
+    ----------
+    error : array_like
+        The model's error on this surface per point, in the comparison's measure (relative, in
+        units of sigma, or the log ratio); NaN where unconverged or unreachable.
+    band : array_like
+        Reference band per point (>= 0), broadcast against ``error``; NaN: not estimated.
+    tolerance : float
+        Error bound (> 0), in the measure of ``error``.
+
+    Returns
+    -------
+    ndarray of str
+        One of ``"holds"``, ``"fails"``, ``"undecided"`` per point, the shape of ``error``
+        broadcast with ``band``.
+    """
+    if not tolerance > 0:
+        raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
+    error, band = np.broadcast_arrays(np.asarray(error, dtype=float),
+                                      np.asarray(band, dtype=float))
+    size = np.abs(error)
+    with np.errstate(invalid="ignore"):
+        # NaN in either makes both comparisons false: undecided
+        holds = size + band <= tolerance
+        fails = size - band > tolerance
+    verdict = np.full(error.shape, UNDECIDED, dtype="<U9")
+    verdict[holds] = HOLDS
+    verdict[fails] = FAILS
+    return verdict
+
+
+def one_surface_reasons(error: np.ndarray, band: np.ndarray, tolerance: float) -> np.ndarray:
+    """Why each point of one surface is undecided ("" where it holds or fails):
+    :data:`UNCONVERGED` where the error is unknown (a solver did not converge, or the model did
+    not reach the load), else :data:`REFERENCE_BAND` (the band straddles the tolerance or was
+    not estimated: a finer reference decides it). Never :data:`TOO_FEW_REALIZATIONS`."""
+    verdict = one_surface_verdicts(error, band, tolerance)
+    error = np.broadcast_to(np.asarray(error, dtype=float), verdict.shape)
+    reasons = np.full(verdict.shape, "", dtype=f"<U{len(TOO_FEW_REALIZATIONS)}")
+    undecided = verdict == UNDECIDED
+    reasons[undecided] = REFERENCE_BAND
+    reasons[undecided & np.isnan(error)] = UNCONVERGED
     return reasons
 
 
