@@ -181,9 +181,9 @@ def synthetic(errors, *, band=0.0, converged=True):
     ([0.5, 0.52, 0.49], np.nan, True, "undecided: reference band"),
     ([0.3, -0.3, 0.1], 0.0, True, "undecided: too few realizations"),
     ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
-    ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+    ([0.0, 0.01, -0.01], 0.0, True, "area 1 % – 20 % (Load 1.0e-04 – 1.0e-02)"),
     # one surface: judged by its band alone, never "too few realizations"
-    ([0.0], 0.0, True, "1.0e-04 – 1.0e-02 (area 1 % – 20 %) [whole range]"),
+    ([0.0], 0.0, True, "area 1 % – 20 % (Load 1.0e-04 – 1.0e-02) [whole range]"),
     ([0.1], 0.15, True, "undecided: reference band"),
     ([0.5], 0.1, True, "fails everywhere"),
 ])
@@ -202,7 +202,7 @@ def test_the_summary_tells_failing_from_undecided_and_says_why(errors, band, con
     ([0.0, 0.01, -0.01], 0.3, True, "undecided: reference band"),
     ([0.0, 0.01], 0.0, True, "undecided: too few realizations"),
     ([0.0, 0.01, -0.01], 0.0, False, "undecided: unconverged"),
-    ([0.0, 0.01, -0.01], 0.0, True, "1.0e-04 – 1.0e-02"),
+    ([0.0, 0.01, -0.01], 0.0, True, "area 1 % – 20 % (Load 1.0e-04 – 1.0e-02)"),
     ([0.0], 0.0, True, "–"),     # one surface has no per-surface reading
 ])
 def test_the_summary_says_why_per_surface_too(errors, band, converged, cell):

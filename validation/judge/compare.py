@@ -196,6 +196,10 @@ class Comparison:
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
     confidence: float = CONFIDENCE  # of every interval and verdict (validation.run.sequential)
+    # each realization's path, shape (realizations, points): the reference's area fraction and
+    # Load (the headline interpolates along them, validation.judge.headline)
+    realization_area_fraction: np.ndarray | None = None
+    realization_load: np.ndarray | None = None
 
     @property
     def D(self) -> float:
@@ -360,7 +364,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)
-    area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)
+    paths = np.vstack([r.curves[reference_model].area_fraction for r in results])
+    area_fraction = paths.mean(axis=0)
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
     fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
                                  for q in quantities))
@@ -376,6 +381,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
                 area_fraction, tolerances, field_name, confidence)
+    loads = np.vstack([r.curves[reference_model].load / (r.curves[reference_model].e_star
+                                                         * r.task.surface.L**2) for r in results])
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
                       load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence,
+                      realization_area_fraction=paths, realization_load=loads)

@@ -294,17 +294,19 @@ class ValidityRange:
         return self.first is not None
 
     def describe(self, load_format: str = ".2e") -> str:
-        """Human-readable range, e.g. ``1.00e-05 – 3.20e-03 (area 0.02 % – 5.1 %)``."""
+        """Human-readable range in contact-area fraction, the load beside it, e.g.
+        ``area 0.02 % – 5.1 % (Load 1.00e-05 – 3.20e-03)`` (the load alone where the area
+        fraction is unknown)."""
         if not self.holds_anywhere:
             return "nowhere"
         area = np.isfinite(self.area_fraction_min)
         if self.first == self.last:
-            text = f"only at {self.load_min:{load_format}}"
-            return text + (f" (area {100 * self.area_fraction_min:.3g} %)" if area else "")
-        text = f"{self.load_min:{load_format}} – {self.load_max:{load_format}}"
-        if area:
-            text += (f" (area {100 * self.area_fraction_min:.3g} % – "
-                     f"{100 * self.area_fraction_max:.3g} %)")
+            load = f"Load {self.load_min:{load_format}}"
+            return (f"only at area {100 * self.area_fraction_min:.3g} % ({load})" if area
+                    else f"only at {load}")
+        load = f"Load {self.load_min:{load_format}} – {self.load_max:{load_format}}"
+        text = (f"area {100 * self.area_fraction_min:.3g} % – "
+                f"{100 * self.area_fraction_max:.3g} % ({load})" if area else load)
         return text + (" [whole range]" if self.points == self.total else "")
 
 
