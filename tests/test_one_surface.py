@@ -3,6 +3,9 @@ band alone, never by statistics over realizations."""
 
 from __future__ import annotations
 
+import csv
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -93,3 +96,56 @@ def test_a_comparison_of_one_realization_is_judged_by_its_band(error, band, verd
     assert set(entry.verdicts[0]) == {verdict}
     assert set(entry.reasons(0)) == {reason}
     assert entry.ranges[0].holds_anywhere == (verdict == HOLDS)
+
+
+ONE = {
+    "name": "one-scan",
+    "title": "One surface",
+    "surface": {"D": 2.4, "rms_slope": 0.1, "n": 32},
+    "realizations": {"count": 1, "seed": 2},
+    "loads": {"min": 1e-4, "max": 3e-2, "count": 6},
+    "models": {"use": ["gw", "persson", "bem"]},
+    "bem": {"reference_error": True},
+    "tolerances": {"levels": [0.2, 1.0]},
+}
+
+
+def rows(path):
+    with open(path, newline="", encoding="utf-8") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_a_scene_of_one_realization_gives_holds_and_fails_from_its_band(tmp_path):
+    from validation.report.write import write_report
+    from validation.run.runner import run_scenes
+    from validation.scenes.reader import parse_scene
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        results = run_scenes([parse_scene(ONE, source="test")], progress=False)
+    write_report(results, tmp_path)
+    verdicts = rows(tmp_path / "verdicts.csv")
+    assert {r["verdict"] for r in verdicts} >= {HOLDS, FAILS}
+    assert TOO_FEW_REALIZATIONS not in {r["undecided_reason"] for r in verdicts}
+    assert {r["verdict_per_surface"] for r in verdicts} == {""}
+    # every verdict is the one-surface rule on the error and band of errors.csv
+    errors = {(r["model"], r["quantity"], r["point"]): r for r in rows(tmp_path / "errors.csv")}
+    for r in verdicts:
+        e = errors[r["model"], r["quantity"], r["point"]]
+        band = float("nan") if e["reference_band"] == "not estimated" else float(e["reference_band"])
+        expected = one_surface_verdicts(float(e["mean_error"]), band, float(r["tolerance"]))
+        assert r["verdict"] == expected, r
+        if r["verdict"] == UNDECIDED:
+            assert r["undecided_reason"] in (REFERENCE_BAND, UNCONVERGED)
+    # the headline gives the error with ± the band, and no per-surface interval
+    headline = rows(tmp_path / "headline.csv")
+    assert headline and {r["interval"] for r in headline} == {"reference band"}
+    for r in headline:
+        assert float(r["half_width"]) == pytest.approx(float(r["reference_band"]), rel=1e-8)
+        assert r["surfaces90_low"] == "nan" and r["verdict_per_surface"] == ""
+        assert r["verdict"] == one_surface_verdicts(float(r["mean_error"]),
+                                                    float(r["reference_band"]),
+                                                    float(r["tolerance"]))
+    text = (tmp_path / "report.md").read_text(encoding="utf-8")
+    assert "one surface, judged by the reference band alone" in text and " ± " in text
+    assert "too few realizations" not in (tmp_path / "one-scan.md").read_text(encoding="utf-8")
