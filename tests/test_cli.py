@@ -48,7 +48,7 @@ def rows(path):
 
 
 def test_report_figures_and_tables_exist(report):
-    text = (report / "report.md").read_text()
+    text = "\n".join(p.read_text() for p in sorted(report.glob("*.md")))  # front and scene pages
     assert "Tiny end-to-end scene" in text
     assert "## Findings" in text and "Verdicts per load point" in text and "✔ / ✘ / ?" in text
     for name in ("tiny-e2e-fig4-separation.png", "tiny-e2e-fig5-load.png", "tiny-e2e-errors-D2.4.png",

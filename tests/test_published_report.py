@@ -1,6 +1,7 @@
 """The published report is complete in the repository: every image and file that
-docs/results/report.md (and the README, the user guide and the theory page) links exists and is
-tracked by git, and nothing ``python -m validation report --publish`` writes is ignored by the repository.
+docs/results/report.md, its scene pages (and the README, the user guide and the theory page) link
+exists and is tracked by git, and nothing ``python -m validation report --publish`` writes is
+ignored by the repository.
 
 Outside a git checkout (an unpacked source archive) only existence is checked.
 """
@@ -79,8 +80,30 @@ def test_every_linked_file_is_in_the_repository(document):
         assert not untracked, f"{document} links files git does not track: {untracked}"
 
 
+def report_pages() -> list[pathlib.Path]:
+    """The published report.md and the scene pages it links (in docs/results)."""
+    front = PUBLISHED / "report.md"
+    links = local_links(front.read_text(encoding="utf-8"))
+    return [front] + sorted({PUBLISHED / link for link in links
+                             if link.endswith(".md") and "/" not in link})
+
+
+def test_every_file_a_scene_page_links_is_in_the_repository():
+    tracked = _tracked() if _in_checkout() else None
+    for page in [p for p in report_pages() if p.name != "report.md"]:
+        targets = {(page.parent / link).resolve()
+                   for link in local_links(page.read_text(encoding="utf-8"))}
+        missing = sorted(str(t.relative_to(ROOT)) for t in targets if not t.is_file())
+        assert not missing, f"{page.name} links files that do not exist: {missing}"
+        if tracked is not None:
+            untracked = sorted(name for name in (t.relative_to(ROOT).as_posix() for t in targets)
+                               if name not in tracked)
+            assert not untracked, f"{page.name} links files git does not track: {untracked}"
+
+
 def test_the_published_report_links_its_figures():
-    links = local_links((PUBLISHED / "report.md").read_text(encoding="utf-8"))
+    links = [link for page in report_pages()
+             for link in local_links(page.read_text(encoding="utf-8"))]
     assert sum(link.endswith(".png") for link in links) >= 10
     assert {"curves.csv", "errors.csv", "verdicts.csv"} <= set(links)
 
@@ -90,8 +113,9 @@ def test_nothing_publish_writes_is_ignored():
     # validation.report.write and .tables); none of them, present or future, may be ignored.
     if not _in_checkout():
         pytest.skip("not a git checkout")
-    names = {"report.md", "a-new-figure.png", "a-new-table.csv"}
-    names |= set(local_links((PUBLISHED / "report.md").read_text(encoding="utf-8")))
+    names = {"report.md", "a-new-figure.png", "a-new-table.csv", "a-new-scene.md"}
+    for page in report_pages():
+        names |= {page.name} | set(local_links(page.read_text(encoding="utf-8")))
     paths = sorted((PUBLISHED / name).relative_to(ROOT).as_posix() for name in names)
     check = subprocess.run(["git", "-C", str(ROOT), "check-ignore", "--no-index", "--stdin", "-z"],
                            input="\0".join(paths) + "\0", capture_output=True, text=True,

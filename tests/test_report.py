@@ -1,6 +1,7 @@
 """The report renders whatever it has: unconverged points, empty ranges, no converged BEM."""
 
 import csv
+import pathlib
 
 import numpy as np
 import pytest
@@ -36,14 +37,19 @@ def rows(path):
         return list(csv.DictReader(stream))
 
 
+def report_text(folder) -> str:
+    """The report's front page and every scene page of ``folder``, as one text."""
+    return "\n".join(p.read_text(encoding="utf-8") for p in sorted(pathlib.Path(folder).glob("*.md")))
+
+
 def test_report_with_no_converged_bem_point(unconverged, tmp_path):
     # Regression: every BEM point unconverged used to stop the report at the first log-scaled
     # figure ("Data cannot be log-scaled"); now every figure and table is written.
     (result,) = unconverged
     assert not any(r.curves["bem"].extras["converged"].any()
                    for r in result.realizations[2.4])
-    path = write_report(unconverged, tmp_path, seconds=12.0, command="python -m validation x")
-    text = path.read_text(encoding="utf-8")
+    write_report(unconverged, tmp_path, seconds=12.0, command="python -m validation x")
+    text = report_text(tmp_path)
     for name in ("fig4-separation", "fig5-load", "errors-D2.4", "verdicts-D2.4"):
         assert (tmp_path / f"never-converged-{name}.png").stat().st_size > 5_000
     verdicts = rows(tmp_path / "verdicts.csv")
@@ -64,13 +70,14 @@ def test_persson_row_is_compared_by_its_mean_gap(tmp_path):
                          "loads": {"min": 1e-4, "max": 1e-2, "count": 3},
                          "models": {"use": ["gw", "persson", "bem"]}}, source="test")
     results = run_scenes([scene], progress=False)
-    text = write_report(results, tmp_path).read_text(encoding="utf-8")
+    write_report(results, tmp_path)
+    text = report_text(tmp_path)
     validity = rows(tmp_path / "validity.csv")
     fields = {(r["model"], r["quantity"]): r["reference_field"] for r in validity}
     assert fields[("persson", "separation")] == "mean_gap"
     assert fields[("gw", "separation")] == "separation"
     assert "| Persson | mean gap ū |" in text and "| original GW | separation d |" in text
-    holds = text.split("## Where each theory holds")[1].split("##")[0]   # one table for all
+    holds = text.split("## Where each theory holds")[1].split("##")[0]   # one table, per scene
     assert "| Persson |" in holds and "| original GW |" in holds and "mean gap ū:" in holds
     curves = rows(tmp_path / "curves.csv")
     errors = [r for r in rows(tmp_path / "errors.csv")
@@ -169,10 +176,13 @@ SEALING = {
 
 def test_a_leakage_size_scene_reports_its_findings_figures_and_columns(tmp_path):
     results = run_scenes([parse_scene(SEALING, source="test")], progress=False)
-    text = write_report(results, tmp_path, seconds=1.0).read_text(encoding="utf-8")
+    write_report(results, tmp_path, seconds=1.0)
+    text = (tmp_path / "tiny-sealing.md").read_text(encoding="utf-8")
     # finding (g) spans the sizes; (f) is checked per size (shown in findings.csv)
-    assert "| (g) it is harder to seal a large area than a small one | tiny-sealing, L = 1, 2 |" \
-        in text
+    assert "| (g) it is harder to seal a large area than a small one | L = 1, 2 |" in text
+    front = (tmp_path / "report.md").read_text(encoding="utf-8")
+    assert "| (g) it is harder to seal a large area than a small one |" in front
+    assert "[tiny-sealing](tiny-sealing.md), L = 1, 2" in front
     findings = rows(tmp_path / "findings.csv")
     assert {(r["finding"], r["L"]) for r in findings if r["finding"] in "fg"} == {
         ("f", "1"), ("f", "2"), ("g", "")}

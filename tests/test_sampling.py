@@ -126,8 +126,9 @@ def test_report_shows_the_finding_and_how_the_ranges_move(tmp_path):
     from validation.report.write import write_report
 
     (result,) = run_scenes([parse_scene(TINY)], progress=False)
-    text = write_report([result], tmp_path).read_text(encoding="utf-8")
-    assert "| (h) the asperity models' answers depend on the sampling interval | tiny, D = 2.3" in text
+    write_report([result], tmp_path)
+    text = (tmp_path / "tiny.md").read_text(encoding="utf-8")    # the scene's page
+    assert "| (h) the asperity models' answers depend on the sampling interval | D = 2.3 |" in text
     assert "## The sampling interval" in text and "| 2h | 16 × 16 |" in text
     assert "| original GW | area |" in text and "median shift 2h − h" in text
     with open(tmp_path / "sampling-validity.csv", newline="", encoding="utf-8") as stream:

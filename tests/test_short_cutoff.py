@@ -155,8 +155,7 @@ def load(folder, cutoff=""):
 
     path = folder / "scene.toml"
     path.write_text(SCENE.format(cutoff=cutoff), encoding="utf-8")
-    with pytest.warns(UserWarning, match="1 realization"):
-        return load_scene(path)
+    return load_scene(path)   # one scan, one surface: judged by the band, no warning
 
 
 def test_the_scene_key_filters_every_tile_and_enters_the_cache_key(scan):
@@ -218,8 +217,7 @@ def test_a_cutoff_at_eight_pixels_makes_the_bems_area_band_shrink(scan):
         path.write_text(SCENE.format(cutoff=cutoff).replace("max = 1e-2", "max = 3e-2")
                         .replace("count = 2", 'count = 4\n[quantities]\nuse = ["area"]'),
                         encoding="utf-8")
-        with pytest.warns(UserWarning, match="1 realization"):
-            scene = validation.load_scene(path)
+        scene = validation.load_scene(path)
         (result,) = run_scenes([scene], progress=False)
         bands[cutoff] = compare_realizations(result.realizations[0.0]).models["gw", "area"].band
     plain, cut = bands[""], bands['short_cutoff = "16 nm"']

@@ -56,6 +56,11 @@ def rows(path):
         return list(csv.DictReader(stream))
 
 
+def report_text(folder) -> str:
+    """The report's front page and every scene page of ``folder``, as one text."""
+    return "\n".join(p.read_text(encoding="utf-8") for p in sorted(pathlib.Path(folder).glob("*.md")))
+
+
 def test_every_family_has_one_maker():
     assert set(_MAKERS) == set(FAMILIES) == {"wm", "self-affine", "file"}
 
@@ -169,7 +174,7 @@ def test_self_affine_scene_end_to_end(tmp_path, monkeypatch):
     validity = rows(tmp_path / "validity.csv")
     assert {r["H"] for r in validity} == {"0.5", "0.8"} and {r["D"] for r in validity} == {""}
     assert [c.parameter for c in analyse(result).comparisons] == ["H", "H"]
-    text = (tmp_path / "report.md").read_text(encoding="utf-8")
+    text = report_text(tmp_path)
     assert "### H = 0.8" in text and "Gaussian self-affine, H = 0.5, 0.8" in text
 
 
@@ -187,8 +192,8 @@ def test_file_scene_end_to_end_and_cache_follows_the_content(tmp_path, scan):
     (result,) = run_scenes([scene], cache_dir=cache, progress=False)
     assert [r.task.seed for r in result.realizations[0.0]] == [0, 1, 2, 3]
     assert len({r.sigma for r in result.realizations[0.0]}) == 4
-    report = write_report([result], tmp_path / "report")
-    markdown = report.read_text(encoding="utf-8")
+    write_report([result], tmp_path / "report")
+    markdown = report_text(tmp_path / "report")
     assert "measured map `scan.txt`" in markdown
     assert "4 non-overlapping tile(s) of 32 × 32" in markdown
     assert (tmp_path / "report" / "scene-errors.png").stat().st_size > 5_000
@@ -261,7 +266,7 @@ def test_rectangular_map_runs_through_the_report_uncropped(tmp_path, wide):
     scene = write(tmp_path, RECTANGLE)
     assert main(["report", str(scene), "--quick", "--no-cache", "--jobs", "1", "--quiet",
                  "--out", str(tmp_path / "out")]) == 0
-    text = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
+    text = report_text(tmp_path / "out")
     assert "48 × 80 (uncropped) pixels" in text and "tile(s) of 48 × 80 pixels" in text
     curves = rows(tmp_path / "out" / "curves.csv")
     assert {r["n"] for r in curves} == {"48x80"}

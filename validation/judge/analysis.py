@@ -11,6 +11,7 @@ import numpy as np
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison, compare_realizations
 from validation.judge.verdicts import UNDECIDED
 from validation.judge.findings import Finding, check_findings
+from validation.judge.headline import HeadlineCell, headline
 from validation.judge.sampling import SamplingStudy, sampling_finding, sampling_study
 from validation.judge.sealing import SizeCollapse, d1_measures_leakage, sealing_size
 from validation.common import models
@@ -25,7 +26,8 @@ __all__ = ["Analysis", "analyse", "undecided_counts"]
 class Analysis:
     """One scene's results with its comparisons and findings, by sweep value (D, H, L);
     ``scene_findings`` span the sweep (finding g over the sizes of a size sweep, whose
-    numbers are ``size_collapse``)."""
+    numbers are ``size_collapse``); ``headlines`` every model's error at the headline's
+    contact-area fractions, by sweep value (:mod:`validation.judge.headline`)."""
 
     result: SceneResult
     comparisons: list[Comparison] = field(default_factory=list)
@@ -33,11 +35,12 @@ class Analysis:
     sampling: dict[float, SamplingStudy] = field(default_factory=dict)  # with [sampling] factors
     scene_findings: list[Finding] = field(default_factory=list)
     size_collapse: SizeCollapse | None = None
+    headlines: dict[float, list[HeadlineCell]] = field(default_factory=dict)
 
 
 def analyse(result: SceneResult) -> Analysis:
-    """Compare every sweep value (D, H, L) of a surface scene with the reference (the BEM) and
-    check the paper's findings; a scene without a reference model gets no comparison. Scenes
+    """Compare every sweep value (D, H, L) of a surface scene with the reference (the BEM),
+    read every model's error at the headline's area fractions and check the paper's findings; a scene without a reference model gets no comparison. Scenes
     that ask for leakage get finding (f) per sweep value; a size sweep also finding (g)."""
     scene = result.scene
     if scene.kind == "theory" or not set(scene.models) & set(models.reference_names()):
@@ -61,7 +64,8 @@ def analyse(result: SceneResult) -> Analysis:
     if leakage and scene.surface.sweep_name == SIDES_SWEEP[1]:
         finding, collapse = sealing_size(result.realizations, scene.m, max(scene.tolerances))
         scene_findings.append(finding)
-    return Analysis(result, comparisons, findings, studies, scene_findings, collapse)
+    headlines = {c.value: headline(c) for c in comparisons}
+    return Analysis(result, comparisons, findings, studies, scene_findings, collapse, headlines)
 
 
 def undecided_counts(analysis: Analysis) -> dict[tuple[float, str], tuple[int, int]]:

@@ -15,6 +15,10 @@ a verdict (holds / fails / undecided; :mod:`validation.judge.verdicts`). The val
 tolerance is the longest run of "holds". Beside it, a verdict on single surfaces from a normal
 tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
 where at least 90 % of surfaces are within the tolerance, with the same confidence.
+
+A scene of one realization (one measured scan) is one surface, not a sample of a population:
+its verdicts come from its error and the reference band alone
+(:func:`validation.judge.verdicts.one_surface_verdicts`), and it has no per-surface reading.
 """
 
 from __future__ import annotations
@@ -42,6 +46,8 @@ from validation.judge.verdicts import (
     ValidityRange,
     classify,
     confidence_interval,
+    one_surface_reasons,
+    one_surface_verdicts,
     reference_band,
     undecided_reasons,
     validity_range,
@@ -118,6 +124,14 @@ class ModelComparison:
     # (all of them, and those the reference's error estimate resolves); None for other fields
     sealing: np.ndarray | None = None
     sealing_resolved: np.ndarray | None = None
+    # the errors themselves, shape (realizations, points), NaN where not compared
+    errors: np.ndarray | None = None
+
+    @property
+    def one_surface(self) -> bool:
+        """Whether the comparison is of one surface (one realization), judged by the reference
+        band alone (:func:`validation.judge.verdicts.one_surface_verdicts`)."""
+        return self.errors is not None and np.shape(self.errors)[0] == 1
 
     def counts(self, index: int) -> dict[str, int]:
         """Points that hold, fail and are undecided at tolerance ``tolerances[index]``."""
@@ -144,6 +158,10 @@ class ModelComparison:
         if self.interval is None:
             return np.full(np.shape(self.verdicts[index]), "")
         band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        if self.one_surface:
+            return self._sealing_reasons(
+                one_surface_reasons(self.errors[0], band, self.tolerances[index]),
+                self.verdicts[index])
         return self._sealing_reasons(
             undecided_reasons(self.interval, band, self.tolerances[index],
                               complete=self.complete),
@@ -178,6 +196,10 @@ class Comparison:
     band_source: dict[str, str] = field(default_factory=dict)
     parameter: str = "D"
     confidence: float = CONFIDENCE  # of every interval and verdict (validation.run.sequential)
+    # each realization's path, shape (realizations, points): the reference's area fraction and
+    # Load (the headline interpolates along them, validation.judge.headline)
+    realization_area_fraction: np.ndarray | None = None
+    realization_load: np.ndarray | None = None
 
     @property
     def D(self) -> float:
@@ -239,7 +261,9 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
                                  for r in results]) & reached, axis=0)
-    verdicts = tuple(classify(interval, band, tol, complete=complete) for tol in tolerances)
+    single = errors.shape[0] == 1   # one surface: judged by the reference band alone
+    verdicts = tuple(one_surface_verdicts(errors[0], band, tol) if single
+                     else classify(interval, band, tol, complete=complete) for tol in tolerances)
     sealing = resolved = None
     if quantity in LOG_QUANTITIES:
         # a resolved disagreement about sealing is an infinite error: the point fails; an
@@ -247,10 +271,12 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
         sealing, resolved = _sealing_counts(results, model, reference_model, field_name)
         verdicts = tuple(np.where(resolved > 0, FAILS, np.where(sealing > 0, UNDECIDED, v))
                          for v in verdicts)
-    surface = surface_interval(interval.mean, interval.std, interval.count,
-                               confidence=confidence)
-    surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
-                             for tol in tolerances)
+    surface, surface_verdicts = None, ()
+    if not single:
+        surface = surface_interval(interval.mean, interval.std, interval.count,
+                                   confidence=confidence)
+        surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+                                 for tol in tolerances)
     if sealing is not None:
         # an infinite error of some surface: per surface, nothing holds where sealing disagrees
         surface_verdicts = tuple(np.where((sealing > 0) & (v == HOLDS), UNDECIDED, v)
@@ -264,7 +290,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name, complete,
                            int(np.count_nonzero(~reached)), surface, surface_verdicts,
-                           surface_ranges, sealing, resolved)
+                           surface_ranges, sealing, resolved, errors)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
@@ -339,7 +365,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     ref0 = first.curves[reference_model]
     load = ref0.load / (ref0.e_star * first.task.surface.L**2)
-    area_fraction = np.mean([r.curves[reference_model].area_fraction for r in results], axis=0)
+    paths = np.vstack([r.curves[reference_model].area_fraction for r in results])
+    area_fraction = paths.mean(axis=0)
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
     fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
                                  for q in quantities))
@@ -355,6 +382,9 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             entries[(model, name)] = _model_comparison(
                 results, model, name, stack, bands[field_name][0], reference_model, load,
                 area_fraction, tolerances, field_name, confidence)
+    loads = np.vstack([r.curves[reference_model].load / (r.curves[reference_model].e_star
+                                                         * r.task.surface.L**2) for r in results])
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
                       load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence)
+                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence,
+                      realization_area_fraction=paths, realization_load=loads)

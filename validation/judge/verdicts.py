@@ -20,6 +20,15 @@ The interval widened by the band, ``[m_k - h_k - b_k, m_k + h_k + b_k]``, decide
   band is above a quarter of the tolerance or was not estimated (NaN: an unknown band is
   never taken as zero), or no converged realization).
 
+**One surface** (a scene of one realization: one measured scan, ``tiles = 1``) is not a
+population: the BEM solves that very surface, so its error ``e_k`` is known but for the
+reference band ``b_k``, and realization statistics do not apply (:func:`one_surface_verdicts`):
+
+* **holds** where ``|e_k| + b_k <= tol``;
+* **fails** where ``|e_k| - b_k > tol``;
+* **undecided** only where the band straddles the tolerance (reason :data:`REFERENCE_BAND`),
+  or where the band or the error is unknown (NaN: not estimated, or :data:`UNCONVERGED`).
+
 A validity range is the longest contiguous run of points that hold.
 """
 
@@ -49,6 +58,8 @@ __all__ = [
     "ValidityRange",
     "classify",
     "confidence_interval",
+    "one_surface_reasons",
+    "one_surface_verdicts",
     "reference_band",
     "undecided_reasons",
     "validity_range",
@@ -199,6 +210,60 @@ def undecided_reasons(interval: ErrorInterval, band: np.ndarray, tolerance: floa
     return reasons
 
 
+def one_surface_verdicts(error: np.ndarray, band: np.ndarray, tolerance: float) -> np.ndarray:
+    """Verdict per point on one surface, from its error and the reference band alone.
+
+    ``"holds"`` where ``|error| + band <= tolerance``, ``"fails"`` where
+    ``|error| - band > tolerance``, ``"undecided"`` otherwise: where the band straddles the
+    tolerance, or where the error or the band is NaN (unknown: never taken as zero). No
+    realization statistics and no reference-accuracy rule: the only open thing about one
+    surface is the reference's own error (module docstring).
+
+    Parameters
+    ----------
+    error : array_like
+        The model's error on this surface per point, in the comparison's measure (relative, in
+        units of sigma, or the log ratio); NaN where unconverged or unreachable.
+    band : array_like
+        Reference band per point (>= 0), broadcast against ``error``; NaN: not estimated.
+    tolerance : float
+        Error bound (> 0), in the measure of ``error``.
+
+    Returns
+    -------
+    ndarray of str
+        One of ``"holds"``, ``"fails"``, ``"undecided"`` per point, the shape of ``error``
+        broadcast with ``band``.
+    """
+    if not tolerance > 0:
+        raise ValueError(f"tolerance must be > 0, got {tolerance!r}")
+    error, band = np.broadcast_arrays(np.asarray(error, dtype=float),
+                                      np.asarray(band, dtype=float))
+    size = np.abs(error)
+    with np.errstate(invalid="ignore"):
+        # NaN in either makes both comparisons false: undecided
+        holds = size + band <= tolerance
+        fails = size - band > tolerance
+    verdict = np.full(error.shape, UNDECIDED, dtype="<U9")
+    verdict[holds] = HOLDS
+    verdict[fails] = FAILS
+    return verdict
+
+
+def one_surface_reasons(error: np.ndarray, band: np.ndarray, tolerance: float) -> np.ndarray:
+    """Why each point of one surface is undecided ("" where it holds or fails):
+    :data:`UNCONVERGED` where the error is unknown (a solver did not converge, or the model did
+    not reach the load), else :data:`REFERENCE_BAND` (the band straddles the tolerance or was
+    not estimated: a finer reference decides it). Never :data:`TOO_FEW_REALIZATIONS`."""
+    verdict = one_surface_verdicts(error, band, tolerance)
+    error = np.broadcast_to(np.asarray(error, dtype=float), verdict.shape)
+    reasons = np.full(verdict.shape, "", dtype=f"<U{len(TOO_FEW_REALIZATIONS)}")
+    undecided = verdict == UNDECIDED
+    reasons[undecided] = REFERENCE_BAND
+    reasons[undecided & np.isnan(error)] = UNCONVERGED
+    return reasons
+
+
 def verdict_counts(verdicts: np.ndarray) -> dict[str, int]:
     """How many points hold, fail and are undecided."""
     verdicts = np.asarray(verdicts)
@@ -229,17 +294,19 @@ class ValidityRange:
         return self.first is not None
 
     def describe(self, load_format: str = ".2e") -> str:
-        """Human-readable range, e.g. ``1.00e-05 – 3.20e-03 (area 0.02 % – 5.1 %)``."""
+        """Human-readable range in contact-area fraction, the load beside it, e.g.
+        ``area 0.02 % – 5.1 % (Load 1.00e-05 – 3.20e-03)`` (the load alone where the area
+        fraction is unknown)."""
         if not self.holds_anywhere:
             return "nowhere"
         area = np.isfinite(self.area_fraction_min)
         if self.first == self.last:
-            text = f"only at {self.load_min:{load_format}}"
-            return text + (f" (area {100 * self.area_fraction_min:.3g} %)" if area else "")
-        text = f"{self.load_min:{load_format}} – {self.load_max:{load_format}}"
-        if area:
-            text += (f" (area {100 * self.area_fraction_min:.3g} % – "
-                     f"{100 * self.area_fraction_max:.3g} %)")
+            load = f"Load {self.load_min:{load_format}}"
+            return (f"only at area {100 * self.area_fraction_min:.3g} % ({load})" if area
+                    else f"only at {load}")
+        load = f"Load {self.load_min:{load_format}} – {self.load_max:{load_format}}"
+        text = (f"area {100 * self.area_fraction_min:.3g} % – "
+                f"{100 * self.area_fraction_max:.3g} % ({load})" if area else load)
         return text + (" [whole range]" if self.points == self.total else "")
 
 

@@ -1,6 +1,8 @@
 """The Markdown text of the validity report (:mod:`validation.report.write`): the header with the
-provenance and conventions of the run, the where-each-theory-holds table, the findings, the
-verdict tables, the surface sentence and the timings. Pure text: no figures, no files."""
+provenance of the run and the conventions of its numbers, and on each scene's page the
+where-each-theory-holds table (validity ranges in contact-area fraction, the Load beside), the
+findings with their numbers and rules, the verdict tables, the surface sentence and the
+timings. Pure text: no figures, no files."""
 
 from __future__ import annotations
 
@@ -15,14 +17,14 @@ from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, 
                                       Comparison)
 from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                        verdict_strip)
-from validation.common.labels import compared_label, model_label, model_order, model_rank
+from validation.common.labels import compared_label, model_label, model_rank
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
     from validation.run.runner import SceneResult
 
-__all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "holds_cell", "holds_section",
-           "findings_section", "undecided_section", "verdict_table", "surface_text", "timing"]
+__all__ = ["REPORT_QUANTITIES", "md_table", "sweep_member", "header", "conventions", "holds_cell",
+           "validity_section", "scene_findings", "verdict_table", "surface_text", "timing"]
 
 #: Quantities in the report's order: the compared ones, then the contact counts (shown, never
 #: judged: the BEM counts patches, the asperity models asperities).
@@ -63,6 +65,7 @@ def _git_commit() -> str:
 
 
 def header(seconds, mode, command) -> list[str]:
+    """The report's title and the provenance of the run (command, version, time, platform)."""
     import bem.fft
     from validation.run.cache import source_version
 
@@ -78,6 +81,15 @@ def header(seconds, mode, command) -> list[str]:
         f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} (Python "
         f"{platform.python_version()}, numpy {np.__version__}, FFT backend "
         f"{'pyFFTW' if bem.fft.have_pyfftw() else 'scipy.fft'}).\n",
+    ]
+
+
+def conventions() -> list[str]:
+    """How to read the report's numbers: the dimensionless quantities, the error measures,
+    separation against mean gap, and how a verdict is reached (on the mean, per surface, and
+    on one surface)."""
+    return [
+        "## How to read the numbers\n",
         "Dimensionless quantities as in the paper: Area = A/L², Load = W/(E* L²), Separation = "
         "d/σ (σ: standard deviation of the summit heights of each realization), Conductance = "
         "Cρσ/L² = −2 ∂Load/∂Separation. Errors are taken at equal load against the "
@@ -118,6 +130,12 @@ def header(seconds, mode, command) -> list[str]:
         "splits the 5 % between the looks (in proportion to their realizations) so that it "
         "holds over all of them "
         '(docs/theory.md, "Sequential realizations").\n',
+        "**One surface.** A scene of one realization (one measured scan) is judged on that "
+        "surface alone: the BEM solves that very surface, so the only open thing is the BEM's "
+        "own band b. A point **holds** where |error| + b ≤ the tolerance, **fails** where "
+        "|error| − b > the tolerance, and is undecided only where the band straddles the "
+        "tolerance (reason: reference band); no interval over realizations and no per-surface "
+        "reading.\n",
     ]
 
 
@@ -166,135 +184,60 @@ def _largest_tolerance(comparisons) -> float:
 
 #: What decides an undecided cell, printed under the summary.
 _ADVICE = ("*Undecided* says why: **reference band**: the BEM's own error is unknown or above a "
-           "quarter of the tolerance (a finer grid decides it: a larger `surface.n`, or "
-           "`[bem] max_grid` to solve again on finer grids where the band decides), and for the "
-           "leakage where model and BEM disagree about sealing but the BEM's estimate cannot "
-           "tell whether it seals; **too few "
-           "realizations**: the interval straddles the tolerance (more realizations decide it: "
-           "`[realizations] count`, or a budget `[realizations] max` spent where cells are "
-           "undecided; a scene needs at least 2, a per-surface verdict 3); **unconverged**: a "
-           "solver did not converge there, or a model did not reach the load (unreachable: past "
-           "full contact, or an unconverged solve that ended at another load); the verdict "
-           "tables count these points.")
+           "quarter of the tolerance (for one surface: straddles it; a finer grid decides it: a "
+           "larger `surface.n`, or `[bem] max_grid` to solve again on finer grids where the band "
+           "decides), and for the leakage where model and BEM disagree about sealing but the "
+           "BEM's estimate cannot tell whether it seals; {few}**unconverged**: a solver did not "
+           "converge there, or a model did not reach the load (unreachable: past full contact, "
+           "or an unconverged solve that ended at another load); the verdict tables count these "
+           "points.")
+_FEW = ("**too few realizations**: the interval straddles the tolerance (more realizations "
+        "decide it: `[realizations] count`, or a budget `[realizations] max` spent where cells "
+        "are undecided; a scene needs at least 2, a per-surface verdict 3); ")
 
 
-def _sweep_holds(analysis: Analysis) -> list[str]:
-    """The summary of a scene that sweeps a parameter: one column per swept value."""
+def validity_section(analysis: Analysis) -> list[str]:
+    """Where each model holds in one scene, per quantity and swept value, at the largest
+    tolerance: its validity range in contact-area fraction with the Load beside it, on the mean
+    and per surface, or why it holds nowhere."""
     comparisons = analysis.comparisons
     keys = sorted({k for c in comparisons for k in c.models if k[1] in COMPARED_QUANTITIES},
                   key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
     if not keys:
         return []
-    scene = analysis.result.scene
     header = ["model", "quantity"] + [sweep_member(c.parameter, c.value) for c in comparisons]
     rows = [[model_label(m), q] + [_holds_cells(c.models.get((m, q)), q) for c in comparisons]
             for m, q in keys]
-    return ([f"Scene `{scene.name}`, per {comparisons[0].parameter} (within "
-             f"{_largest_tolerance(comparisons):g}):\n"] + md_table(header, rows))
+    one = all(e.one_surface for c in comparisons for e in c.models.values())
+    return (["## Where each theory holds\n",
+             f"Validity range within {_largest_tolerance(comparisons):g} (relative for area and "
+             "conductance, in units of σ for separation, ln of the ratio for leakage): the "
+             "longest run of ✔, as the BEM's contact-area fraction over it with the Load "
+             "beside it, in two readings: **mean**, the mean error over realizations within the "
+             "tolerance; **per surface**, at least 90 % of single surfaces within it (one "
+             "surface has the first reading only, from its error and the reference band). The "
+             "asperity models are judged by the separation d, Persson's theory by the mean gap "
+             "ū. Other tolerances: `validity.csv`.\n"]
+            + md_table(header, rows) + [_ADVICE.format(few="" if one else _FEW) + "\n"])
 
 
-def holds_section(analyses: list[Analysis]) -> list[str]:
-    """Where every model holds, per surface and quantity, at the largest tolerance (asperity
-    models and Persson's theory side by side): one table for the scenes of one surface, and
-    one per scene that sweeps a parameter (a column per swept value)."""
-    columns = [c for a in analyses for c in a.comparisons
-               if len(a.result.scene.surface.sweep_values) == 1]
-    sweeps = [a for a in analyses if a.comparisons and len(a.result.scene.surface.sweep_values) > 1]
-    if not columns and not sweeps:
-        return []
-    lines = ["## Where each theory holds\n"]
-    if columns:
-        keys = {k for c in columns for k in c.models if k[1] in COMPARED_QUANTITIES}
-        quantities = sorted({q for _, q in keys}, key=COMPARED_QUANTITIES.index)
-        names = model_order({m for m, _ in keys})
-        header, rows = ["model"], {m: [model_label(m)] for m in names}
-        for comparison in columns:
-            for quantity in quantities:
-                header.append(f"{quantity}, {sweep_member(comparison.parameter, comparison.value)}")
-                for model in names:
-                    rows[model].append(_holds_cells(comparison.models.get((model, quantity)),
-                                                    quantity))
-        lines += ([f"Load range (longest run of ✔, with the BEM's area fraction over it) within "
-                   f"the tolerance {_largest_tolerance(columns):g} (relative for area and "
-                   "conductance, in units of σ for separation, ln of the ratio for leakage), in "
-                   "two readings: **mean**, the "
-                   "mean error over realizations within the tolerance; **per surface**, at least "
-                   "90 % of single surfaces within it; both at 95 % confidence overall. The "
-                   "asperity models are judged by the separation d, Persson's theory by the mean "
-                   "gap ū, each against the BEM's own field of that name. Per-point verdicts and "
-                   "the other tolerances are in the sections below and in `validity.csv`.\n"]
-                  + md_table(header, list(rows.values())))
-    for analysis in sweeps:
-        lines += _sweep_holds(analysis)
-    return lines + [_ADVICE + "\n"]
-
-
-def _effort(result: SceneResult) -> tuple[str, str]:
-    """Realizations used (per look) and the finer reference of a scene, in a few words."""
-    counts = sorted({len(r) for r in result.realizations.values()})
-    used = str(counts[0]) if counts[0] == counts[-1] else f"{counts[0]}–{counts[-1]}"
-    if result.sequential is not None and len(result.sequential.used) > 1:
-        used = " → ".join(map(str, result.sequential.used))
-    levels = result.refinement.levels if result.refinement is not None else ()
-    finer = ", ".join(f"{level.grid}² at {sum(map(len, level.points.values()))} point(s)"
-                      for level in levels) or "none"
-    return used, finer
-
-
-def undecided_section(analyses: list[Analysis]) -> list[str]:
-    """How decided each scene is: the undecided share of its cells per tolerance, on the mean
-    and per surface, beside the realizations and the finer reference it spent."""
-    from validation.judge.analysis import undecided_counts
-
-    counted = [(a, undecided_counts(a)) for a in analyses if a.comparisons]
-    if not counted:
-        return []
-    keys = sorted({key for _, counts in counted for key in counts},
-                  key=lambda key: (-key[0], key[1] != "mean"))
-    header = (["scene", "realizations", "finer reference"]
-              + [f"undecided at {t:g}, {reading}" for t, reading in keys])
-    rows = []
-    for analysis, counts in counted:
-        row = [f"`{analysis.result.scene.name}`", *_effort(analysis.result)]
-        for key in keys:
-            open_, cells = counts.get(key, (0, 0))
-            row.append(f"{100 * open_ / cells:.0f} % ({open_} of {cells})" if cells else "–")
-        rows.append(row)
-    return (["## How decided each scene is\n",
-             "Share of undecided cells (a cell: one model, one quantity, one load point of one "
-             "surface family) per tolerance, on the mean and per surface, with the realizations "
-             "each scene used (→: the looks of its sequential plan) and the load points whose "
-             "reference was solved again on a finer grid because its band held a cell "
-             "(docs/theory.md, sections 11.2 and 11.3).\n"] + md_table(header, rows))
-
-
-def findings_section(analyses: list[Analysis]) -> list[str]:
+def scene_findings(analysis: Analysis) -> list[str]:
+    """The paper's findings on one scene: the numbers that decide each, and the rules."""
     from validation.judge import findings as module
     from validation.judge import sampling, sealing
 
-    chosen = [a for a in analyses
-              if a.findings and len(a.result.scene.surface.sweep_values) == 1] or \
-        [a for a in analyses if a.findings]
-    spanning = [a for a in analyses if a.scene_findings]
-    lines = ["## Findings\n"]
-    if not chosen and not spanning:
-        return lines + ["No surface scene with a BEM reference in this run: nothing to check.\n"]
-    lines.append("The paper's findings, checked point by point on the results of this run "
-                 "(rules and thresholds below the table).\n")
-    rows = []
-    for analysis in chosen:
-        parameter = analysis.result.scene.surface.sweep_name
-        for value, found in analysis.findings.items():
-            for f in found:
-                rows.append([f"({f.key}) {f.claim}",
-                             f"{analysis.result.scene.name}, {sweep_member(parameter, value)}",
-                             f.evidence.replace("|", "/"), f"**{f.verdict}**"])
-    for analysis in spanning:
-        surface = analysis.result.scene.surface
-        across = f"{surface.sweep_name} = " + ", ".join(f"{v:g}" for v in surface.sweep_values)
-        rows += [[f"({f.key}) {f.claim}", f"{analysis.result.scene.name}, {across}",
-                  f.evidence.replace("|", "/"), f"**{f.verdict}**"]
-                 for f in analysis.scene_findings]
+    parameter = analysis.result.scene.surface.sweep_name
+    rows = [[f"({f.key}) {f.claim}", sweep_member(parameter, value),
+             f.evidence.replace("|", "/"), f"**{f.verdict}**"]
+            for value, found in analysis.findings.items() for f in found]
+    surface = analysis.result.scene.surface
+    rows += [[f"({f.key}) {f.claim}", f"{surface.sweep_name} = "
+              + ", ".join(f"{v:g}" for v in surface.sweep_values),
+              f.evidence.replace("|", "/"), f"**{f.verdict}**"] for f in analysis.scene_findings]
+    if not rows:
+        return []
+    lines = ["## Findings\n", "The paper's findings, checked point by point on this scene "
+             "(rules and thresholds below the table).\n"]
     lines += md_table(["finding", "surface", "numbers that decide it", "verdict"], rows)
     keys = {row[0][1] for row in rows}
     rules = (module.RULES + ("\n" + sealing.RULES if keys & {"f", "g"} else "")
@@ -366,11 +309,14 @@ def verdict_table(comparison: Comparison, tolerances) -> list[str]:
                for e in comparison.models.values() if e.sealing is not None and e.sealing.any()]
     note = ([f"Disagreements about sealing (one of model and BEM sealed, h_eff = 0): "
              f"{'; '.join(sealing)}.\n"] if sealing else [])
+    one = bool(comparison.models) and all(e.one_surface for e in comparison.models.values())
+    reading = ("on this one surface, from its error and the reference band alone (no "
+               "per-surface reading)" if one else
+               f"on the mean error and per surface (at least 90 % of surfaces), at "
+               f"{100 * comparison.confidence:.4g} % confidence")
     return ([f"Verdicts per load point ({SYMBOLS[HOLDS]} holds, {SYMBOLS[FAILS]} fails, "
-             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ), on the mean "
-             f"error and per surface (at least 90 % of surfaces), at "
-             f"{100 * comparison.confidence:.4g} % confidence. Reference "
-             f"band: {sources or 'not estimated'}.\n"]
+             f"{SYMBOLS[UNDECIDED]} undecided; separation tolerances in units of σ), "
+             f"{reading}. Reference band: {sources or 'not estimated'}.\n"]
             + md_table(header, rows + ([total_row + ["", ""]] if totals else [])) + note)
 
 

@@ -5,7 +5,14 @@ whatever the figures do.
 Two readings of every cell: ``verdict`` on the mean error over realizations
 (:mod:`validation.judge.verdicts`) and ``verdict_per_surface`` on single surfaces
 (:mod:`validation.judge.tolerance`: at least 90 % of surfaces within the tolerance); ``confidence``
-is that of both (95 %, or split between the looks of a realization budget)."""
+is that of both (95 %, or split between the looks of a realization budget). A scene of one
+realization is judged by the reference band alone and has no per-surface reading (empty).
+
+``headline.csv`` holds every model's error at the headline's contact-area fractions
+(:mod:`validation.judge.headline`): the mean error with its interval (``interval`` says which:
+the confidence interval over realizations, or ± the reference band for one surface), the
+per-surface 90 % interval, and the verdicts, one row per tolerance. ``validity.csv`` gives each
+validity range in contact-area fraction first, the Load beside it."""
 
 from __future__ import annotations
 
@@ -20,7 +27,7 @@ from validation.report import sampling
 from validation.judge.verdicts import FAILS, HOLDS, UNDECIDED
 from validation.report.figures import dimensionless
 
-__all__ = ["write_tables", "TABLES"]
+__all__ = ["INTERVALS", "TABLES", "records", "table_rows", "write_tables"]
 
 #: File name -> header of every table.
 TABLES = {
@@ -35,8 +42,14 @@ TABLES = {
                    "sealing_resolved"],
     "verdicts.csv": ["scene", "D", "H", "L", "model", "quantity", "point", "Load", "tolerance",
                      "verdict", "undecided_reason", "verdict_per_surface", "confidence"],
-    "validity.csv": ["scene", "D", "H", "L", "model", "quantity", "tolerance", "load_min",
-                     "load_max", "area_fraction_min", "area_fraction_max", "points", "total",
+    "headline.csv": ["scene", "D", "H", "L", "model", "quantity", "reference_field",
+                     "area_fraction", "regime", "Load", "realizations", "mean_error", "low",
+                     "high", "half_width", "interval", "surfaces90_low", "surfaces90_high",
+                     "reference_band", "confidence", "tolerance", "verdict", "undecided_reason",
+                     "verdict_per_surface"],
+    "validity.csv": ["scene", "D", "H", "L", "model", "quantity", "tolerance",
+                     "area_fraction_min", "area_fraction_max", "load_min", "load_max",
+                     "points", "total",
                      "holds", "fails", "undecided", "reference_band_max", "unconverged",
                      "reference_field", "holds_per_surface", "fails_per_surface",
                      "undecided_per_surface", "sealing_disagreements"],
@@ -136,9 +149,9 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                 counts = e.counts(index)
                 surface = (e.surface_counts(index) if e.surface_verdicts
                            else dict.fromkeys((HOLDS, FAILS, UNDECIDED), ""))
-                out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance, r.load_min,
-                                            r.load_max, r.area_fraction_min, r.area_fraction_max,
-                                            r.points, r.total, counts[HOLDS], counts[FAILS],
+                out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance,
+                                            r.area_fraction_min, r.area_fraction_max, r.load_min,
+                                            r.load_max, r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
                                             float(np.nanmax(band)) if np.any(np.isfinite(band))
                                             else NOT_ESTIMATED, e.unconverged,
@@ -146,6 +159,27 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                             surface[FAILS], surface[UNDECIDED],
                                             "" if e.sealing is None else int(np.sum(e.sealing))])
     return out
+
+
+#: What the interval of a headline cell is (``interval`` column of headline.csv).
+INTERVALS = {False: "confidence interval", True: "reference band"}
+
+
+def _headline_rows(analysis) -> list[list]:
+    from validation.judge.headline import regime_of
+
+    rows, name = [], analysis.result.scene.name
+    for value, cells in sorted(analysis.headlines.items()):
+        sweep = _sweep(analysis.result.scene.surface.at(value))
+        for c in cells:
+            band = c.band if np.isfinite(c.band) else NOT_ESTIMATED
+            rows += [[name, *sweep, c.model, c.quantity, c.reference_field, c.fraction,
+                      regime_of(c.fraction), c.load, c.realizations, c.mean, c.low, c.high,
+                      c.half_width, INTERVALS[c.one_surface], c.surface_low, c.surface_high, band,
+                      c.confidence, t, v, why, w]
+                     for t, v, why, w in zip(c.tolerances, c.verdicts, c.reasons,
+                                             c.surface_verdicts)]
+    return rows
 
 
 def _theory_rows(analysis) -> list[list]:
@@ -165,13 +199,12 @@ def _cell(value):
     return value
 
 
-def write_tables(folder: pathlib.Path, analyses) -> list[str]:
-    """Write every non-empty table into ``folder``; returns the names written.
-
-    Floats carry 10 significant digits."""
+def table_rows(analyses) -> dict[str, list[list]]:
+    """Every table's rows (file name -> rows, in the column order of :data:`TABLES`)."""
     rows: dict[str, list[list]] = {name: [] for name in TABLES}
     for analysis in analyses:
         rows["curves.csv"] += _curve_rows(analysis)
+        rows["headline.csv"] += _headline_rows(analysis)
         for name, more in _comparison_rows(analysis).items():
             rows[name] += more
         surface = analysis.result.scene.surface
@@ -184,6 +217,22 @@ def write_tables(folder: pathlib.Path, analyses) -> list[str]:
         rows["theory.csv"] += _theory_rows(analysis)
         for name, more in sampling.table_rows(analysis).items():
             rows[name] += more
+    return rows
+
+
+def records(rows: dict[str, list[list]], name: str) -> list[dict]:
+    """The rows of table ``name`` as dicts by column, as a CSV reader gives them back (but
+    with the values unformatted)."""
+    return [dict(zip(TABLES[name], row)) for row in rows.get(name, [])]
+
+
+def write_tables(folder: pathlib.Path, analyses, rows: dict[str, list[list]] | None = None
+                 ) -> list[str]:
+    """Write every non-empty table into ``folder`` (``rows``: those of :func:`table_rows`,
+    computed here when not given); returns the names written.
+
+    Floats carry 10 significant digits."""
+    rows = table_rows(analyses) if rows is None else rows
     written = []
     for name, table in rows.items():
         if table:

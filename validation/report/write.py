@@ -1,10 +1,14 @@
 """The validity report: Markdown, PNG figures and CSV tables in one folder.
 
 ``write_report`` compares every surface scene with its reference (:mod:`validation.judge.compare`),
-checks the paper's findings (:mod:`validation.judge.findings`), writes the CSV tables first (so the
-numbers survive whatever the figures do), then ``report.md``: its text from
-:mod:`validation.report.sections`, its figures from :mod:`validation.report.figures` (matplotlib
-imported lazily), placed here.
+reads the headline (:mod:`validation.judge.headline`), checks the paper's findings
+(:mod:`validation.judge.findings`), writes the CSV tables first (so the numbers survive whatever
+the figures do), then one page per scene (``SCENE.md``: its details, text from
+:mod:`validation.report.sections`) and ``report.md``, the page a reader starts from: the
+summary (:mod:`validation.report.summary`), the headline tables and atlas figures
+(:mod:`validation.report.front`, :mod:`validation.report.atlas`), the findings at a glance and
+links to the scene pages. Figures from :mod:`validation.report.figures` (matplotlib imported
+lazily), placed here.
 """
 
 from __future__ import annotations
@@ -12,6 +16,7 @@ from __future__ import annotations
 import hashlib
 import pathlib
 import pickle
+import re
 from dataclasses import dataclass, field, replace
 from functools import partial
 
@@ -23,9 +28,9 @@ from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
 from validation.common.labels import MODEL_LABELS, QUANTITY_LABELS, model_order, model_rank
 from validation.report.sampling import sampling_section
-from validation.report.sections import (REPORT_QUANTITIES, findings_section, header,
-                                        holds_section, md_table, surface_text, sweep_member,
-                                        timing, undecided_section, verdict_table)
+from validation.report.sections import (REPORT_QUANTITIES, header, md_table, scene_findings,
+                                        surface_text, sweep_member, timing, validity_section,
+                                        verdict_table)
 from validation.run.cache import Cache, cache_key
 from validation.run.runner import SceneResult
 
@@ -33,17 +38,18 @@ __all__ = ["write_report", "md_table", "dimensionless", "MODEL_LABELS", "QUANTIT
            "REPORT_FILES", "previous_report"]
 
 #: What a report writes into its folder, and so what it replaces there: its Markdown, figures
-#: and tables.
+#: and tables (and the scene pages its ``report.md`` links).
 REPORT_FILES = ("report.md", "*.png", "*.csv")
 
 
 def previous_report(folder: str | pathlib.Path) -> list[pathlib.Path]:
     """The files of the previous report in ``folder``, which a new report replaces.
 
-    A report owns the files it writes (:data:`REPORT_FILES`), so that no figure or table of an
-    earlier run survives beside a new one. It writes into a new or empty folder (hidden files
-    aside), or one holding a previous report (a ``report.md``): that report's Markdown, PNG
-    and CSV files are replaced, anything else there is left alone. Any other folder is refused,
+    A report owns the files it writes (:data:`REPORT_FILES`, and the pages its ``report.md``
+    links), so that no figure, table or page of an earlier run survives beside a new one. It
+    writes into a new or empty folder (hidden files aside), or one holding a previous report (a
+    ``report.md``): that report's Markdown, PNG and CSV files and pages are replaced, anything
+    else there is left alone. Any other folder is refused,
     so that a report never deletes or mixes with files it did not write.
 
     Raises
@@ -63,8 +69,18 @@ def previous_report(folder: str | pathlib.Path) -> list[pathlib.Path]:
         raise ValueError(f"{str(folder)!r} holds files that are not a report ({shown}); a "
                          f"report replaces the files of a previous report in its folder, so it "
                          f"needs a new or empty folder, or one holding only an earlier report")
-    return sorted({path for pattern in REPORT_FILES for path in folder.glob(pattern)
-                   if path.is_file()})
+    owned = {path for pattern in REPORT_FILES for path in folder.glob(pattern) if path.is_file()}
+    return sorted(owned | set(_pages_of(folder)))
+
+
+def _pages_of(folder: pathlib.Path) -> list[pathlib.Path]:
+    """The scene pages the ``report.md`` in ``folder`` links (Markdown files beside it)."""
+    report = folder / "report.md"
+    if not report.is_file():
+        return []
+    names = re.findall(r"\]\(([^()/\s]+\.md)\)", report.read_text(encoding="utf-8",
+                                                                  errors="replace"))
+    return [folder / name for name in set(names) if (folder / name).is_file()]
 
 
 # --------------------------------------------------------------------------------------------
@@ -227,11 +243,12 @@ def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> Non
                 len(scene.tolerances))
 
 
-def _surface_section(figures: _Figures, analysis: Analysis) -> None:
-    result, lines = analysis.result, figures.lines
+def _surface_lines(analysis: Analysis) -> list[str]:
+    """The surfaces, the reference and the realizations of a scene, in a few sentences."""
+    result = analysis.result
     scene, s = result.scene, result.scene.surface
     count = len(next(iter(result.realizations.values()), []))
-    lines.append(surface_text(scene, count))
+    lines = [surface_text(scene, count)]
     if result.refinement is not None:
         lines.append(f"Reference: {result.refinement.describe(s.sweep_name)}.\n")
     if result.sequential is not None:
@@ -239,6 +256,15 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
                      f"{result.sequential.describe()}.\n")
     if not analysis.comparisons:
         lines.append("No BEM reference in this scene: curves only, no verdicts.\n")
+    return lines
+
+
+def _surface_section(figures: _Figures, analysis: Analysis) -> None:
+    """Per surface family: the curves, errors and verdicts; then the validity map, the sizes."""
+    result, lines = analysis.result, figures.lines
+    scene, s = result.scene, result.scene.surface
+    if analysis.comparisons or result.realizations:
+        lines.append("## Surfaces, curves and verdicts point by point\n")
     for value, results in sorted(result.realizations.items()):
         comparison = next((c for c in analysis.comparisons if c.value == value), None)
         lines.append(f"### {sweep_member(s.sweep_name, value)}\n")
@@ -321,41 +347,55 @@ def _check_arguments(results, folder, seconds, mode, command, executor, cache_di
     return checks.file_path("folder", folder)
 
 
+def _scene_page(figures: _Figures, analysis: Analysis) -> None:
+    """A scene's page: where each theory holds, the findings with their numbers and rules,
+    the sampling study, and per surface family its figures and verdict tables."""
+    scene, lines = analysis.result.scene, figures.lines
+    lines += [f"# {scene.title}\n",
+              f"[← The report](report.md). Scene `{scene.name}` ({scene.source}). "
+              f"{scene.description.strip()}\n"]
+    if scene.kind == "theory":
+        _theory_section(figures, analysis.result)
+        return
+    lines += _surface_lines(analysis)
+    lines += validity_section(analysis)
+    lines += scene_findings(analysis)
+    lines += sampling_section([analysis])
+    _surface_section(figures, analysis)
+    lines += timing(analysis.result)
+
+
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
                  executor=None, cache_dir: str | pathlib.Path | None = None) -> pathlib.Path:
-    """Write the CSV tables, then ``report.md`` with its PNG figures, into ``folder``.
+    """Write the CSV tables, then the scene pages and ``report.md`` with their PNG figures,
+    into ``folder``.
 
     ``command`` (the command line that produced the results), the package version and the run
-    time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures
-    and tables removed first; a folder holding other files and no report is refused
+    time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures,
+    tables and pages removed first; a folder holding other files and no report is refused
     (:func:`previous_report`). The figures are drawn on ``executor`` (a
     ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here;
     figures drawn before from the same data are read from ``cache_dir`` when given. Returns the
     path of ``report.md``.
     """
-    from validation.report.tables import write_tables
+    from validation.report.front import front_page, scene_page
+    from validation.report.tables import table_rows, write_tables
 
     folder = _check_arguments(results, folder, seconds, mode, command, executor, cache_dir)
     for path in previous_report(folder):
         path.unlink()
     folder.mkdir(parents=True, exist_ok=True)
     analyses = [analyse(result) for result in results]
-    written = write_tables(folder, analyses)
+    rows = table_rows(analyses)
+    written = write_tables(folder, analyses, rows)
     figures = _Figures(folder, header(seconds, mode, command))
-    figures.lines += holds_section(analyses)
-    figures.lines += undecided_section(analyses)
-    figures.lines += findings_section(analyses)
-    figures.lines += sampling_section(analyses)
+    front_page(figures, analyses, rows)
+    pages = {}
     for analysis in analyses:
-        scene = analysis.result.scene
-        figures.lines += [f"## {scene.title}\n",
-                          f"Scene `{scene.name}` ({scene.source}). {scene.description.strip()}\n"]
-        if scene.kind == "theory":
-            _theory_section(figures, analysis.result)
-            continue
-        _surface_section(figures, analysis)
-        figures.lines += timing(analysis.result)
+        page = _Figures(folder, [], figures.jobs)
+        _scene_page(page, analysis)
+        pages[scene_page(analysis.result.scene.name)] = page.lines
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
     path = folder / "report.md"
     try:
@@ -366,6 +406,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
         path.write_text("# Report not finished\n\nThe figures were not all drawn; the tables are "
                         "complete. Run the same command again.\n", encoding="utf-8")
         raise
+    for name, lines in pages.items():
+        (folder / name).write_text("\n".join(lines) + "\n", encoding="utf-8")
     path.write_text("\n".join(figures.lines) + "\n", encoding="utf-8")
     return path
-

@@ -237,7 +237,9 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
                                  "report/sampling.py", "judge/sealing.py",
                                  "report/sealing_figures.py", "judge/errors.py",
-                                 "report/layout.py", "judge/decide.py", "common/verdicts.py"})
+                                 "report/layout.py", "judge/decide.py", "common/verdicts.py",
+                                 "judge/headline.py", "report/front.py", "report/summary.py",
+                                 "report/atlas.py"})
 
 
 def source_version() -> str:

@@ -222,8 +222,8 @@ def parse_scene(data: dict, *, source: str = "<memory>", name: str | None = None
     -----
     SceneWarning
         For a valid scene that will not give what it seems to ask for
-        (:func:`validation.scenes.scene.scene_warnings`: verdicts from fewer than two
-        realizations).
+        (:func:`validation.scenes.scene.scene_warnings`: a generated surface family of one
+        realization, judged as that one surface).
     """
     if not isinstance(data, dict):
         raise InputTypeError(f"data must be a dict (a parsed TOML scene), got "

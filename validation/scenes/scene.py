@@ -309,16 +309,16 @@ class Scene:
 
 
 def scene_warnings(scene: Scene) -> list[str]:
-    """What a valid scene will not give although it seems to ask for it (one message each):
-    verdicts need a confidence interval, so at least two realizations."""
-    if scene.kind != "surface" or scene.realizations >= 2 \
+    """What a valid scene will not give although it seems to ask for it (one message each): a
+    generated surface family with one realization is judged as that one surface (by the
+    reference band alone, :func:`validation.judge.verdicts.one_surface_verdicts`), not as
+    surfaces of its kind. A measured map with ``tiles = 1`` is one surface by intent."""
+    if scene.kind != "surface" or scene.realizations >= 2 or scene.surface.family == "file" \
             or not set(scene.models) & set(_models.reference_names()):
         return []
-    change = ("surface.tiles = 4 (2 x 2 tiles as realizations)" if scene.surface.family == "file"
-              else "[realizations] count = 2 or more")
-    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: the "
-            f"95 % interval of a mean error needs at least 2, so every verdict will be "
-            f"undecided; set {change}"]
+    return [f"scene {scene.name!r} ({scene.source}) has {scene.realizations} realization: its "
+            f"verdicts are about that one surface (its error against the reference band), not "
+            f"about surfaces of its kind; set [realizations] count = 2 or more for those"]
 
 
 def defaults(kind: type) -> dict:
