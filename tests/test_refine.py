@@ -55,7 +55,7 @@ def test_refined_self_affine_keeps_its_spectrum_and_phases():
     assert spectrum[q > 0.5 / 4 * 1.5].max() < 1e-3 * spectrum.max()
 
 
-def test_a_measured_map_and_bad_factors_are_refused():
+def test_bad_factors_are_refused():
     with pytest.raises(ValueError, match="factor"):
         refined_heights(one(parse_scene(WM)), 0, 3)
     # a grid limit at the scene's own grid refines nothing, in the full and the quick run alike
@@ -72,7 +72,31 @@ def test_a_measured_map_and_bad_factors_are_refused():
                                                                      quantity="separation")))
     measured = load_scene(pathlib.Path(__file__).resolve().parents[1] / "examples"
                           / "example-topography.toml")
-    assert unavailable(measured).startswith("a measured map cannot be refined")
+    # a measured map refines onto its interpolation once it sets a grid limit
+    assert "max_grid" in unavailable(measured)
+    assert unavailable(replace(measured, bem=replace(measured.bem, max_grid=128))) is None
+
+
+@pytest.mark.parametrize("factor", [2, 4])
+def test_a_measured_map_is_refined_onto_its_interpolation(factor):
+    """Every factor-th point is the scan's own sample, and the finer grid adds no wavelength
+    shorter than two pixels of the scan: the interpolation's spectrum beyond the scan's Nyquist
+    wavevector is empty (the even extension has no edge jump to ring at)."""
+    measured = load_scene(pathlib.Path(__file__).resolve().parents[1] / "examples"
+                          / "example-topography.toml")
+    base = surface_heights(measured.surface, 0)
+    fine = refined_heights(measured.surface, 0, factor)
+    assert fine.shape == tuple(factor * side for side in base.shape)
+    np.testing.assert_allclose(fine[::factor, ::factor], base, atol=1e-12 * np.std(base))
+    assert np.std(fine) == pytest.approx(np.std(base), rel=0.05)
+    extended = np.concatenate((fine, fine[::-1]), axis=0)
+    extended = np.concatenate((extended, extended[:, ::-1]), axis=1)
+    power = np.abs(np.fft.fft2(extended))**2
+    q = np.hypot(*np.meshgrid(np.fft.fftfreq(extended.shape[0]), np.fft.fftfreq(extended.shape[1]),
+                              indexing="ij"))
+    # beyond the scan's Nyquist (1/2 per scan pixel = 1/(2 factor) per fine pixel) along both
+    # axes lies only what the fine grid's own mirror seam adds, orders of magnitude below
+    assert power[q > 0.5 / factor * 1.5].sum() < 1e-3 * power.sum()
 
 
 def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():

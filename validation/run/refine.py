@@ -10,7 +10,10 @@ decides", eq. T39). The finer sample exists exactly for generated surfaces:
 * a self-affine surface is band-limited to the scene grid's Nyquist wavelength: its ``2 n``
   sample is the generator's own fine grid, and finer ones are its trigonometric interpolation
   (the same spectrum and phases, zero above the cut-off);
-* a measured map cannot be refined (:func:`unavailable` says so).
+* a measured map (a tile of it) has no finer sample: its ``factor n`` grid is the trigonometric
+  interpolation of the map's even (mirror) extension (:func:`interpolated_scan`), band-limited to
+  the scan's own Nyquist wavelength, so the finer solve measures the solver's discretisation
+  error on the surface as sampled and adds no roughness the instrument did not record.
 
 Each finer sample is shifted and scaled so that every ``factor``-th point reproduces the scene's
 heights (checked), so the mean plane, and with it the separation, is the same. The finer
@@ -26,6 +29,7 @@ from concurrent.futures import Executor, Future
 from dataclasses import dataclass, replace
 
 import numpy as np
+from scipy import signal
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.path import error_estimates
@@ -36,7 +40,8 @@ from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import surface_heights, surface_identity
 from validation.surfaces.wm import wm_surface
 
-__all__ = ["SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "merge_points", "refined_heights",
+__all__ = ["SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "interpolated_scan", "merge_points",
+           "refined_heights",
            "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
 
 #: Bound on the solver error of area, conductance (relative) and separation, mean gap (in units
@@ -53,8 +58,6 @@ LOOSEST_TOLERANCE = 1e-4
 def unavailable(scene) -> str | None:
     """Why the scene's reference cannot be refined (None when it can)."""
     s, bem = scene.surface, scene.bem
-    if s.family == "file":
-        return "a measured map cannot be refined (no finer sample of it exists)"
     if getattr(bem, "max_grid", None) is None:
         return "no grid limit ([bem] max_grid not set)"
     if scene.loads.quantity != "load":
@@ -90,6 +93,23 @@ def _interpolate(field: np.ndarray, factor: int) -> np.ndarray:
     return np.fft.irfft2(padded, s=(factor * size, factor * size)) * factor**2
 
 
+def interpolated_scan(heights: np.ndarray, factor: int) -> np.ndarray:
+    """A measured height map on a grid ``factor`` times finer along both axes, through every
+    original sample (``out[::factor, ::factor] == heights``).
+
+    The map's even extension (the map and its mirror images, period twice its size) is
+    continuous across the scan's edges, so its trigonometric interpolation (zero-padded
+    spectrum, the Nyquist term split evenly: :func:`scipy.signal.resample`) neither rings at
+    the edges nor adds any wavelength shorter than two pixels of the scan.
+    """
+    rows, columns = heights.shape
+    extended = np.concatenate((heights, heights[::-1]), axis=0)
+    extended = np.concatenate((extended, extended[:, ::-1]), axis=1)
+    fine = signal.resample(extended, factor * 2 * rows, axis=0)
+    fine = signal.resample(fine, factor * 2 * columns, axis=1)
+    return fine[:factor * rows, :factor * columns]
+
+
 def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
     """Heights [length] of realization ``seed`` on ``factor * n`` points per side of the same
     window, with ``heights[::factor, ::factor]`` equal to the scene's sample.
@@ -97,7 +117,7 @@ def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
     Parameters
     ----------
     surface : validation.scenes.scene.SurfaceSpec
-        A WM or self-affine surface with one sweep value.
+        A WM or self-affine surface with one sweep value, or a measured map (one tile of it).
     seed : int
         Realization seed.
     factor : int
@@ -106,7 +126,7 @@ def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
     Raises
     ------
     ValueError
-        For a measured map, or a factor that is not a power of two >= 2.
+        For a factor that is not a power of two >= 2.
     """
     if isinstance(factor, bool) or not isinstance(factor, int) or factor < 2 \
             or factor & (factor - 1):
@@ -124,6 +144,8 @@ def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
         if factor > 2:
             field, grid = _interpolate(field, factor // 2), grid * (factor // 2)
         fine = field[:grid, :grid]
+    elif s.family == "file":
+        fine = interpolated_scan(base, factor)
     else:
         raise ValueError(f"a {s.family} surface cannot be refined (no finer sample exists)")
     sample = fine[::factor, ::factor]

@@ -1,0 +1,154 @@
+"""Physical quantities on the command line: ``115GPa``, ``1MPa:100MPa:12``, ``20nm``.
+
+A quantity is a number followed by a unit, with or without a space between them (``115 GPa``,
+``115GPa``, ``1.15e11 Pa``); a bare number is taken in the unit the caller names as the
+default (e.g. a pressure in units of E*). Pressures take the SI prefixes of the pascal and
+the common engineering units; lengths take the units of :data:`LENGTH_UNITS` (m, mm, um/µm,
+nm, Å, pm, ...). Everything is converted to SI (Pa, m).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+from validation.surfaces.topography import LENGTH_UNITS
+
+__all__ = ["PRESSURE_UNITS", "PressureRange", "format_length", "format_pressure",
+           "length_unit_for", "parse_length", "parse_pressure", "parse_pressure_range"]
+
+#: Pascals per unit of pressure.
+PRESSURE_UNITS: dict[str, float] = {
+    "Pa": 1.0, "hPa": 1e2, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "TPa": 1e12,
+    "N/m2": 1.0, "N/m^2": 1.0, "N/mm2": 1e6, "N/mm^2": 1e6,
+    "bar": 1e5, "mbar": 1e2, "psi": 6894.757293168361, "ksi": 6894757.293168361,
+}
+_QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
+
+
+def _parse(name: str, text: str | float, units: dict[str, float], what: str,
+           example: str) -> tuple[float, str | None]:
+    """(value in SI, the unit written or None for a bare number); the value finite and > 0."""
+    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+        raise TypeError(f"{name} must be a {what} like {example!r}, got {type(text).__name__}")
+    if isinstance(text, str):
+        match = _QUANTITY.fullmatch(text)
+        if match is None:
+            raise ValueError(f"{name} must be a {what} like {example!r}, got {text!r}")
+        number, unit = float(match.group(1)), match.group(2) or None
+        if unit is not None and unit not in units:
+            raise ValueError(f"{name}: unknown unit {unit!r} in {text!r}; use one of "
+                             f"{', '.join(sorted(units, key=units.get))}")
+    else:
+        number, unit = float(text), None
+    value = number * (units[unit] if unit is not None else 1.0)
+    if not math.isfinite(value) or value <= 0.0:
+        raise ValueError(f"{name} must be a positive finite {what}, got {text!r}")
+    return value, unit
+
+
+def parse_pressure(name: str, text: str | float) -> tuple[float, bool]:
+    """A pressure: ``(value, has_unit)``, the value in Pa when a unit is written (``"115GPa"``),
+    else the bare number as given (a pressure in units of E*).
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: not a number with a pressure unit, not positive, or not finite.
+    """
+    value, unit = _parse(name, text, PRESSURE_UNITS, "pressure", "115GPa")
+    return value, unit is not None
+
+
+def parse_length(name: str, text: str | float) -> tuple[float, bool]:
+    """A length: ``(value, has_unit)``, in metres when a unit is written (``"20nm"``), else the
+    bare number as given.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: not a number with a length unit, not positive, or not finite.
+    """
+    value, unit = _parse(name, text, LENGTH_UNITS, "length", "20nm")
+    return value, unit is not None
+
+
+@dataclass(frozen=True)
+class PressureRange:
+    """Nominal pressures from ``low`` to ``high`` (``count`` points, logarithmic), in Pa when
+    ``physical`` else in units of E*."""
+
+    low: float
+    high: float
+    count: int
+    physical: bool
+
+    def dimensionless(self, e_star: float | None) -> tuple[float, float]:
+        """(low, high) as p / E* (the scene's ``Load = W / (E* A)``).
+
+        Raises
+        ------
+        ValueError
+            For pressures in Pa without ``e_star``, or p / E* outside (0, 1).
+        """
+        if self.physical and e_star is None:
+            raise ValueError("--pressure with a unit needs --e-star (the effective modulus E*, "
+                             "e.g. --e-star 115GPa), or give pressures in units of E* "
+                             "(bare numbers, e.g. --pressure 1e-5:1e-3)")
+        scale = e_star if self.physical else 1.0
+        low, high = self.low / scale, self.high / scale
+        if high >= 1.0:
+            raise ValueError(f"--pressure: the highest nominal pressure is {high:.3g} E*; a "
+                             f"rough contact is fully closed long before p = E* (use a range "
+                             f"below E*)")
+        return low, high
+
+
+def parse_pressure_range(text: str, *, default_count: int = 12) -> PressureRange:
+    """``LOW:HIGH[:COUNT]``, e.g. ``1MPa:100MPa`` or ``1e-5:1e-3:16`` (units of E*).
+
+    Raises
+    ------
+    ValueError
+        Naming ``--pressure`` and what is allowed.
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"--pressure must be a string LOW:HIGH[:COUNT], got {type(text).__name__}")
+    parts = text.split(":")
+    if len(parts) not in (2, 3):
+        raise ValueError(f"--pressure must be LOW:HIGH or LOW:HIGH:COUNT (e.g. 1MPa:100MPa:12), "
+                         f"got {text!r}")
+    (low, low_unit), (high, high_unit) = (parse_pressure("--pressure", p) for p in parts[:2])
+    if low_unit != high_unit:
+        raise ValueError(f"--pressure: give both ends with a unit or both without, got {text!r}")
+    count = default_count
+    if len(parts) == 3:
+        if not parts[2].strip().isdigit() or int(parts[2]) < 1:
+            raise ValueError(f"--pressure: COUNT must be a whole number >= 1, got {parts[2]!r}")
+        count = int(parts[2])
+    if not high > low and not (count == 1 and high == low):
+        raise ValueError(f"--pressure: HIGH must be greater than LOW, got {text!r}")
+    return PressureRange(low, high, count, low_unit)
+
+
+def length_unit_for(metres: float) -> str:
+    """The length unit (nm, um or mm) in which ``metres`` reads as a number from 1 to 1000."""
+    for unit in ("nm", "um", "mm"):
+        if abs(metres) < 1000.0 * LENGTH_UNITS[unit]:
+            return unit
+    return "m"
+
+
+def format_pressure(pascals: float) -> str:
+    """A pressure in the prefix that reads best: ``3.2 MPa``."""
+    for unit in ("GPa", "MPa", "kPa"):
+        if abs(pascals) >= PRESSURE_UNITS[unit]:
+            return f"{pascals / PRESSURE_UNITS[unit]:.3g} {unit}"
+    return f"{pascals:.3g} Pa"
+
+
+def format_length(metres: float) -> str:
+    """A length in the unit that reads best: ``20 nm``."""
+    unit = length_unit_for(metres)
+    return f"{metres / LENGTH_UNITS[unit]:.3g} {unit}"
