@@ -1,4 +1,4 @@
-"""Command line: ``python -m validation {report,list,show,bench,stress}``.
+"""Command line: ``python -m validation {report,check,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode (8 realizations of each paper
 scene on 256 x 256 grids with 12 loads, and 4 per D of the validity map on 128 x 128 grids with
@@ -113,9 +113,6 @@ def _load_scene(name: str):
 
 
 def _report(args: argparse.Namespace) -> int:
-    from validation.report.write import write_report
-    from validation.judge.decide import run_scenes
-
     quick = args.quick or (not args.full and not args.scenes and not args.publish)
     names = args.scenes or [name for name in DEFAULT_SCENES
                             if not (quick and name in FULL_ONLY_SCENES)]
@@ -134,16 +131,40 @@ def _report(args: argparse.Namespace) -> int:
     mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
     for message in (m for scene in scenes for m in scene_warnings(scene)):
         print(f"warning: {message}", file=sys.stderr)
+    command = "python -m validation " + shlex.join(args.argv)
+
+    def work(executor, cache_dir: str | None) -> tuple:
+        from validation.report.write import write_report
+        from validation.judge.decide import run_scenes
+
+        start = time.perf_counter()
+        results = run_scenes(scenes, executor=executor, cache_dir=cache_dir,
+                             progress=not args.quiet)
+        seconds = time.perf_counter() - start
+        # the figures are drawn on the same workers (or read from the cache)
+        path = write_report(results, args.out, seconds=seconds, mode=mode, command=command,
+                            executor=executor, cache_dir=cache_dir)
+        return path, seconds, time.perf_counter() - start - seconds
+
+    return run_pipeline(args, work, "--publish" if args.publish else "--out")
+
+
+def run_pipeline(args: argparse.Namespace, work, out_option: str = "--out") -> int:
+    """Run ``work(executor, cache_dir) -> (report path, computing s, writing s)`` the way every
+    report command does: the output and cache folders checked before any computing (exit status
+    2 with the reason), FFTW wisdom kept with the cache, realizations on ``--jobs`` worker
+    processes or a ``--scheduler`` cluster, and Ctrl-C ending the workers at once (status 130,
+    finished realizations kept in the cache)."""
+    from validation.report.write import previous_report
+
     cache_dir = None if args.no_cache else str(args.cache or default_cache_dir())
     # Fail before any computing: an unwritable report or cache folder is found now, not after.
     try:
-        from validation.report.write import previous_report
-
         try:
             previous_report(args.out)  # replaced when the new report is written, not before
         except ValueError as error:
-            raise ValueError(f"--{'publish' if args.publish else 'out'} {error}") from None
-        check_directory(args.out, "--out")
+            raise ValueError(f"{out_option} {error}") from None
+        check_directory(args.out, out_option)
         if cache_dir is not None:
             check_directory(cache_dir, "--cache")
         if args.jobs < 1:
@@ -156,15 +177,8 @@ def _report(args: argparse.Namespace) -> int:
     os.environ[WISDOM_VARIABLE] = cache_dir or ""
     try:
         executor, close, abort = _executor(args)
-        start = time.perf_counter()
         try:
-            results = run_scenes(scenes, executor=executor, cache_dir=cache_dir,
-                                 progress=not args.quiet)
-            seconds = time.perf_counter() - start
-            command = "python -m validation " + shlex.join(args.argv)
-            # the figures are drawn on the same workers (or read from the cache)
-            path = write_report(results, args.out, seconds=seconds, mode=mode, command=command,
-                                executor=executor, cache_dir=cache_dir)
+            path, seconds, drawn = work(executor, cache_dir)
         except KeyboardInterrupt:
             abort()
             return _interrupted(cache_dir)
@@ -177,7 +191,6 @@ def _report(args: argparse.Namespace) -> int:
             os.environ.pop(WISDOM_VARIABLE, None)
         else:
             os.environ[WISDOM_VARIABLE] = wisdom
-    drawn = time.perf_counter() - start - seconds
     print(f"report written to {path} ({seconds:.1f} s computing, {drawn:.1f} s writing)")
     return 0
 
@@ -217,6 +230,19 @@ def _stress(args: argparse.Namespace) -> int:
     return 1 if failures else 0
 
 
+def _run_options(parser: argparse.ArgumentParser) -> None:
+    """Options of every command that runs scenes: workers, cache, cluster, progress."""
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="worker processes for realizations (default: CPU count; 1 = in-process)")
+    cache = parser.add_mutually_exclusive_group()
+    cache.add_argument("--cache", default=None, help=f"cache folder (default: {default_cache_dir()})")
+    cache.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
+    parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="dask.distributed scheduler address; realizations run on that cluster")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress bar (warnings and errors are still printed)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The command line's parser (its help is the program's documentation of its options)."""
     parser = argparse.ArgumentParser(prog="python -m validation", description=__doc__,
@@ -233,19 +259,16 @@ def build_parser() -> argparse.ArgumentParser:
                              "scene, 10 per D of the validity map, 8 per H of the self-affine "
                              "map, 8 per window of the size scene) instead of quick")
     report.add_argument("--quick", action="store_true", help="quick mode also for named scenes")
-    report.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes for realizations (default: CPU count; 1 = in-process)")
-    cache = report.add_mutually_exclusive_group()
-    cache.add_argument("--cache", default=None, help=f"cache folder (default: {default_cache_dir()})")
-    cache.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
-    report.add_argument("--scheduler", default=None, metavar="ADDRESS",
-                        help="dask.distributed scheduler address; realizations run on that cluster")
-    report.add_argument("--quiet", action="store_true",
-                        help="no progress bar (warnings and errors are still printed)")
+    _run_options(report)
     report.add_argument("--publish", nargs="?", const="docs/results", default=None, metavar="DIR",
                         help="regenerate the published report in DIR (default docs/results): "
                              "full mode unless --quick, the previous report replaced")
     report.set_defaults(handler=_report)
+    from validation.check.command import add_parser, run_check
+
+    check = add_parser(sub)
+    _run_options(check)
+    check.set_defaults(handler=run_check)
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
     show = sub.add_parser("show", help="print a scene file and its parsed form")

@@ -1,0 +1,57 @@
+"""The check's figure: every theory against the reference, in physical units, one panel per
+quantity (matplotlib imported here only)."""
+
+from __future__ import annotations
+
+import pathlib
+
+import numpy as np
+
+from validation.common.labels import model_label
+from validation.common import models
+
+__all__ = ["physical_figure"]
+
+
+def _panel(ax, table) -> None:
+    x = table.pressure if table.pressure is not None else table.load
+    percent = 100.0 if table.unit == "" else 1.0
+    styles = models.styles()
+    for model, values in table.models.items():
+        ax.plot(x, values * percent, label=model_label(model), **styles.get(model, {}))
+    ax.errorbar(x, table.reference * percent, yerr=table.band * percent, fmt="o", color="black",
+                markersize=3, capsize=2, label="BEM (reference, with band)")
+    ax.set_xscale("log")
+    positive = table.reference[np.isfinite(table.reference)] > 0
+    if positive.any() and table.field in ("area", "conductance"):
+        ax.set_yscale("log")
+    ax.set_xlabel("nominal pressure p [Pa]" if table.pressure is not None else "p / E*")
+    unit = "%" if table.unit == "" else table.unit
+    ax.set_ylabel(f"{table.heading.split(' (')[0]} [{unit}]", fontsize=8)
+    ax.grid(True, which="both", alpha=0.3)
+
+
+def physical_figure(tables, path: str | pathlib.Path) -> pathlib.Path:
+    """One panel per table of :func:`validation.check.physical.physical_tables`, written as a
+    PNG to ``path``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    count = len(tables)
+    columns = 2 if count > 1 else 1
+    rows = -(-count // columns)
+    figure, axes = plt.subplots(rows, columns, figsize=(5.2 * columns, 3.6 * rows),
+                                squeeze=False)
+    for ax, table in zip(axes.flat, tables):
+        _panel(ax, table)
+    for ax in list(axes.flat)[count:]:
+        ax.set_visible(False)
+    handles, labels = axes.flat[0].get_legend_handles_labels()
+    figure.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
+    figure.tight_layout(rect=(0, 0.08, 1, 1))
+    path = pathlib.Path(path)
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+    return path

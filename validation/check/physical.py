@@ -1,0 +1,168 @@
+"""One surface's answer in the user's units: nominal pressure, real contact-area fraction,
+separation and mean gap, interfacial stiffness per unit area and the leakage's effective
+hydraulic aperture, for every model beside the boundary-element reference and its band.
+
+The scene runs in units of E* (``Load = W / (E* A0) = p / E*``) and of the scan's length unit
+(heights, separations, h_eff); the conversions are
+
+* nominal pressure ``p = Load E*`` [Pa] (only when E* is given);
+* real contact-area fraction ``A / A0`` (dimensionless);
+* separation ``d``, mean gap ``<g>`` and leakage ``h_eff`` in the scan's length unit;
+* normal interfacial stiffness per unit nominal area ``K = -dp/dd = S / A0``, with
+  ``S = conductance E* / 2`` (Barber's analogy, ``conductance = 2 S / E*``) [Pa/m = N/m³].
+
+Every model's value is the one it predicts for the field it is compared with (Persson's theory
+predicts the mean gap, not the separation); the reference's band is its error estimate in the
+error measure of the comparison (relative for area and stiffness, in units of σ for separation
+and mean gap, the logarithm of the ratio for h_eff) turned into the quantity's unit.
+"""
+
+from __future__ import annotations
+
+import csv
+import pathlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from validation.check.units import format_pressure
+from validation.judge.verdicts import FAILS, HOLDS
+from validation.common.labels import model_label, model_order
+from validation.common import models
+from validation.surfaces.topography import LENGTH_UNITS
+
+__all__ = ["FIELDS", "PhysicalTable", "physical_tables", "table_lines", "write_csv"]
+
+#: Reference fields shown, in order: (field, heading, unit kind) with kind "fraction",
+#: "length" or "stiffness".
+FIELDS = (("area", "Real contact-area fraction A/A0", "fraction"),
+          ("separation", "Separation d", "length"),
+          ("mean_gap", "Mean gap <g>", "length"),
+          ("conductance", "Interfacial stiffness per unit area K = S/A0", "stiffness"),
+          ("leakage", "Effective hydraulic aperture h_eff (leak rate ∝ h_eff³)", "length"))
+_SYMBOLS = {HOLDS: "✔", FAILS: "✘"}
+
+
+@dataclass(frozen=True)
+class PhysicalTable:
+    """One reference field at every pressure: the reference's value and band and each model's
+    value and verdict (at the loosest tolerance), in physical units."""
+
+    field: str
+    heading: str
+    unit: str                       # of every value ("" for a fraction)
+    load: np.ndarray                # p / E*
+    pressure: np.ndarray | None     # Pa (None without E*)
+    reference: np.ndarray
+    band: np.ndarray                # half-width of the reference's band, same unit
+    models: dict[str, np.ndarray]   # model -> value
+    verdicts: dict[str, np.ndarray] # model -> verdict at ``tolerance``
+    tolerance: float
+
+
+def _scale(kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
+    """Factor from the curve's field to the physical value, and the unit written."""
+    area = curve.nominal_area
+    if kind == "fraction":
+        return 1.0 / area, ""
+    if kind == "length":
+        return 1.0, unit
+    # stiffness per unit area from the conductance 2 S / E*: K = conductance E*_scene / (2 A0)
+    factor = curve.e_star / (2.0 * area)
+    if e_star is None:
+        return factor, f"E*/{unit}"
+    return factor * e_star / LENGTH_UNITS[unit], "N/m³"
+
+
+def _value(curve, name: str) -> np.ndarray | None:
+    value = getattr(curve, name, None) if name != "mean_gap" else curve.extras.get("mean_gap")
+    return None if value is None else np.asarray(value, dtype=float)
+
+
+def _band(kind: str, field: str, reference: np.ndarray, band: np.ndarray,
+          sigma: float) -> np.ndarray:
+    if field in ("separation", "mean_gap"):
+        return band * sigma
+    if field == "leakage":
+        return reference * np.expm1(band)
+    return band * np.abs(reference)
+
+
+def physical_tables(realization, comparison, *, e_star: float | None, unit: str
+                    ) -> list[PhysicalTable]:
+    """The tables of one surface (a :class:`validation.run.runner.RealizationResult` and its
+    :class:`validation.judge.compare.Comparison`), one per reference field the scene compares.
+    ``e_star`` [Pa] or None (pressures and stiffness in units of E*); ``unit`` the scan's."""
+    curves = realization.curves
+    reference_curve = curves[models.reference_among(curves)]
+    tables = []
+    for field, heading, kind in FIELDS:
+        entries = {model: entry for (model, _), entry in comparison.models.items()
+                   if entry.reference_field == field}
+        if not entries:
+            continue
+        reference = _value(reference_curve, field)
+        if reference is None:
+            continue
+        scale, written = _scale(kind, reference_curve, e_star, unit)
+        first = next(iter(entries.values()))
+        band = _band(kind, field, reference, np.asarray(first.band, dtype=float),
+                     realization.sigma) * scale
+        index = len(first.tolerances) - 1
+        values, verdicts = {}, {}
+        quantity_of = {model: quantity for (model, quantity), entry in comparison.models.items()
+                       if entry.reference_field == field}
+        for model in model_order(entries):
+            value = _value(curves[model], quantity_of[model])
+            if value is not None:
+                values[model] = value * scale
+                verdicts[model] = np.asarray(entries[model].verdicts[index])
+        pressure = None if e_star is None else comparison.load * e_star
+        tables.append(PhysicalTable(field, heading, written, np.asarray(comparison.load),
+                                    pressure, reference * scale, band, values, verdicts,
+                                    first.tolerances[index]))
+    return tables
+
+
+def _number(value: float) -> str:
+    return "–" if not np.isfinite(value) else f"{value:.3g}"
+
+
+def table_lines(table: PhysicalTable) -> list[str]:
+    """A Markdown table: one row per pressure, the reference with its band, then each model
+    with ✔ (holds), ✘ (fails) or ? (undecided) at the table's tolerance."""
+    percent = table.unit == ""
+    shown = (lambda v: _number(100 * v) + " %") if percent else _number
+    unit = f" [{table.unit}]" if table.unit else ""
+    header = (["p"] if table.pressure is not None else []) + ["p/E*", f"BEM{unit}"] \
+        + [model_label(m) for m in table.models]
+    lines = [f"**{table.heading}**{unit} (✔ holds, ✘ fails, ? undecided within "
+             f"{table.tolerance:g}):\n", "| " + " | ".join(header) + " |",
+             "|" + "---|" * len(header)]
+    for k in range(table.load.size):
+        row = ([format_pressure(table.pressure[k])] if table.pressure is not None else []) + \
+            [f"{table.load[k]:.3g}", f"{shown(table.reference[k])} ± {shown(table.band[k])}"]
+        row += [f"{shown(values[k])} {_SYMBOLS.get(str(table.verdicts[m][k]), '?')}"
+                for m, values in table.models.items()]
+        lines.append("| " + " | ".join(row) + " |")
+    return lines + [""]
+
+
+def write_csv(tables: list[PhysicalTable], path: str | pathlib.Path) -> pathlib.Path:
+    """``physical.csv``: one row per field, pressure and model (the reference as ``bem`` with
+    its band), values in the unit of the ``unit`` column."""
+    path = pathlib.Path(path)
+    with path.open("w", newline="", encoding="utf-8") as handle:
+        out = csv.writer(handle)
+        out.writerow(["field", "unit", "point", "load_p_over_e_star", "pressure_Pa", "model",
+                      "value", "reference_band", "verdict", "tolerance"])
+        for t in tables:
+            for k in range(t.load.size):
+                pressure = "" if t.pressure is None else f"{t.pressure[k]:.10g}"
+                common = [t.field, t.unit or "1", k, f"{t.load[k]:.10g}", pressure]
+                out.writerow(common + ["bem", f"{t.reference[k]:.10g}", f"{t.band[k]:.10g}",
+                                       "", ""])
+                for model, values in t.models.items():
+                    out.writerow(common + [model, f"{values[k]:.10g}", "",
+                                           str(t.verdicts[model][k]), f"{t.tolerance:g}"])
+    return path

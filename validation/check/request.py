@@ -1,0 +1,159 @@
+"""One measured scan, one question: the scene that answers it.
+
+``python -m validation check SCAN`` asks which theory to trust on *this* surface. The scan is
+read once (:func:`validation.read_topography`, plane removed) to choose what the user left out:
+
+* the length unit of the answer: nm, um or mm, whichever makes the rms height a number from 1
+  to 1000;
+* the nominal pressures, when none are given: p / E* from ``5e-4`` to ``0.15`` times the rms
+  slope, twelve points, logarithmic. With A / A0 ≈ κ p / (E* |∇h|_rms), κ ≈ 2 (Persson; Hyun
+  et al.), that spans real contact-area fractions from about 0.1 % to about 30 %: light to heavy
+  contact.
+
+The scene is one realization of the whole scan (``tiles = 1``): every model and the
+boundary-element reference see the same surface, and the verdicts are those of one surface
+(holds where |error| + band ≤ tolerance). Where the reference band decides a cell, the
+reference is solved again on the scan interpolated to twice its grid (``[bem] max_grid = 2N``,
+:func:`validation.run.refine.interpolated_scan`) for scans up to :data:`MAX_REFINED_SIDE`
+pixels. The scene is written as a TOML file beside the report, so the same answer can be
+recomputed with ``python -m validation report check.toml`` and edited like any scene.
+"""
+
+from __future__ import annotations
+
+import math
+import pathlib
+from dataclasses import dataclass
+
+import numpy as np
+
+from validation.check.units import PressureRange, length_unit_for
+from validation.surfaces.topography import LENGTH_UNITS, Topography, read_topography
+from validation.surfaces.wm import surface_statistics
+
+__all__ = ["CheckRequest", "DEFAULT_PRESSURES", "MAX_REFINED_SIDE", "QUANTITIES", "scene_text"]
+
+#: Default nominal pressures as multiples of E* times the rms slope (light to heavy contact).
+DEFAULT_PRESSURES = (5e-4, 0.15)
+#: Default number of nominal pressures.
+DEFAULT_COUNT = 12
+#: Largest scan side whose reference is refined onto the 2N interpolation (a 4096² non-periodic
+#: solve needs an 8192² FFT: several GB).
+MAX_REFINED_SIDE = 1024
+#: Quantities the check compares: everything a tribologist asks of a contact.
+QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "leakage")
+
+
+@dataclass(frozen=True)
+class CheckRequest:
+    """What the user asked: the scan, how to read it, E* and the pressures.
+
+    Attributes
+    ----------
+    path : pathlib.Path
+        The height file (any format :func:`validation.read_topography` reads).
+    e_star : float or None
+        Effective modulus E* [Pa]; None: pressures are in units of E*.
+    pressures : PressureRange or None
+        Nominal pressures; None: the default range from the scan's rms slope.
+    short_cutoff : str or None
+        Short-wavelength cutoff as the scene key writes it (``"20 nm"``), or None.
+    fill : str or None
+        ``"mean"`` or ``"interpolate"`` for missing points, or None (missing points refused).
+    physical_size, file_unit : str or None
+        For a file that states neither its size nor its height unit (``"10 um"``, ``"nm"``).
+    tiles : int
+        1: the whole scan; k²: also the scan cut into k x k tiles, as a second reading of how
+        the answer varies across the scan.
+    """
+
+    path: pathlib.Path
+    e_star: float | None = None
+    pressures: PressureRange | None = None
+    short_cutoff: str | None = None
+    fill: str | None = None
+    physical_size: str | None = None
+    file_unit: str | None = None
+    tiles: int = 1
+
+    def read(self, unit: str = "m") -> Topography:
+        """The scan as the scene will read it (plane removed), lengths in ``unit``."""
+        options = {"fill": self.fill} if self.fill is not None else {}
+        return read_topography(self.path, physical_size=self.physical_size,
+                               file_unit=self.file_unit, height_unit=unit, detrend="plane",
+                               **options)
+
+    def unit(self, scan_in_metres: Topography) -> str:
+        """The length unit of the answer (nm, um, mm) from the scan's rms height."""
+        return length_unit_for(float(np.std(scan_in_metres.heights)))
+
+    def loads(self, scan: Topography) -> tuple[float, float, int]:
+        """(lowest, highest p / E*, count) of the scene's load path."""
+        if self.pressures is not None:
+            low, high = self.pressures.dimensionless(self.e_star)
+            return low, high, self.pressures.count
+        slope = surface_statistics(scan.heights, scan.spacing).rms_gradient
+        if not slope > 0:
+            raise ValueError(f"{self.path}: the scan is flat after removing its mean plane "
+                             f"(rms slope 0): there is no rough contact to check")
+        return DEFAULT_PRESSURES[0] * slope, min(DEFAULT_PRESSURES[1] * slope, 0.5), DEFAULT_COUNT
+
+
+def _toml(value) -> str:
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml(v) for v in value) + "]"
+    return '"' + str(value).replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+def _table(name: str | None, entries: dict) -> list[str]:
+    lines = [f"[{name}]"] if name else []
+    return lines + [f"{key} = {_toml(value)}" for key, value in entries.items() if value is not None]
+
+
+def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
+    """The TOML scene that answers ``request`` on the whole scan (``tiles = 1``) or on its
+    ``tiles`` tiles; reads the scan once to fill in the defaults.
+
+    Raises
+    ------
+    ValueError
+        For a scan that cannot be read (the reader's message), a flat scan, or pressures that
+        need E* (the message names the option).
+    """
+    metres = request.read("m")
+    unit = request.unit(metres)
+    scan = request.read(unit)
+    low, high, count = request.loads(scan)
+    rows, columns = scan.heights.shape
+    side = max(rows, columns) // math.isqrt(tiles)
+    e_star = ("E* not given: pressures in units of E*" if request.e_star is None
+              else f"E* = {request.e_star:.6g} Pa")
+    description = (f"The whole scan {request.path.name} ({rows} x {columns} pixels, spacing "
+                   f"{scan.spacing:.4g} {unit}) as one surface"
+                   + (f", cut into {tiles} tiles" if tiles > 1 else "")
+                   + f"; {e_star}; Load = p / E*.")
+    lines = _table(None, {"name": name, "title": f"Your surface: {request.path.name}"
+                          + (f", {tiles} tiles" if tiles > 1 else ""),
+                          "description": description})
+    lines += [""] + _table("surface", {
+        "family": "file", "path": str(request.path.resolve()), "unit": unit,
+        "detrend": "plane", "tiles": tiles, "fill": request.fill,
+        "short_cutoff": request.short_cutoff, "physical_size": request.physical_size,
+        "file_unit": request.file_unit})
+    lines += [""] + _table("material", {"e_star": 1.0})
+    lines += [f"# pressures in units of E*; {e_star}"]
+    lines += [""] + _table("loads", {"quantity": "load", "min": low, "max": high, "count": count,
+                                     "spacing": "log" if count > 1 else None})
+    lines += [""] + _table("quantities", {"use": list(QUANTITIES)})
+    refined = side <= MAX_REFINED_SIDE and tiles == 1
+    lines += [""] + _table("bem", {"max_grid": 2 * side if refined else None})
+    return "\n".join(lines) + "\n"
+
+
+def metres_per(unit: str) -> float:
+    """Metres per ``unit`` (a key of :data:`validation.surfaces.topography.LENGTH_UNITS`)."""
+    return LENGTH_UNITS[unit]
