@@ -1,0 +1,158 @@
+"""``python -m validation check``: one measured scan, answered in physical units.
+
+The known answer: a scan whose only contact at light load is one paraboloidal cap of radius R.
+Hertz's solution is then exact for the discrete asperity model (a = (3 W R / 4 E*)^(1/3), area
+pi a^2, stiffness S = 2 a E*), and the boundary-element reference must agree with it within its
+own band and a few per cent of discretisation.
+"""
+
+import csv
+import math
+
+import numpy as np
+import pytest
+
+from validation.check.units import (format_length, format_pressure, length_unit_for,
+                                    parse_length, parse_pressure, parse_pressure_range)
+from validation.cli import main
+
+SIDE, PIXELS, RADIUS = 12.8, 128, 40.0      # um, pixels, um
+E_STAR = 100e9                              # Pa
+
+
+def rows(path):
+    with open(path, newline="") as stream:
+        return list(csv.DictReader(stream))
+
+
+@pytest.mark.parametrize("text, value, has_unit", [
+    ("115GPa", 115e9, True), ("115 GPa", 115e9, True), ("1.15e11 Pa", 1.15e11, True),
+    ("3 MPa", 3e6, True), ("200 kPa", 2e5, True), ("1e-4", 1e-4, False), ("2 bar", 2e5, True),
+])
+def test_pressures_parse_with_and_without_prefix(text, value, has_unit):
+    parsed, unit = parse_pressure("--e-star", text)
+    assert parsed == pytest.approx(value, rel=1e-12) and unit is has_unit
+
+
+@pytest.mark.parametrize("text, value", [("20nm", 20e-9), ("0.5 um", 0.5e-6), ("0.5µm", 0.5e-6),
+                                         ("3 Å", 3e-10), ("1.5mm", 1.5e-3)])
+def test_lengths_parse(text, value):
+    assert parse_length("--short-cutoff", text)[0] == pytest.approx(value, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, match", [("115 GPascal", "unknown unit"), ("-1 GPa", "positive"),
+                                         ("GPa", "pressure like"), ("0 Pa", "positive"),
+                                         ("inf Pa", "pressure like")])
+def test_bad_pressures_name_the_option(text, match):
+    with pytest.raises(ValueError, match=f"--e-star.*{match}|{match}.*--e-star|--e-star: {match}"):
+        parse_pressure("--e-star", text)
+
+
+def test_pressure_ranges():
+    r = parse_pressure_range("1MPa:100MPa")
+    assert (r.low, r.high, r.count, r.physical) == (1e6, 1e8, 12, True)
+    assert r.dimensionless(1e11) == pytest.approx((1e-5, 1e-3))
+    assert parse_pressure_range("1e-5:1e-3:7").dimensionless(None) == pytest.approx((1e-5, 1e-3))
+    with pytest.raises(ValueError, match="needs --e-star"):
+        r.dimensionless(None)
+    for bad, match in (("1MPa", "LOW:HIGH"), ("1MPa:1e-3", "both ends"), ("5MPa:1MPa", "greater"),
+                       ("1MPa:2MPa:0", "COUNT"), ("1MPa:2MPa:x", "COUNT")):
+        with pytest.raises(ValueError, match=match):
+            parse_pressure_range(bad)
+    with pytest.raises(ValueError, match="below E"):
+        parse_pressure_range("1GPa:200GPa").dimensionless(100e9)
+
+
+def test_readable_units():
+    assert length_unit_for(3e-7) == "nm" and length_unit_for(3e-6) == "um"
+    assert format_pressure(3.2e6) == "3.2 MPa" and format_length(2e-8) == "20 nm"
+
+
+def _one_cap_scan(path):
+    """16 paraboloidal caps of radius RADIUS on a 4 x 4 lattice; the cap of cell (1, 1) stands
+    0.1 um above the others, so at light load it is the only contact (its indentation stays
+    below 0.02 um); no linear trend, so removing the mean plane leaves it on top."""
+    spacing = SIDE / PIXELS
+    y, x = np.mgrid[0:PIXELS, 0:PIXELS] * spacing
+    caps = [(0.0 if k == 5 else -0.1)
+            - ((x - (16 + 32 * (k % 4)) * spacing) ** 2
+               + (y - (16 + 32 * (k // 4)) * spacing) ** 2) / (2 * RADIUS) for k in range(16)]
+    np.save(path, np.max(caps, axis=0))
+
+
+@pytest.fixture(scope="module")
+def checked(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("check")
+    _one_cap_scan(folder / "cap.npy")
+    out = folder / "out"
+    status = main(["check", str(folder / "cap.npy"), "--physical-size", f"{SIDE} um",
+                   "--file-unit", "um", "--e-star", "100GPa", "--pressure", "2MPa:10MPa:3",
+                   "--out", str(out), "--cache", str(folder / "cache"), "--jobs", "1",
+                   "--quiet"])
+    assert status == 0
+    return folder, out
+
+
+def _values(out, field, model):
+    return {int(r["point"]): r for r in rows(out / "physical.csv")
+            if r["field"] == field and r["model"] == model}
+
+
+def test_one_cap_is_hertz_in_physical_units(checked):
+    _, out = checked
+    area_fraction = _values(out, "area", "discrete_no_interaction")
+    reference = _values(out, "area", "bem")
+    stiffness = _values(out, "conductance", "discrete_no_interaction")
+    nominal = (SIDE * 1e-6) ** 2                                  # m^2
+    for k, pressure in enumerate(np.geomspace(2e6, 10e6, 3)):
+        assert float(reference[k]["pressure_Pa"]) == pytest.approx(pressure, rel=1e-9)
+        load = pressure * nominal                                 # N
+        a = (3 * load * RADIUS * 1e-6 / (4 * E_STAR)) ** (1 / 3)   # m
+        assert float(area_fraction[k]["value"]) == pytest.approx(math.pi * a * a / nominal,
+                                                                 rel=1e-6)
+        assert stiffness[k]["unit"] == "N/m³"
+        assert float(stiffness[k]["value"]) == pytest.approx(2 * a * E_STAR / nominal, rel=1e-6)
+        # the reference agrees with Hertz within its band and 3 % of discretisation
+        bem, band = float(reference[k]["value"]), float(reference[k]["reference_band"])
+        assert abs(bem - math.pi * a * a / nominal) <= band + 0.03 * bem
+
+
+def test_check_report_heads_with_the_surface_and_its_resolution(checked):
+    _, out = checked
+    text = (out / "report.md").read_text()
+    assert text.index("## Your surface: cap.npy") < text.index("## Is the reference converged")
+    assert "128 x 128 pixels of 100 nm" in text and "E* = 100 GPa" in text
+    assert "| 2 MPa |" in text and "(check-physical.png)" in text
+    assert (out / "check-physical.png").stat().st_size > 10_000
+    for name in ("errors.csv", "verdicts.csv", "physical.csv", "check.toml"):
+        assert (out / name).is_file()
+
+
+def test_the_scene_it_writes_gives_the_same_numbers(checked):
+    folder, out = checked
+    again = folder / "again"
+    assert main(["report", str(out / "check.toml"), "--out", str(again), "--cache",
+                 str(folder / "cache"), "--jobs", "1", "--quiet"]) == 0
+    first, second = rows(out / "errors.csv"), rows(again / "errors.csv")
+    assert len(first) == len(second) > 0
+    for a, b in zip(first, second):
+        assert (a["model"], a["quantity"], a["point"]) == (b["model"], b["quantity"], b["point"])
+        assert a["mean_error"] == b["mean_error"] and a["reference_band"] == b["reference_band"]
+
+
+@pytest.mark.parametrize("options, match", [
+    (["--pressure", "1MPa:10MPa"], "needs --e-star"),
+    (["--e-star", "115"], "--e-star needs a unit"),
+    (["--tiles", "3"], "--tiles must be a square"),
+    (["--short-cutoff", "20"], "--short-cutoff needs a unit"),
+])
+def test_bad_options_are_named(checked, capsys, options, match):
+    folder, _ = checked
+    status = main(["check", str(folder / "cap.npy"), "--physical-size", f"{SIDE} um",
+                   "--file-unit", "um", "--out", str(folder / "bad"), "--no-cache"] + options)
+    assert status == 2 and match in capsys.readouterr().err
+
+
+def test_a_missing_scan_is_named(tmp_path, capsys):
+    assert main(["check", str(tmp_path / "none.di"), "--out", str(tmp_path / "o")]) == 2
+    assert "names no file" in capsys.readouterr().err
