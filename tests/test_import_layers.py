@@ -1,6 +1,6 @@
 """Imports in validation/ follow the data flow one way, bottom to top:
 
-    common (and _version) -> surfaces -> scenes -> run -> judge -> report -> cli, campaigns
+    common (and _version) -> surfaces -> scenes -> run -> judge -> report -> check -> cli, campaigns
 
 A sub-package imports only itself and the layers below it; the top (``cli.py``,
 ``__main__.py``, ``campaigns/`` and the package's ``__init__.py``, the public names) may import
@@ -24,6 +24,7 @@ LAYERS = (
     ("run",),
     ("judge",),
     ("report",),
+    ("check",),
     ("cli", "campaigns", "__main__", "__init__"),
 )
 RANK = {unit: rank for rank, units in enumerate(LAYERS) for unit in units}

@@ -17,6 +17,7 @@ same command resumes.
 from __future__ import annotations
 
 import argparse
+import functools
 import os
 import shlex
 import signal
@@ -268,7 +269,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     check = add_parser(sub)
     _run_options(check)
-    check.set_defaults(handler=run_check)
+    check.set_defaults(handler=functools.partial(run_check, run_pipeline=run_pipeline))
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
     show = sub.add_parser("show", help="print a scene file and its parsed form")

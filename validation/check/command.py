@@ -129,10 +129,9 @@ def _insert(report: pathlib.Path, lines: list[str]) -> None:
     report.write_text("\n".join(text[:first] + lines + text[first:]), encoding="utf-8")
 
 
-def run_check(args: argparse.Namespace) -> int:
-    """The ``check`` command (see the module docstring)."""
-    from validation.cli import run_pipeline
-
+def run_check(args: argparse.Namespace, run_pipeline) -> int:
+    """The ``check`` command (see the module docstring); ``run_pipeline`` is the command
+    line's way of running a report (:func:`validation.cli.run_pipeline`)."""
     try:
         request = check_request(args)
         args.out = args.out or f"check-{request.path.stem}"
