@@ -231,10 +231,12 @@ def _stress(args: argparse.Namespace) -> int:
     return 1 if failures else 0
 
 
-def _run_options(parser: argparse.ArgumentParser) -> None:
+def _run_options(parser: argparse.ArgumentParser, jobs: int | None = None,
+                 jobs_default: str = "CPU count") -> None:
     """Options of every command that runs scenes: workers, cache, cluster, progress."""
-    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
-                        help="worker processes for realizations (default: CPU count; 1 = in-process)")
+    parser.add_argument("--jobs", type=int, default=(os.cpu_count() or 1) if jobs is None else jobs,
+                        help=f"worker processes for realizations (default: {jobs_default}; "
+                             f"1 = in-process)")
     cache = parser.add_mutually_exclusive_group()
     cache.add_argument("--cache", default=None, help=f"cache folder (default: {default_cache_dir()})")
     cache.add_argument("--no-cache", action="store_true", help="compute everything, store nothing")
@@ -268,7 +270,8 @@ def build_parser() -> argparse.ArgumentParser:
     from validation.check.command import add_parser, run_check
 
     check = add_parser(sub)
-    _run_options(check)
+    # one surface is one task: in this process, its FFTs on every core (tiles: one per worker)
+    _run_options(check, jobs=0, jobs_default="1, or the CPU count with --tiles")
     check.set_defaults(handler=functools.partial(run_check, run_pipeline=run_pipeline))
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)

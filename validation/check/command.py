@@ -12,6 +12,7 @@ as ``check.toml`` in the folder: ``python -m validation report DIR/check.toml`` 
 from __future__ import annotations
 
 import argparse
+import os
 import pathlib
 import re
 import shlex
@@ -135,6 +136,8 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
     try:
         request = check_request(args)
         args.out = args.out or f"check-{request.path.stem}"
+        if args.jobs == 0:
+            args.jobs = 1 if request.tiles == 1 else (os.cpu_count() or 1)
         out = pathlib.Path(args.out)
         scene, text, _ = _scene(request, out)
         scenes = [scene] + ([_scene(request, out, request.tiles)[0]] if request.tiles > 1 else [])
