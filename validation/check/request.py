@@ -6,13 +6,13 @@ read once (:func:`validation.read_topography`, plane removed) to choose what the
 * the length unit of the answer: nm, um or mm, whichever makes the rms height a number from 1
   to 1000;
 * the nominal pressures, when none are given: p / E* from ``5e-4`` to ``0.15`` times the rms
-  slope, twelve points, logarithmic. With A / A0 ≈ κ p / (E* |∇h|_rms), κ ≈ 2 (Persson; Hyun
+  slope, twelve points, logarithmic. With A / A0 ≈ κ p / (E* h′_rms), κ ≈ 2 (Persson; Hyun
   et al.), that spans real contact-area fractions from about 0.1 % to about 30 %: light to heavy
   contact.
 
 The scene is one realization of the whole scan (``tiles = 1``): every model and the
 boundary-element reference see the same surface, and the verdicts are those of one surface
-(holds where |error| + band ≤ tolerance). Where the reference band decides a cell, the
+(holds where ``|error| + band`` ≤ tolerance). Where the reference band decides a cell, the
 reference is solved again on the scan interpolated to twice its grid (``[bem] max_grid = 2N``,
 :func:`validation.run.refine.interpolated_scan`) for scans up to :data:`MAX_REFINED_SIDE`
 pixels. The scene is written as a TOML file beside the report, so the same answer can be
