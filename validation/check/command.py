@@ -59,7 +59,7 @@ def check_request(args: argparse.Namespace) -> CheckRequest:
     if tiles < 1 or round(tiles ** 0.5) ** 2 != tiles:
         raise ValueError(f"--tiles must be a square number >= 1 (1, 4, 9, ...), got {tiles}")
     return CheckRequest(path, e_star, pressures, cutoff, args.fill, args.physical_size,
-                        args.file_unit, tiles)
+                        args.file_unit, tiles, args.resample)
 
 
 def _cutoff(text: str, args: argparse.Namespace) -> str:
@@ -73,7 +73,7 @@ def _cutoff(text: str, args: argparse.Namespace) -> str:
         return f"{metres:.6g} m"
     pixels = float(match.group(1))
     scan = CheckRequest(pathlib.Path(args.scan), fill=args.fill, physical_size=args.physical_size,
-                        file_unit=args.file_unit).read("m")
+                        file_unit=args.file_unit, resample=args.resample).read("m")
     return f"{pixels * scan.spacing:.6g} m"
 
 
@@ -190,6 +190,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     check.add_argument("--fill", choices=("mean", "interpolate"), default=None,
                        help="fill missing points of the scan (default: refuse a scan with "
                             "missing points)")
+    check.add_argument("--resample", choices=("finer", "coarser"), default=None,
+                       help="pixels that are not square (an optical profilometer's): resample "
+                            "one axis onto the finer or the coarser spacing (default: refuse)")
     check.add_argument("--physical-size", default=None, metavar="LENGTH",
                        help="the scan's width, e.g. '10 um', if the file does not state it")
     check.add_argument("--file-unit", default=None, metavar="UNIT",

@@ -65,6 +65,8 @@ class CheckRequest:
     tiles : int
         1: the whole scan; k²: also the scan cut into k x k tiles, as a second reading of how
         the answer varies across the scan.
+    resample : str or None
+        ``"finer"`` or ``"coarser"`` for pixels that are not square, or None (refused).
     """
 
     path: pathlib.Path
@@ -75,10 +77,12 @@ class CheckRequest:
     physical_size: str | None = None
     file_unit: str | None = None
     tiles: int = 1
+    resample: str | None = None
 
     def read(self, unit: str = "m") -> Topography:
         """The scan as the scene will read it (plane removed), lengths in ``unit``."""
-        options = {"fill": self.fill} if self.fill is not None else {}
+        options = {key: value for key, value in (("fill", self.fill), ("resample", self.resample))
+                   if value is not None}
         return read_topography(self.path, physical_size=self.physical_size,
                                file_unit=self.file_unit, height_unit=unit, detrend="plane",
                                **options)
@@ -142,7 +146,8 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     lines += [""] + _table("surface", {
         "family": "file", "path": str(request.path.resolve()), "unit": unit,
         "detrend": "plane", "tiles": tiles, "fill": request.fill,
-        "short_cutoff": request.short_cutoff, "physical_size": request.physical_size,
+        "short_cutoff": request.short_cutoff, "resample": request.resample,
+        "physical_size": request.physical_size,
         "file_unit": request.file_unit})
     lines += [""] + _table("material", {"e_star": 1.0})
     lines += [f"# pressures in units of E*; {e_star}"]
