@@ -115,6 +115,10 @@ def test_one_cap_is_hertz_in_physical_units(checked):
         # the reference agrees with Hertz within its band and 3 % of discretisation
         bem, band = float(reference[k]["value"]), float(reference[k]["reference_band"])
         assert abs(bem - math.pi * a * a / nominal) <= band + 0.03 * bem
+        # one surface, judged by the band alone: Hertz holds
+        assert area_fraction[k]["verdict"] == "holds"
+    # GW's Gaussian of summit heights puts 40 % too little area at the lightest pressure
+    assert _values(out, "area", "gw")[0]["verdict"] == "fails"
 
 
 def test_check_report_heads_with_the_surface_and_its_resolution(checked):

@@ -149,3 +149,21 @@ def test_a_scene_of_one_realization_gives_holds_and_fails_from_its_band(tmp_path
     text = (tmp_path / "report.md").read_text(encoding="utf-8")
     assert "one surface, judged by the reference band alone" in text and " ± " in text
     assert "too few realizations" not in (tmp_path / "one-scan.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("error, band, refined", [
+    (0.18, 0.03, True),    # a band below a quarter of the tolerance still holds this cell open
+    (0.05, 0.03, False),   # decided: nothing to refine
+    (0.5, 0.03, False),
+])
+def test_one_surface_refines_wherever_its_band_holds_a_cell(error, band, refined):
+    """On one surface the refinement targets every cell the band leaves open, small bands too
+    (the realizations' quarter-of-tolerance rule belongs to a mean over surfaces)."""
+    from types import SimpleNamespace
+
+    from validation.judge.decide import band_decides
+
+    scene = SimpleNamespace(tolerances=(0.2,))
+    mask, smallest, held = band_decides(scene, synthetic_one(error, band), 0.95)
+    assert bool(mask.all()) is refined and bool(mask.any()) is refined
+    np.testing.assert_allclose(smallest, band)

@@ -81,7 +81,8 @@ class CheckRequest:
 
     def read(self, unit: str = "m") -> Topography:
         """The scan as the scene will read it (plane removed), lengths in ``unit``."""
-        options = {key: value for key, value in (("fill", self.fill), ("resample", self.resample))
+        options = {key: value for key, value in (("fill", self.fill), ("resample", self.resample),
+                                                 ("short_cutoff", self.short_cutoff))
                    if value is not None}
         return read_topography(self.path, physical_size=self.physical_size,
                                file_unit=self.file_unit, height_unit=unit, detrend="plane",

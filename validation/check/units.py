@@ -3,8 +3,9 @@
 A quantity is a number followed by a unit, with or without a space between them (``115 GPa``,
 ``115GPa``, ``1.15e11 Pa``); a bare number is taken in the unit the caller names as the
 default (e.g. a pressure in units of E*). Pressures take the SI prefixes of the pascal and
-the common engineering units; lengths take the units of :data:`LENGTH_UNITS` (m, mm, um/µm,
-nm, Å, pm, ...). Everything is converted to SI (Pa, m).
+the common engineering units; lengths are read as every length of a measured map is
+(:func:`validation.surfaces.units.parse_length`: m, mm, um/µm, nm, Å, pm, ...). Everything is
+converted to SI (Pa, m).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ import math
 import re
 from dataclasses import dataclass
 
-from validation.surfaces.topography import LENGTH_UNITS
+from validation.surfaces.units import LENGTH_UNITS
+from validation.surfaces.units import parse_length as _length
 
 __all__ = ["PRESSURE_UNITS", "PressureRange", "format_length", "format_pressure",
            "length_unit_for", "parse_length", "parse_pressure", "parse_pressure_range"]
@@ -70,8 +72,12 @@ def parse_length(name: str, text: str | float) -> tuple[float, bool]:
     ValueError
         Naming ``name``: not a number with a length unit, not positive, or not finite.
     """
-    value, unit = _parse(name, text, LENGTH_UNITS, "length", "20nm")
-    return value, unit is not None
+    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+        raise TypeError(f"{name} must be a length like '20nm', got {type(text).__name__}")
+    number, unit = _length(name, text)
+    if not math.isfinite(number):
+        raise ValueError(f"{name} must be a finite length, got {text!r}")
+    return (number * LENGTH_UNITS[unit.strip()], True) if unit else (number, False)
 
 
 @dataclass(frozen=True)

@@ -72,9 +72,10 @@ def band_decides(scene, results: list, confidence: float
                  ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Load points of one sweep value where the reference band decides: some cell (a compared
     model and quantity at a tolerance, on the mean or per surface) is undecided while the band
-    of its reference field exceeds a quarter of the tolerance. Returns the mask, the smallest
-    band over the fields at each point (NaN where none is known) and the mask of each compared
-    quantity alone (the mask is their union)."""
+    of its reference field exceeds a quarter of the tolerance (on one surface: wherever the cell
+    is undecided with a band, since only the band can leave it open there, however small).
+    Returns the mask, the smallest band over the fields at each point (NaN where none is known)
+    and the mask of each compared quantity alone (the mask is their union)."""
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
     held: dict[str, np.ndarray] = {}
@@ -89,8 +90,10 @@ def band_decides(scene, results: list, confidence: float
             open_ = entry.verdicts[index] == UNDECIDED
             if entry.surface_verdicts:
                 open_ |= entry.surface_verdicts[index] == UNDECIDED
+            # one surface: an open cell is held by its band, whatever its size
+            floor = 0.0 if entry.one_surface else REFERENCE_ACCURACY * tolerance
             with np.errstate(invalid="ignore"):
-                mask |= open_ & (band > REFERENCE_ACCURACY * tolerance)
+                mask |= open_ & (band > floor)
     mask = (np.any(np.stack(list(held.values())), axis=0) if held
             else np.zeros(comparison.load.shape, bool))
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held

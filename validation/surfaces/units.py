@@ -37,6 +37,12 @@ def parse_length(name: str, value: float | str) -> tuple[float, str | None]:
         Naming ``name``: not a number, not positive, or an unknown unit.
     """
     if isinstance(value, str):
+        try:   # a bare number written as text ("20"): no unit (not "2" of unit "0")
+            bare = float(value.replace(",", "."))
+        except ValueError:
+            bare = None
+        if bare is not None:
+            return positive(name, bare), None
         match = re.fullmatch(r"\s*([-+0-9.,eE]+)\s*(\S+)\s*", value.replace(",", "."))
         if match is None:
             raise ValueError(f"{name} must be a number or 'number unit' like '10 um', got {value!r}")
