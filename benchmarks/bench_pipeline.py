@@ -3,13 +3,16 @@
 Rows (each measured in this run, so that a change can be compared with the previous code in one
 session: ``--json`` saves a column, ``--compare`` prints it beside the new one):
 
-* **report cold / warm** [s]: ``python -m validation report`` (the default, quick report: 8
-  realizations at 256², ``--jobs 2``) in a fresh process with an empty cache folder, then again
+* **report cold / warm** [s]: ``python -m validation report`` (the default, quick report: the
+  scenes and settings of ``python -m validation report --help``, ``--jobs 2``) in a fresh
+  process with an empty cache folder (so the FFTW wisdom is measured again too), then again
   with every result cached (the shorter of two runs). Wall time of the whole command, imports
-  included, and its process time (every process of it, workers included).
+  included, and its process time (every process of it, workers included), with the load
+  average before and after the cold run: on a shared machine the process time is the number
+  to compare, the wall time an upper bound.
 * **seconds per figure** [s]: the figure step of the report (``validation.report.write.write_report``
-  on the cached results, on a pool of two processes when it takes one) over the figures drawn;
-  and its process time (all processes) per figure.
+  on the cached results of the default report's scenes, on a pool of two processes when it
+  takes one) over the figures drawn; and its process time (all processes) per figure.
 * **load paths**: the 16-point path the report runs per realization, at 512² (WM, D = 2.05,
   rms slope 0.1, seed 0; loads 1e-5 … 1e-2 E* L², tolerance 1e-8, area, load, separation,
   contacts, stiffness and conductance, with the half-grid error estimate), and the 12-point path
@@ -33,8 +36,12 @@ than wall time; wall times are printed too, as upper bounds, with the load avera
 
 Usage::
 
-    python benchmarks/bench_pipeline.py [--skip report,paths,periodic] [--repeat N]
-        [--json FILE] [--compare FILE] [--label NAME]
+    python benchmarks/bench_pipeline.py [--skip report,figures,paths,path1024,periodic]
+        [--repeat N] [--json FILE] [--compare FILE] [--label NAME]
+
+The default report's cold and warm time alone (about a minute on two quiet cores)::
+
+    python benchmarks/bench_pipeline.py --skip figures,paths,periodic
 """
 
 from __future__ import annotations
@@ -156,11 +163,13 @@ def figure_step(cache: pathlib.Path, out: pathlib.Path) -> tuple[float, float, i
     import inspect
     from concurrent.futures import ProcessPoolExecutor
 
-    from validation.cli import DEFAULT_SCENES, _load_scene
+    from validation.cli import DEFAULT_SCENES, FULL_ONLY_SCENES, _load_scene
     from validation.report.write import write_report
     from validation import run_scenes
 
-    scenes = [_load_scene(name).quick_version() for name in DEFAULT_SCENES]
+    # the scenes of the default report, whose results the cold run left in the cache
+    scenes = [_load_scene(name).quick_version() for name in DEFAULT_SCENES
+              if name not in FULL_ONLY_SCENES]
     results = run_scenes(scenes, executor=None, cache_dir=str(cache), progress=False)
     options = {}
     pool = None
@@ -178,19 +187,24 @@ def figure_step(cache: pathlib.Path, out: pathlib.Path) -> tuple[float, float, i
     return seconds, cpu, len(list(out.glob("*.png")))
 
 
-def report_part(rows: dict, source: pathlib.Path) -> None:
+def report_part(rows: dict, source: pathlib.Path, figures: bool = True) -> None:
     with tempfile.TemporaryDirectory() as folder:
         folder = pathlib.Path(folder)
-        rows["load average (report)"] = f"{load_average():.1f}"
+        before = load_average()
         cold = run_report(source, folder / "report", folder / "cache")
+        rows["load average (report cold: before, after)"] = f"{before:.1f}, {load_average():.1f}"
         warm = min(run_report(source, folder / "report", folder / "cache") for _ in range(2))
-        seconds, cpu, count = figure_step(folder / "cache", folder / "figures")
+        if figures:
+            seconds, cpu, count = figure_step(folder / "cache", folder / "figures")
     rows["report cold (s), process time (s)"] = f"{cold[0]:.1f}, {cold[1]:.1f}"
     rows["report warm (s), process time (s)"] = f"{warm[0]:.1f}, {warm[1]:.1f}"
-    rows["figure step (s) / figures"] = f"{seconds:.1f} / {count}"
-    rows["seconds per figure, process time per figure"] = f"{seconds / count:.2f}, {cpu / count:.2f}"
-    print(f"report: cold {cold} s, warm {warm} s, figures {seconds:.1f} s ({cpu:.1f} s process "
-          f"time) for {count}", flush=True)
+    print(f"report: cold {cold[0]:.1f} s ({cold[1]:.1f} s process time), warm {warm[0]:.1f} s "
+          f"({warm[1]:.1f} s process time); load average {before:.1f} before", flush=True)
+    if figures:
+        rows["figure step (s) / figures"] = f"{seconds:.1f} / {count}"
+        rows["seconds per figure, process time per figure"] = (f"{seconds / count:.2f}, "
+                                                               f"{cpu / count:.2f}")
+        print(f"figures: {seconds:.1f} s ({cpu:.1f} s process time) for {count}", flush=True)
 
 
 def report_path(n: int) -> dict:
@@ -278,7 +292,8 @@ def periodic_part(rows: dict, n: int) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--skip", default="", help="comma-separated parts to skip: report, "
-                        "paths, path1024, periodic")
+                        "figures (the figure step after the report), paths, path1024, "
+                        "periodic")
     parser.add_argument("--repeat", type=int, default=2, help="runs of the 512² path")
     parser.add_argument("--threads", type=int, default=1, help="FFT threads of the solver")
     parser.add_argument("--json", default=None, help="save the column to this file")
@@ -295,7 +310,7 @@ def main() -> None:
           f"threads {args.threads}, load average {load_average():.1f}", flush=True)
     rows: dict[str, str] = {}
     if "report" not in skip:
-        report_part(rows, source)
+        report_part(rows, source, figures="figures" not in skip)
     if "paths" not in skip:
         path_part(rows, "16-point path 512²", report_path(512), args.repeat)
         if "path1024" not in skip:

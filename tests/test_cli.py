@@ -155,3 +155,5 @@ def test_the_size_scene_runs_in_the_full_and_published_reports_only(tmp_path, mo
     assert {"paper-wm-d205", "paper-wm-d295", "validity-map"} <= set(names)
     paper = next(s for s in seen["scenes"] if s.name == "paper-wm-d205")
     assert ("leakage" in paper.quantities) == (not quick)
+    # the quick report leaves the finer reference to the full one
+    assert (paper.bem.max_grid is None) == quick

@@ -62,10 +62,13 @@ def test_bad_factors_are_refused():
     full = load_scene("paper-wm-d205")
     at_limit = replace(full, bem=replace(full.bem, max_grid=512))
     assert unavailable(at_limit).startswith("the scene grid 512 is already at the limit")
-    assert unavailable(at_limit.quick_version()).startswith("the scene grid 256 is already")
-    # the paper scenes refine to 1024^2, their quick runs (half the grid) to 512^2
+    quick_limit = replace(full, quick=replace(full.quick, max_grid=256))
+    assert unavailable(quick_limit.quick_version()).startswith("the scene grid 256 is already")
+    # the paper scenes refine to 1024^2; their quick runs are not refined unless asked for
     assert unavailable(full) is None
-    scene = load_scene("paper-wm-d295").quick_version()
+    assert "[quick] max_grid" in unavailable(full.quick_version())
+    scene = load_scene("paper-wm-d295")
+    scene = replace(scene, quick=replace(scene.quick, max_grid=512)).quick_version()
     assert unavailable(scene) is None and scene.bem.max_grid == 512
     assert "max_grid" in unavailable(replace(scene, bem=replace(scene.bem, max_grid=None)))
     assert "separation" in unavailable(replace(scene, loads=replace(scene.loads,
@@ -99,13 +102,23 @@ def test_a_measured_map_is_refined_onto_its_interpolation(factor):
     assert power[q > 0.5 / factor * 1.5].sum() < 1e-3 * power.sum()
 
 
-def test_scene_grid_limit_is_validated_and_scaled_in_quick_mode():
+def test_scene_grid_limit_is_validated_and_quick_mode_refines_only_when_asked():
     assert parse_scene(WM).bem.max_grid == 128
-    assert parse_scene(WM).quick_version().bem.max_grid == 128
-    # the limit shrinks with the quick grid: as many refinements as in the full run
-    assert load_scene("paper-wm-d295").quick_version().bem.max_grid == 512
-    assert load_scene("validity-map").quick_version().bem.max_grid == 256
-    assert load_scene("self-affine").quick_version().bem.max_grid == 512
+    # quick mode leaves the finer reference to the full run: no grid limit, nothing refined
+    assert parse_scene(WM).quick.max_grid is None
+    assert parse_scene(WM).quick_version().bem.max_grid is None
+    for name in ("paper-wm-d205", "paper-wm-d295", "validity-map", "self-affine"):
+        scene = load_scene(name)
+        assert scene.bem.max_grid is not None and scene.quick_version().bem.max_grid is None
+    # [quick] max_grid is the quick run's limit, at least its grid (min(n, quick.n))
+    asked = parse_scene(WM | {"quick": {"n": 16, "max_grid": 64}})
+    assert asked.quick.max_grid == 64 and asked.quick_version().bem.max_grid == 64
+    assert unavailable(asked.quick_version()) is None
+    assert parse_scene(WM | {"quick": {"n": 64, "max_grid": 32}}).quick.max_grid == 32
+    with pytest.raises(SceneError, match="quick.max_grid"):
+        parse_scene(WM | {"quick": {"n": 16, "max_grid": 8}})
+    with pytest.raises(SceneError, match="quick.max_grid"):
+        parse_scene(WM | {"quick": {"max_grid": 1.5}}, source="s.toml")
     with pytest.raises(SceneError, match="max_grid"):
         parse_scene(WM | {"bem": {"max_grid": 16}})
     with pytest.raises(SceneError, match="bem.max_grid"):

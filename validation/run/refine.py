@@ -59,7 +59,7 @@ def unavailable(scene) -> str | None:
     """Why the scene's reference cannot be refined (None when it can)."""
     s, bem = scene.surface, scene.bem
     if getattr(bem, "max_grid", None) is None:
-        return "no grid limit ([bem] max_grid not set)"
+        return "no grid limit ([bem] max_grid, in quick mode [quick] max_grid, not set)"
     if scene.loads.quantity != "load":
         return "only load paths are refined (a separation path's loads differ per realization)"
     if not bem.reference_error:

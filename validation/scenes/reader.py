@@ -189,7 +189,8 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
         max_grid="integer"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
-        realizations="integer", n="integer", count="integer", quantities="strings"))
+        realizations="integer", n="integer", count="integer", quantities="strings",
+        max_grid="integer"))
     return parts
 
 
