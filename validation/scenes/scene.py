@@ -165,8 +165,8 @@ class QuickSettings:
     scene's; e.g. leaving out ``leakage``, whose Reynolds solves cost the BEM several times
     its contact solves), and no finer reference unless ``max_grid`` is set (the finest grid of
     the quick run's refined reference, in place of ``[bem] max_grid``: a refined point is
-    solved again on a grid four times the size, so refining in quick mode costs it about
-    twice its planned BEM solves)."""
+    solved again on a grid of four times the points, so refining cost the quick default report
+    about three times the BEM solves of its realizations)."""
 
     realizations: int = 3
     n: int = 128
@@ -306,8 +306,9 @@ class Scene:
         budget = None if self.max_realizations is None else max(realizations, math.ceil(
             self.max_realizations * realizations / self.realizations))
         # no finer reference unless [quick] max_grid asks for one: in the quick default
-        # report it cost twice the planned BEM solves (the paper scenes' 512^2 re-solves, the
-        # validity map's 256^2 ones); the full run refines up to [bem] max_grid
+        # report it cost about three times the BEM solves of the realizations (the paper
+        # scenes' 512^2 re-solves, the validity map's 256^2 ones); the full run refines up to
+        # [bem] max_grid
         bem = replace(self.bem, max_grid=self.quick.max_grid)
         quantities = self.quantities if self.quick.quantities is None else tuple(
             q for q in self.quantities if q in self.quick.quantities)
