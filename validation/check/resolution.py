@@ -6,7 +6,7 @@ The reference band of a measured map comes first from the same scan on every sec
 pixels) are taken away, so it measures the *resolution* of the scan as much as the solver's
 error. On a rough surface the real contact area is set by the shortest wavelengths in contact
 (the rms slope grows as finer roughness is added, and the area at a given load falls with it:
-docs/theory.md, "Why contact area needs a short-wavelength cutoff"), so a large half-grid band
+docs/theory.md, "11.5 One surface"), so a large half-grid band
 of the area says that the area depends on the pixel size: it is an answer about the scan as
 sampled, not about the surface. The remedy is a short-wavelength cutoff: low-pass the scan at
 a length of several pixels (``--short-cutoff``) so that every model and the reference see the
