@@ -160,3 +160,18 @@ def test_bad_options_are_named(checked, capsys, options, match):
 def test_a_missing_scan_is_named(tmp_path, capsys):
     assert main(["check", str(tmp_path / "none.di"), "--out", str(tmp_path / "o")]) == 2
     assert "names no file" in capsys.readouterr().err
+
+
+def test_a_reader_message_names_the_checks_options(tmp_path, capsys):
+    """A file without its size or unit, and one with missing points: the reader's advice in the
+    command line's words."""
+    np.save(tmp_path / "plain.npy", np.random.default_rng(0).standard_normal((64, 64)))
+    assert main(["check", str(tmp_path / "plain.npy"), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "--file-unit" in err and "--physical-size" in err
+    holes = np.random.default_rng(1).standard_normal((64, 64))
+    holes[10, 10:14] = np.nan
+    np.save(tmp_path / "holes.npy", holes)
+    assert main(["check", str(tmp_path / "holes.npy"), "--physical-size", "1 um", "--file-unit",
+                 "nm", "--out", str(tmp_path / "o")]) == 2
+    assert "(on the command line: --fill)" in capsys.readouterr().err

@@ -165,21 +165,18 @@ def test_toml_block_is_a_scene(block, tmp_path):
         validation.parse_scene(data, source=str(block), folder=tmp_path)
 
 
-def _results_block() -> str:
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    begin, end = text.index("<!-- BEGIN results table"), text.index("<!-- END results table")
-    return text[begin:end]
-
-
 def test_the_readme_results_are_the_published_ones():
-    # every number of the README's results table is one the published report prints
-    published = (ROOT / "docs" / "results" / "report.md").read_text(encoding="utf-8")
-    rows = [line for line in _results_block().splitlines() if line.startswith("| ")][1:]
-    assert len(rows) >= 8
-    numbers = {n for row in rows for n in re.findall(r"\d+(?:\.\d+)?", row.split("|", 2)[2])}
-    missing = sorted(n for n in numbers if not re.search(rf"(?<![\d.]){re.escape(n)}(?![\d])",
-                                                         published))
-    assert not missing, f"numbers of the README's results table not in the published report: {missing}"
+    # the README's results block is exactly what docs/readme_results.py writes from the
+    # published report's headline.csv
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        from readme_results import block
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    generated = block(ROOT / "docs" / "results")
+    assert generated in text, "README results block differs: run python docs/readme_results.py"
+    assert "| discrete (interaction) |" in generated and "**D = 2.05**" in generated
 
 
 def test_the_readme_stays_a_front_door():

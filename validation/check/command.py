@@ -123,6 +123,17 @@ def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list
     return lines
 
 
+#: The reader's keywords a message may recommend, and the check's option for each.
+_OPTIONS = {"file_unit": "--file-unit", "physical_size": "--physical-size", "fill": "--fill",
+            "resample": "--resample", "short_cutoff": "--short-cutoff"}
+
+
+def _options_hint(message: str) -> str:
+    """Where a reader's message recommends its keywords, the check's options that set them."""
+    named = [option for keyword, option in _OPTIONS.items() if re.search(rf"\b{keyword}\b", message)]
+    return f" (on the command line: {', '.join(named)})" if named else ""
+
+
 def _insert(report: pathlib.Path, lines: list[str]) -> None:
     """Put ``lines`` after the report's header (before its first section)."""
     text = report.read_text(encoding="utf-8").split("\n")
@@ -142,7 +153,7 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         scene, text, _ = _scene(request, out)
         scenes = [scene] + ([_scene(request, out, request.tiles)[0]] if request.tiles > 1 else [])
     except (ValueError, TypeError, ImportError) as error:
-        print(f"error: {error}", file=sys.stderr)
+        print(f"error: {error}{_options_hint(str(error))}", file=sys.stderr)
         return 2
     command = "python -m validation " + shlex.join(args.argv)
 
