@@ -117,6 +117,7 @@ def check_cutoff(name: str, cutoff: float, spacing: float, shape: tuple[int, int
     if cutoff < low * (1.0 - 1e-9) or cutoff >= high:
         unit = f" {unit}" if unit else ""
         raise ValueError(f"{name} must be at least two pixels and shorter than the map's "
-                         f"shorter side ({side} pixels): in [{low:g}, {high:g}){unit}, got "
-                         f"{cutoff:g}{unit} ({cutoff / spacing:.3g} pixels)")
+                         f"shorter side ({side} pixels of spacing {spacing:g}{unit}): in "
+                         f"[{low:g}, {high:g}){unit}, got {cutoff:g}{unit} "
+                         f"({cutoff / spacing:.3g} pixels)")
     return cutoff
