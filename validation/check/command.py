@@ -82,7 +82,7 @@ def _scene(request: CheckRequest, out: pathlib.Path, tiles: int = 1):
     name = f"check-{stem}" + (f"-tiles{tiles}" if tiles > 1 else "")
     text = scene_text(request, name, tiles=tiles)
     source = str(out / (f"{name}.toml" if tiles > 1 else "check.toml"))
-    return parse_scene(tomllib.loads(text), source=source), text, source
+    return parse_scene(tomllib.loads(text), source=source), text
 
 
 def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list[str]:
@@ -150,7 +150,7 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         if args.jobs == 0:
             args.jobs = 1 if request.tiles == 1 else (os.cpu_count() or 1)
         out = pathlib.Path(args.out)
-        scene, text, _ = _scene(request, out)
+        scene, text = _scene(request, out)
         scenes = [scene] + ([_scene(request, out, request.tiles)[0]] if request.tiles > 1 else [])
     except (ValueError, TypeError, ImportError) as error:
         print(f"error: {error}{_options_hint(str(error))}", file=sys.stderr)

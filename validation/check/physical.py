@@ -79,7 +79,7 @@ def _value(curve, name: str) -> np.ndarray | None:
     return None if value is None else np.asarray(value, dtype=float)
 
 
-def _band(kind: str, field: str, reference: np.ndarray, band: np.ndarray,
+def _band(field: str, reference: np.ndarray, band: np.ndarray,
           sigma: float) -> np.ndarray:
     if field in ("separation", "mean_gap"):
         return band * sigma
@@ -106,7 +106,7 @@ def physical_tables(realization, comparison, *, e_star: float | None, unit: str
             continue
         scale, written = _scale(kind, reference_curve, e_star, unit)
         first = next(iter(entries.values()))
-        band = _band(kind, field, reference, np.asarray(first.band, dtype=float),
+        band = _band(field, reference, np.asarray(first.band, dtype=float),
                      realization.sigma) * scale
         index = len(first.tolerances) - 1
         values, verdicts = {}, {}

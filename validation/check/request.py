@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from validation.check.units import PressureRange, length_unit_for
-from validation.surfaces.topography import LENGTH_UNITS, Topography, read_topography
+from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.wm import surface_statistics
 
 __all__ = ["CheckRequest", "DEFAULT_PRESSURES", "MAX_REFINED_SIDE", "QUANTITIES", "scene_text"]
@@ -159,7 +159,3 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     lines += [""] + _table("bem", {"max_grid": 2 * side if refined else None})
     return "\n".join(lines) + "\n"
 
-
-def metres_per(unit: str) -> float:
-    """Metres per ``unit`` (a key of :data:`validation.surfaces.topography.LENGTH_UNITS`)."""
-    return LENGTH_UNITS[unit]
