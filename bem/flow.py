@@ -45,7 +45,9 @@ in the solver's error. The system is solved by sparse LU (:func:`_solve_pressure
 from __future__ import annotations
 
 import math
+import os
 import warnings
+from concurrent.futures import Future, ThreadPoolExecutor
 
 import numpy as np
 import scipy.ndimage
@@ -56,7 +58,8 @@ import scipy.sparse.linalg
 from bem import checks
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["FLOW_DIRECTIONS", "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
+__all__ = ["FLOW_DIRECTIONS", "BackgroundLeakage", "hydraulic_aperture", "leakage_aperture",
+           "spanning_cells"]
 
 #: Directions of the pressure drop: along x (columns, axis 1) or y (rows, axis 0) of ``gap[j, i]``.
 FLOW_DIRECTIONS = ("x", "y")
@@ -294,6 +297,12 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     return largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows))
 
 
+def _mean_leak(apertures) -> float:
+    """``((h_x^3 + h_y^3) / 2)^(1/3)``: the aperture of the mean leak rate (eq. T44)."""
+    h_x, h_y = apertures
+    return float(np.cbrt(0.5 * (h_x ** 3 + h_y ** 3)))
+
+
 def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
     """h_eff of a gap for flow along x and along y, averaged by leak rate [length].
 
@@ -308,6 +317,68 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
     gap, spacing, periodic
         As in :func:`hydraulic_aperture`.
     """
-    cubes = [hydraulic_aperture(gap, spacing, direction=direction, periodic=periodic) ** 3
-             for direction in FLOW_DIRECTIONS]
-    return float(np.cbrt(0.5 * (cubes[0] + cubes[1])))
+    return _mean_leak([hydraulic_aperture(gap, spacing, direction=direction, periodic=periodic)
+                       for direction in FLOW_DIRECTIONS])
+
+
+class BackgroundLeakage:
+    """:func:`leakage_aperture` of a sequence of gaps, solved in background threads while the
+    caller goes on (e.g. solves the next contact problem of a load path).
+
+    The sparse LU factorisation releases the GIL, so the two flow directions of a gap and the
+    caller's own work run on separate cores. At most ``pending`` gaps wait or are being solved
+    at once (:meth:`submit` blocks on the oldest beyond that), which bounds the memory held by
+    gaps and factors. Use as a context manager: leaving it waits for the solves still running
+    and, on an exception, cancels those not yet started.
+
+    Parameters
+    ----------
+    spacing : float
+        Grid step h [length] of every gap.
+    periodic : bool
+        As in :func:`hydraulic_aperture`.
+    threads : int, optional
+        Worker threads (default: 2, or 1 on a one-CPU machine).
+    pending : int
+        Gaps in flight at most (>= 1).
+    """
+
+    def __init__(self, spacing: float, *, periodic: bool = False, threads: int | None = None,
+                 pending: int = 2):
+        checks.positive("spacing", spacing)
+        self.spacing = float(spacing)
+        self.periodic = checks.flag("periodic", periodic)
+        if threads is None:
+            threads = min(2, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+                          else (os.cpu_count() or 1))
+        self.threads = checks.integer("threads", threads, minimum=1)
+        self.pending = checks.integer("pending", pending, minimum=1)
+        self._pool = ThreadPoolExecutor(max_workers=self.threads,
+                                        thread_name_prefix="leakage")
+        self._futures: dict[object, list[Future]] = {}
+        self._results: dict[object, float] = {}
+
+    def submit(self, key, gap) -> None:
+        """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
+        waiting = [k for k in self._futures]
+        while len(waiting) >= self.pending:
+            self._collect(waiting.pop(0))
+        self._futures[key] = [
+            self._pool.submit(hydraulic_aperture, gap, self.spacing, direction=direction,
+                              periodic=self.periodic) for direction in FLOW_DIRECTIONS]
+
+    def _collect(self, key) -> None:
+        futures = self._futures.pop(key)
+        self._results[key] = _mean_leak([future.result() for future in futures])
+
+    def results(self) -> dict:
+        """Every submitted gap's h_eff [length] by key (waits for the solves still running)."""
+        for key in list(self._futures):
+            self._collect(key)
+        return dict(self._results)
+
+    def __enter__(self) -> "BackgroundLeakage":
+        return self
+
+    def __exit__(self, kind, value, traceback) -> None:
+        self._pool.shutdown(wait=True, cancel_futures=kind is not None)

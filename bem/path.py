@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import replace
 from typing import Callable, Iterable
 
@@ -12,7 +13,7 @@ import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import ContactCurve, check_quantities
-from bem.flow import leakage_aperture
+from bem.flow import BackgroundLeakage
 from bem.halfspace import HalfSpace
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
@@ -157,7 +158,8 @@ def contact_curve(
         ``leakage`` h_eff [length] is the effective hydraulic aperture of the solved gap (zero
         on the contact set), the mean leak rate of flow along x and along y
         (:func:`bem.flow.leakage_aperture`), periodic or not as the contact problem; two
-        sparse Reynolds solves per point, only when asked for.
+        sparse Reynolds solves per point, only when asked for, run in background threads
+        (:class:`bem.flow.BackgroundLeakage`) while the next point is solved.
     e_star, periodic, tol, max_iter, operator, preconditioned
         As in :func:`bem.solve_contact`.
     callback : callable, optional
@@ -245,33 +247,40 @@ def contact_curve(
     workspace = _Workspace(z.shape)
     starts = _PathStarts(operator, z, tol=tol, max_iter=int(max_iter), nested=preconditioned,
                          coarse_pressures=coarse_pressures)
-    for index in order:
-        target = float(targets[index])
-        problem = {"load": target if loads is not None else None,
-                   "separation": target if separations is not None else None}
-        solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
-                          initial=starts.start(int(index), **problem), stiffness=want_stiffness,
-                          ws=workspace, preconditioned=preconditioned)
-        starts.solved(solution)
-        separation[index] = solution.separation
-        load[index] = solution.load
-        area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
-            solution.contact, spacing, periodic=periodic, estimator=area_estimator,
-            pressure=solution.pressure, gap=solution.gap, e_star=e_star))
-        pixel_area[index] = solution.pixel_area
-        perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
-        mean_gap[index] = solution.mean_gap
-        residual[index] = solution.residual
-        iterations[index] = solution.iterations
-        converged[index] = solution.converged
-        if want_contacts:
-            contacts[index] = count_contacts(solution.contact, periodic=periodic)
-        if want_stiffness:
-            stiffness[index] = solution.stiffness
+    # The Reynolds solves of each point run in background threads while the next point's contact
+    # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
+    with (BackgroundLeakage(spacing, periodic=periodic) if want_leakage
+          else contextlib.nullcontext()) as flow:
+        for index in order:
+            target = float(targets[index])
+            problem = {"load": target if loads is not None else None,
+                       "separation": target if separations is not None else None}
+            solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
+                              initial=starts.start(int(index), **problem), stiffness=want_stiffness,
+                              ws=workspace, preconditioned=preconditioned)
+            starts.solved(solution)
+            separation[index] = solution.separation
+            load[index] = solution.load
+            area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
+                solution.contact, spacing, periodic=periodic, estimator=area_estimator,
+                pressure=solution.pressure, gap=solution.gap, e_star=e_star))
+            pixel_area[index] = solution.pixel_area
+            perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
+            mean_gap[index] = solution.mean_gap
+            residual[index] = solution.residual
+            iterations[index] = solution.iterations
+            converged[index] = solution.converged
+            if want_contacts:
+                contacts[index] = count_contacts(solution.contact, periodic=periodic)
+            if want_stiffness:
+                stiffness[index] = solution.stiffness
+            if want_leakage:
+                flow.submit(int(index), _open_gap(solution))
+            if callback is not None:
+                callback(int(index), solution)
         if want_leakage:
-            leakage[index] = leakage_aperture(_open_gap(solution), spacing, periodic=periodic)
-        if callback is not None:
-            callback(int(index), solution)
+            for index, value in flow.results().items():
+                leakage[index] = value
     nominal_area = z.size * spacing**2
     extras = {"converged": converged, "iterations": iterations, "residual": residual,
               "mean_gap": mean_gap, "pixel_area": pixel_area, "staircase_perimeter": perimeter}

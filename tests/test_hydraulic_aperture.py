@@ -12,7 +12,7 @@ import scipy.ndimage
 import scipy.stats
 
 import bem
-from bem.flow import hydraulic_aperture, spanning_cells
+from bem.flow import BackgroundLeakage, hydraulic_aperture, leakage_aperture, spanning_cells
 
 BOTH = pytest.mark.parametrize("periodic", [False, True])
 
@@ -194,3 +194,35 @@ def test_reversing_or_transposing_the_field_changes_nothing(periodic):
     assert hydraulic_aperture(gap[::-1, :], 1.0, periodic=periodic) == pytest.approx(h_x, rel=1e-10)
     assert hydraulic_aperture(gap.T, 1.0, direction="y", periodic=periodic) == \
         pytest.approx(h_x, rel=1e-12)
+
+
+@BOTH
+@pytest.mark.parametrize("pending", [1, 2, 5])
+def test_background_leakage_gives_each_gap_its_own_aperture(periodic, pending):
+    """Gaps solved in background threads, several in flight, come back under their own keys
+    with exactly the aperture of the direct call (the two directions' mean leak rate)."""
+    rng = np.random.default_rng(11)
+    gaps = {key: np.clip(scipy.ndimage.gaussian_filter(rng.standard_normal((48, 48)), 2,
+                                                       mode="wrap") + shift, 0.0, None)
+            for key, shift in zip("abcdef", (0.3, 0.2, 0.1, 0.05, 0.0, -0.05))}
+    with BackgroundLeakage(0.5, periodic=periodic, threads=2, pending=pending) as flow:
+        for key, gap in gaps.items():
+            flow.submit(key, gap)
+        results = flow.results()
+    expected = {key: leakage_aperture(gap, 0.5, periodic=periodic) for key, gap in gaps.items()}
+    assert results == expected
+    values = list(expected.values())
+    assert len(set(values)) == len(values)   # distinct gaps: a mixed-up key would show
+
+
+def test_background_leakage_reports_a_bad_gap_and_bad_options():
+    with pytest.raises(ValueError, match="gap"):
+        with BackgroundLeakage(1.0) as flow:
+            flow.submit(0, np.full((4, 4), -1.0))
+            flow.results()
+    for keywords, match in (({"threads": 0}, "threads"), ({"pending": 0}, "pending"),
+                            ({"periodic": "yes"}, "periodic")):
+        with pytest.raises((ValueError, TypeError), match=match):
+            BackgroundLeakage(1.0, **keywords)
+    with pytest.raises(ValueError, match="spacing"):
+        BackgroundLeakage(-1.0)
