@@ -12,8 +12,9 @@ memory linear in the number of asperities, choosing per call the cheaper of two 
 
 * ``"fft"`` (summits on the lattice of a height map): the forces are placed on the grid, and the
   sum is the discrete convolution of that lattice with the kernel ``1/(pi E* r)`` sampled at the
-  lattice offsets (0 at r = 0). Aperiodic summits: the bounding box of the summits, zero-padded
-  to at least twice its size minus one, so there is no wrap-around and the result equals the
+  lattice offsets (0 at r = 0). Aperiodic summits: the bounding box of the summits (rounded up to a
+  fast FFT length), zero-padded to twice its size, so there is no wrap-around (the transforms
+  skip the padding's zero rows: :class:`bem.fft.PaddedRealFFT2`) and the result equals the
   direct sum to rounding (about 1e-15 relative; verified against the direct sum in the tests).
   Periodic summits: the convolution on the periodic grid itself with the *minimum-image* kernel
   (each pair interacts once, through its shortest periodic distance). A full periodic lattice sum
@@ -182,8 +183,10 @@ class PointForceInteraction:
                 self._column_local = self.column - column0
                 extent = (int(self._row_local.max(initial=0)) + 1,
                           int(self._column_local.max(initial=0)) + 1)
-                self._fft_shape = tuple(scipy.fft.next_fast_len(2 * e - 1, real=True)
-                                        for e in extent)
+                # the summits' block (rounded up to a fast FFT length), zero-padded to twice
+                # its size: no wrap-around (bem.fft.PaddedRealFFT2 skips the zero rows)
+                self._block = tuple(scipy.fft.next_fast_len(e, real=True) for e in extent)
+                self._fft_shape = (2 * self._block[0], 2 * self._block[1])
             points = self._fft_shape[0] * self._fft_shape[1]
             self._fft_cost = _FFT_POINT_COST * points * max(1.0, math.log2(points))
 
@@ -218,7 +221,7 @@ class PointForceInteraction:
     # ------------------------------------------------------------------ kernels
     def _kernel_spectrum(self) -> np.ndarray:
         if self._fft is None:
-            from bem.fft import RealFFT2
+            from bem.fft import PaddedRealFFT2, RealFFT2
             rows, columns = self._fft_shape
             # Wrap-around offsets: index k holds offset k (k <= P/2) or k - P; the distance uses
             # |offset| = min(k, P - k), which is also the periodic minimum image.
@@ -229,12 +232,19 @@ class PointForceInteraction:
             distance = self.spacing * np.sqrt(k[:, None] ** 2 + l[None, :] ** 2)
             kernel = np.zeros_like(distance)
             np.divide(self._factor, distance, out=kernel, where=distance > 0)
-            fft = RealFFT2(self._fft_shape, backend=self._fft_backend, threads=self._threads,
-                           planner_effort="FFTW_ESTIMATE")
             # The kernel is even in both offsets, so its spectrum is real (up to rounding); the
-            # 1/size of the unnormalised in-place inverse is folded into it.
-            self._spectrum = fft.forward(kernel).real / fft.size
-            fft.real_buffer.fill(0.0)          # forward() may have used it as its input
+            # 1/size of the unnormalised inverse is folded into it.
+            if self.periodic:
+                fft = RealFFT2(self._fft_shape, backend=self._fft_backend,
+                               threads=self._threads, planner_effort="FFTW_ESTIMATE")
+                self._spectrum = fft.forward(kernel).real / fft.size
+                fft.real_buffer.fill(0.0)          # forward() may have used it as its input
+                self._grid, self._out = fft.real_buffer, fft.output_buffer
+            else:
+                fft = PaddedRealFFT2(self._block, backend=self._fft_backend,
+                                     threads=self._threads, planner_effort="FFTW_MEASURE")
+                self._spectrum = np.fft.rfft2(kernel).real / fft.size
+                self._grid, self._out = fft.input_block, fft.output_block
             self._placed = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
             self._fft = fft
         return self._spectrum
@@ -315,7 +325,7 @@ class PointForceInteraction:
     def _fft_sum(self, forces, sources, targets):
         spectrum = self._kernel_spectrum()
         fft = self._fft
-        grid = fft.real_buffer          # zero except where the previous call placed forces
+        grid = self._grid               # zero except where the previous call placed forces
         grid[self._placed] = 0.0
         placed = (self._row_local[sources], self._column_local[sources])
         # Positions are distinct, so plain assignment places every force (no accumulation).
@@ -324,7 +334,7 @@ class PointForceInteraction:
         fft.execute_forward()
         np.multiply(fft.spectrum_buffer, spectrum, out=fft.spectrum_buffer)
         fft.execute_inverse()
-        return fft.output_buffer[self._row_local[targets], self._column_local[targets]]
+        return self._out[self._row_local[targets], self._column_local[targets]]
 
     def _direct_sum(self, forces, sources, targets):
         out = np.empty(targets.size)
