@@ -45,9 +45,8 @@ in the solver's error. The system is solved by sparse LU (:func:`_solve_pressure
 from __future__ import annotations
 
 import math
-import os
+import threading
 import warnings
-from concurrent.futures import Future, ThreadPoolExecutor
 
 import numpy as np
 import scipy.ndimage
@@ -321,15 +320,41 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
                        for direction in FLOW_DIRECTIONS])
 
 
+class _DirectionSolve(threading.Thread):
+    """:func:`hydraulic_aperture` of one gap and direction in a daemon thread (an interrupted
+    caller does not wait for it)."""
+
+    def __init__(self, gap, spacing: float, direction: str, periodic: bool):
+        super().__init__(name=f"leakage-{direction}", daemon=True)
+        self._arguments = (gap, spacing, direction, periodic)
+        self._value: float | None = None
+        self._error: BaseException | None = None
+        self.start()
+
+    def run(self) -> None:
+        gap, spacing, direction, periodic = self._arguments
+        try:
+            self._value = hydraulic_aperture(gap, spacing, direction=direction,
+                                             periodic=periodic)
+        except BaseException as error:   # re-raised in the caller's thread by result()
+            self._error = error
+
+    def result(self) -> float:
+        self.join()
+        if self._error is not None:
+            raise self._error
+        return self._value
+
+
 class BackgroundLeakage:
     """:func:`leakage_aperture` of a sequence of gaps, solved in background threads while the
     caller goes on (e.g. solves the next contact problem of a load path).
 
-    The sparse LU factorisation releases the GIL, so the two flow directions of a gap and the
-    caller's own work run on separate cores. At most ``pending`` gaps wait or are being solved
-    at once (:meth:`submit` blocks on the oldest beyond that), which bounds the memory held by
-    gaps and factors. Use as a context manager: leaving it waits for the solves still running
-    and, on an exception, cancels those not yet started.
+    The sparse LU factorisation releases the GIL, so the two flow directions of a gap (one
+    thread each) and the caller's own work run on separate cores. At most ``pending`` gaps are
+    in flight (:meth:`submit` waits for the oldest beyond that), which bounds the memory held
+    by gaps and factors. The threads are daemons: a caller interrupted by Ctrl-C does not wait
+    for them.
 
     Parameters
     ----------
@@ -337,48 +362,30 @@ class BackgroundLeakage:
         Grid step h [length] of every gap.
     periodic : bool
         As in :func:`hydraulic_aperture`.
-    threads : int, optional
-        Worker threads (default: 2, or 1 on a one-CPU machine).
     pending : int
         Gaps in flight at most (>= 1).
     """
 
-    def __init__(self, spacing: float, *, periodic: bool = False, threads: int | None = None,
-                 pending: int = 2):
-        checks.positive("spacing", spacing)
-        self.spacing = float(spacing)
+    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1):
+        self.spacing = checks.positive("spacing", spacing)
         self.periodic = checks.flag("periodic", periodic)
-        if threads is None:
-            threads = min(2, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                          else (os.cpu_count() or 1))
-        self.threads = checks.integer("threads", threads, minimum=1)
         self.pending = checks.integer("pending", pending, minimum=1)
-        self._pool = ThreadPoolExecutor(max_workers=self.threads,
-                                        thread_name_prefix="leakage")
-        self._futures: dict[object, list[Future]] = {}
+        self._running: dict[object, list[_DirectionSolve]] = {}
         self._results: dict[object, float] = {}
 
     def submit(self, key, gap) -> None:
         """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
-        waiting = [k for k in self._futures]
-        while len(waiting) >= self.pending:
-            self._collect(waiting.pop(0))
-        self._futures[key] = [
-            self._pool.submit(hydraulic_aperture, gap, self.spacing, direction=direction,
-                              periodic=self.periodic) for direction in FLOW_DIRECTIONS]
+        while len(self._running) >= self.pending:
+            self._collect(next(iter(self._running)))
+        self._running[key] = [_DirectionSolve(gap, self.spacing, direction, self.periodic)
+                              for direction in FLOW_DIRECTIONS]
 
     def _collect(self, key) -> None:
-        futures = self._futures.pop(key)
-        self._results[key] = _mean_leak([future.result() for future in futures])
+        solves = self._running.pop(key)
+        self._results[key] = _mean_leak([solve.result() for solve in solves])
 
     def results(self) -> dict:
         """Every submitted gap's h_eff [length] by key (waits for the solves still running)."""
-        for key in list(self._futures):
+        for key in list(self._running):
             self._collect(key)
         return dict(self._results)
-
-    def __enter__(self) -> "BackgroundLeakage":
-        return self
-
-    def __exit__(self, kind, value, traceback) -> None:
-        self._pool.shutdown(wait=True, cancel_futures=kind is not None)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import contextlib
 from dataclasses import replace
 from typing import Callable, Iterable
 
@@ -249,38 +248,37 @@ def contact_curve(
                          coarse_pressures=coarse_pressures)
     # The Reynolds solves of each point run in background threads while the next point's contact
     # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
-    with (BackgroundLeakage(spacing, periodic=periodic) if want_leakage
-          else contextlib.nullcontext()) as flow:
-        for index in order:
-            target = float(targets[index])
-            problem = {"load": target if loads is not None else None,
-                       "separation": target if separations is not None else None}
-            solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
-                              initial=starts.start(int(index), **problem), stiffness=want_stiffness,
-                              ws=workspace, preconditioned=preconditioned)
-            starts.solved(solution)
-            separation[index] = solution.separation
-            load[index] = solution.load
-            area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
-                solution.contact, spacing, periodic=periodic, estimator=area_estimator,
-                pressure=solution.pressure, gap=solution.gap, e_star=e_star))
-            pixel_area[index] = solution.pixel_area
-            perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
-            mean_gap[index] = solution.mean_gap
-            residual[index] = solution.residual
-            iterations[index] = solution.iterations
-            converged[index] = solution.converged
-            if want_contacts:
-                contacts[index] = count_contacts(solution.contact, periodic=periodic)
-            if want_stiffness:
-                stiffness[index] = solution.stiffness
-            if want_leakage:
-                flow.submit(int(index), _open_gap(solution))
-            if callback is not None:
-                callback(int(index), solution)
+    flow = BackgroundLeakage(spacing, periodic=periodic) if want_leakage else None
+    for index in order:
+        target = float(targets[index])
+        problem = {"load": target if loads is not None else None,
+                   "separation": target if separations is not None else None}
+        solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
+                          initial=starts.start(int(index), **problem), stiffness=want_stiffness,
+                          ws=workspace, preconditioned=preconditioned)
+        starts.solved(solution)
+        separation[index] = solution.separation
+        load[index] = solution.load
+        area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
+            solution.contact, spacing, periodic=periodic, estimator=area_estimator,
+            pressure=solution.pressure, gap=solution.gap, e_star=e_star))
+        pixel_area[index] = solution.pixel_area
+        perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
+        mean_gap[index] = solution.mean_gap
+        residual[index] = solution.residual
+        iterations[index] = solution.iterations
+        converged[index] = solution.converged
+        if want_contacts:
+            contacts[index] = count_contacts(solution.contact, periodic=periodic)
+        if want_stiffness:
+            stiffness[index] = solution.stiffness
         if want_leakage:
-            for index, value in flow.results().items():
-                leakage[index] = value
+            flow.submit(int(index), _open_gap(solution))
+        if callback is not None:
+            callback(int(index), solution)
+    if want_leakage:
+        for index, value in flow.results().items():
+            leakage[index] = value
     nominal_area = z.size * spacing**2
     extras = {"converged": converged, "iterations": iterations, "residual": residual,
               "mean_gap": mean_gap, "pixel_area": pixel_area, "staircase_perimeter": perimeter}

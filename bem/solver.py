@@ -233,8 +233,9 @@ def solve_contact(
 
 def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation: float | None,
            tol: float, max_iter: int, initial: np.ndarray | None, stiffness: bool,
-           ws: _Workspace, preconditioned: bool = True) -> ContactSolution:
-    """The solve after validation (shared with the load path)."""
+           ws: _Workspace, preconditioned: bool = True, warn: bool = True) -> ContactSolution:
+    """The solve after validation (shared with the load path); ``warn``: a solve that does not
+    converge warns (ConvergenceWarning)."""
     preconditioner = ws.inverse_kernel(operator) if preconditioned else None
     ws.preconditioned = preconditioned
     if initial is None and preconditioned:
@@ -249,7 +250,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
         d = highest if separation is None else separation
         p = np.zeros(z.shape)
         return _record(operator, z, p, np.zeros(z.shape), d, _Outcome(
-            p, True, 0, 0.0, "zero load: no contact"), stiffness, ws, nominal_area)
+            p, True, 0, 0.0, "zero load: no contact"), stiffness, ws, nominal_area, warn)
     if load is not None:
         total = load / pixel_area
         if initial is not None and initial.sum() > 0.0:
@@ -275,7 +276,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
         d = float(np.mean((z - u)[contact]))
     else:
         d = separation
-    return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area)
+    return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area, warn)
 
 
 def _nestable(shape: tuple[int, int]) -> bool:
@@ -302,12 +303,13 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     if operator.periodic and separation is not None and separation <= float(heights.mean()):
         return None, None  # full contact on the coarse grid: no load to start from
     coarse = operator.coarse()
-    with warnings.catch_warnings():  # an unconverged start is still a start
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        solution = _solve(coarse, heights, load=load, separation=separation,
-                          tol=max(tol, _COARSE_TOLERANCE),
-                          max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=previous,
-                          stiffness=False, ws=_Workspace(coarse.shape) if ws is None else ws)
+    # an unconverged start is still a start: no warning (and no change of the process's
+    # warning filters, which other threads share)
+    solution = _solve(coarse, heights, load=load, separation=separation,
+                      tol=max(tol, _COARSE_TOLERANCE),
+                      max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=previous,
+                      stiffness=False, ws=_Workspace(coarse.shape) if ws is None else ws,
+                      warn=False)
     pressure = np.asarray(solution.pressure)
     if not pressure.any():
         return None, None
@@ -322,13 +324,13 @@ def _owned(initial: np.ndarray) -> np.ndarray:
 
 def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d: float,
             outcome: _Outcome, stiffness: bool, ws: _Workspace,
-            nominal_area: float) -> ContactSolution:
+            nominal_area: float, warn: bool = True) -> ContactSolution:
     pixel_area = operator.spacing**2
     contact = p > 0.0
     gap = d - z + u
     message = outcome.message
     converged = outcome.converged
-    if not converged:
+    if not converged and warn:
         warnings.warn(f"bem.solve_contact: {message}", ConvergenceWarning, stacklevel=3)
     stiffness_value = None
     if stiffness:

@@ -29,6 +29,7 @@ the package version; the GW closed forms are recomputed. Every computation is lo
 from __future__ import annotations
 
 import math
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Callable
@@ -136,13 +137,16 @@ class _Log:
 
 
 def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]:
-    """The heights, made on first call only (when a result that needs them is not cached)."""
+    """The heights, made on first call only (when a result that needs them is not cached; the
+    models computed in a second thread may ask at the same time)."""
     sampled: list[np.ndarray] = []
+    lock = threading.Lock()
 
     def heights() -> np.ndarray:
-        if not sampled:
-            sampled.append(surface_heights(task.surface, task.seed))
-            log.did("surface")
+        with lock:
+            if not sampled:
+                sampled.append(surface_heights(task.surface, task.seed))
+                log.did("surface")
         return sampled[0]
     return heights
 
@@ -195,8 +199,53 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     return curve
 
 
-def run_realization(task: RealizationTask) -> RealizationResult:
-    """Compute one realization (a top-level function, so process pools can run it)."""
+def _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap
+            ) -> dict[str, ContactCurve]:
+    """Every model's curve: the reference first, since on a separation path the other models
+    follow its loads; on a load path, with ``overlap``, the others beside it in a thread."""
+    order = sorted(task.models, key=lambda name: not models.entry(name).reference)
+    reference = [name for name in order if models.entry(name).reference]
+    others = [name for name in order if name not in reference]
+    if overlap and loads is not None and reference and others:
+        path = dict(loads=loads)
+
+        outcome: dict = {}
+
+        def rest() -> None:
+            try:
+                outcome["curves"] = {name: _model_curve(models.entry(name), inputs, path,
+                                                        quantities, cache, log)
+                                     for name in others}
+            except BaseException as error:   # re-raised below, in the caller's thread
+                outcome["error"] = error
+        # a daemon: an interrupted run (Ctrl-C) does not wait for it
+        thread = threading.Thread(target=rest, name="models", daemon=True)
+        thread.start()
+        curves = {name: _model_curve(models.entry(name), inputs, path, quantities, cache, log)
+                  for name in reference}
+        thread.join()
+        if "error" in outcome:
+            raise outcome["error"]
+        curves.update(outcome["curves"])
+        return {name: curves[name] for name in order}
+    curves: dict[str, ContactCurve] = {}
+    for name in order:
+        item = models.entry(name)
+        path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
+        curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
+        if item.reference and loads is None:
+            loads = curves[name].load
+    return curves
+
+
+def run_realization(task: RealizationTask, *, overlap: bool = False) -> RealizationResult:
+    """Compute one realization (a top-level function, so process pools can run it).
+
+    With ``overlap`` on a load path, the other models are computed in a second thread while
+    the reference is solved (they do not need its loads; the heavy parts of both, FFTs,
+    dense products and sparse factorisations, release the GIL): for a realization that runs
+    alone in its process, so that it uses a second core. The curves are the same either way.
+    """
     cache, log = Cache(task.cache_dir), _Log(task)
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)
@@ -215,14 +264,10 @@ def run_realization(task: RealizationTask) -> RealizationResult:
                                           # an even grid along both sides: the scene
                                           # checks it (a measured map's tiles are made even)
                                           error_estimate=task.bem.reference_error))
-    curves: dict[str, ContactCurve] = {}
-    # The reference first: on a separation path the other models follow its loads.
-    for name in sorted(task.models, key=lambda name: not models.entry(name).reference):
-        item = models.entry(name)
-        path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
-        if item.reference and loads is None:
-            loads = curves[name].load
+    curves = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)
+    if loads is None:   # a separation path: the others followed the reference's loads
+        loads = next((curves[name].load for name in task.models
+                      if models.entry(name).reference), None)
     path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
     sampled = sampling.sample_realization(
         task, heights, summits, inputs, curves, cache, log, version=source_version(),

@@ -80,8 +80,8 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
     futures: dict[Future, RealizationTask] = {}
     try:
         if executor is None:
-            for task in tasks:
-                finished(task, run_realization(task))
+            for task in tasks:   # alone in this process: the models beside the reference
+                finished(task, run_realization(task, overlap=True))
         else:
             futures = {executor.submit(run_realization, t): t for t in tasks}
             for future in as_completed(futures):
