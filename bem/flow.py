@@ -57,8 +57,8 @@ import scipy.sparse.linalg
 from bem import checks
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["FLOW_DIRECTIONS", "BackgroundLeakage", "hydraulic_aperture", "leakage_aperture",
-           "spanning_cells"]
+__all__ = ["FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT", "BackgroundLeakage",
+           "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
 
 #: Directions of the pressure drop: along x (columns, axis 1) or y (rows, axis 0) of ``gap[j, i]``.
 FLOW_DIRECTIONS = ("x", "y")
@@ -320,30 +320,36 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
                        for direction in FLOW_DIRECTIONS])
 
 
-class _DirectionSolve(threading.Thread):
-    """:func:`hydraulic_aperture` of one gap and direction in a daemon thread (an interrupted
-    caller does not wait for it)."""
+#: Gaps of more cells than this have their two directions factorised one after the other, not
+#: at once: a sparse LU of a 2048^2 gap holds about 2 GB (benchmarks/bench_leakage.py).
+PARALLEL_DIRECTIONS_LIMIT = 1100 * 1100
 
-    def __init__(self, gap, spacing: float, direction: str, periodic: bool):
-        super().__init__(name=f"leakage-{direction}", daemon=True)
-        self._arguments = (gap, spacing, direction, periodic)
-        self._value: float | None = None
+
+class _Solves(threading.Thread):
+    """:func:`hydraulic_aperture` of one gap along ``directions``, one after the other, in a
+    daemon thread (an interrupted caller does not wait for it)."""
+
+    def __init__(self, gap, spacing: float, directions: tuple[str, ...], periodic: bool):
+        super().__init__(name=f"leakage-{''.join(directions)}", daemon=True)
+        self._arguments = (gap, spacing, directions, periodic)
+        self._values: list[float] = []
         self._error: BaseException | None = None
         self.start()
 
     def run(self) -> None:
-        gap, spacing, direction, periodic = self._arguments
+        gap, spacing, directions, periodic = self._arguments
         try:
-            self._value = hydraulic_aperture(gap, spacing, direction=direction,
-                                             periodic=periodic)
+            for direction in directions:
+                self._values.append(hydraulic_aperture(gap, spacing, direction=direction,
+                                                       periodic=periodic))
         except BaseException as error:   # re-raised in the caller's thread by result()
             self._error = error
 
-    def result(self) -> float:
+    def result(self) -> list[float]:
         self.join()
         if self._error is not None:
             raise self._error
-        return self._value
+        return self._values
 
 
 class BackgroundLeakage:
@@ -351,8 +357,9 @@ class BackgroundLeakage:
     caller goes on (e.g. solves the next contact problem of a load path).
 
     The sparse LU factorisation releases the GIL, so the two flow directions of a gap (one
-    thread each) and the caller's own work run on separate cores. At most ``pending`` gaps are
-    in flight (:meth:`submit` waits for the oldest beyond that), which bounds the memory held
+    thread each; one thread for both above :data:`PARALLEL_DIRECTIONS_LIMIT` cells, so that
+    one factor is held at a time) and the caller's own work run on separate cores. At most
+    ``pending`` gaps are in flight (:meth:`submit` waits for the oldest beyond that), which bounds the memory held
     by gaps and factors. The threads are daemons: a caller interrupted by Ctrl-C does not wait
     for them.
 
@@ -370,19 +377,21 @@ class BackgroundLeakage:
         self.spacing = checks.positive("spacing", spacing)
         self.periodic = checks.flag("periodic", periodic)
         self.pending = checks.integer("pending", pending, minimum=1)
-        self._running: dict[object, list[_DirectionSolve]] = {}
+        self._running: dict[object, list[_Solves]] = {}
         self._results: dict[object, float] = {}
 
     def submit(self, key, gap) -> None:
         """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
         while len(self._running) >= self.pending:
             self._collect(next(iter(self._running)))
-        self._running[key] = [_DirectionSolve(gap, self.spacing, direction, self.periodic)
-                              for direction in FLOW_DIRECTIONS]
+        together = np.size(gap) > PARALLEL_DIRECTIONS_LIMIT
+        groups = (FLOW_DIRECTIONS,) if together else tuple((d,) for d in FLOW_DIRECTIONS)
+        self._running[key] = [_Solves(gap, self.spacing, group, self.periodic)
+                              for group in groups]
 
     def _collect(self, key) -> None:
         solves = self._running.pop(key)
-        self._results[key] = _mean_leak([solve.result() for solve in solves])
+        self._results[key] = _mean_leak([value for solve in solves for value in solve.result()])
 
     def results(self) -> dict:
         """Every submitted gap's h_eff [length] by key (waits for the solves still running)."""

@@ -226,3 +226,28 @@ def test_background_leakage_reports_a_bad_gap_and_bad_options():
             BackgroundLeakage(1.0, **keywords)
     with pytest.raises(ValueError, match="spacing"):
         BackgroundLeakage(-1.0)
+
+
+def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeypatch):
+    """Above the size limit one thread solves both directions (one factor in memory at a
+    time); the aperture is the same."""
+    import bem.flow
+
+    gap = np.clip(scipy.ndimage.gaussian_filter(
+        np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
+    names = []
+    original = bem.flow._Solves.__init__
+
+    def spy(self, gap, spacing, directions, periodic):
+        names.append(directions)
+        original(self, gap, spacing, directions, periodic)
+
+    monkeypatch.setattr(bem.flow._Solves, "__init__", spy)
+    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    flow = BackgroundLeakage(1.0)
+    flow.submit("large", gap)
+    assert flow.results()["large"] == leakage_aperture(gap, 1.0)
+    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    flow.submit("small", gap)
+    assert flow.results()["small"] == leakage_aperture(gap, 1.0)
+    assert names == [("x", "y"), ("x",), ("y",)]
