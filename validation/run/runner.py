@@ -83,7 +83,9 @@ def _run_tasks(tasks: list[RealizationTask], executor: Executor | None, bar: Pro
             for task in tasks:   # alone in this process: the models beside the reference
                 finished(task, run_realization(task, overlap=True))
         else:
-            futures = {executor.submit(run_realization, t): t for t in tasks}
+            # fewer tasks than workers: each task's models beside its reference
+            overlap = len(tasks) < workers
+            futures = {executor.submit(run_realization, t, overlap=overlap): t for t in tasks}
             for future in as_completed(futures):
                 finished(futures[future], future.result())
     except BaseException:
