@@ -3,8 +3,9 @@
 A synthetic instrument scan per size (a self-affine surface, H = 0.8, rms slope 0.3, cut as a
 non-periodic window, with 1 % white noise at the pixel scale as an AFM adds), written as a
 Gwyddion ASCII matrix with its size (1 nm pixels), then the check with twelve pressures from
-light to heavy contact, every model and the leakage, ``--jobs 2``, in a fresh process with an
-empty cache. Prints per size: wall time, process time (the command and its workers), the peak
+light to heavy contact, every model and the leakage, with the command's defaults (the scan
+in-process, the models beside the reference in a second thread), in a fresh process with an
+empty cache (so FFTW plans too, as on a machine's first check). Prints per size: wall time, process time (the command and its workers), the peak
 resident memory of the largest process, and the share of verdict cells decided by the band
 alone, at both tolerances (from verdicts.csv).
 
@@ -65,7 +66,7 @@ def main(argv=None) -> int:
         scan = make_scan(folder / f"scan-{n}.txt", n)
         out, cache = folder / f"check-{n}", folder / f"cache-{n}"
         command = [sys.executable, "-m", "validation", "check", str(scan), "--e-star", "115GPa",
-                   "--out", str(out), "--cache", str(cache), "--jobs", "2", "--quiet"]
+                   "--out", str(out), "--cache", str(cache), "--quiet"]
         if args.short_cutoff:
             command += ["--short-cutoff", args.short_cutoff]
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
