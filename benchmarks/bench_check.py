@@ -5,9 +5,10 @@ non-periodic window, with 1 % white noise at the pixel scale as an AFM adds), wr
 Gwyddion ASCII matrix with its size (1 nm pixels), then the check with twelve pressures from
 light to heavy contact, every model and the leakage, with the command's defaults (the scan
 in-process, the models beside the reference in a second thread), in a fresh process with an
-empty cache (so FFTW plans too, as on a machine's first check). Prints per size: wall time, process time (the command and its workers), the peak
-resident memory of the largest process, and the share of verdict cells decided by the band
-alone, at both tolerances (from verdicts.csv).
+empty cache (so FFTW plans too, as on a machine's first check). Prints per size: wall time,
+process time (the command and its workers), the peak resident memory of the largest process,
+and the share of verdict cells decided by the band alone, at both tolerances (from
+verdicts.csv).
 
 Usage::
 
