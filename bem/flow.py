@@ -321,8 +321,10 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
 
 
 #: Gaps of more cells than this have their two directions factorised one after the other, not
-#: at once: a sparse LU of a 2048^2 gap holds about 2 GB (benchmarks/bench_leakage.py).
-PARALLEL_DIRECTIONS_LIMIT = 1100 * 1100
+#: at once: the sparse LU of a 1024^2 gap holds about 0.5 GB (39 million entries), of a 2048^2
+#: gap about 2 GB; a check of a 512^2 scan whose reference is refined to 1024^2 peaked at 2.6 GB
+#: with both directions at once.
+PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 
 
 class _Solves(threading.Thread):
