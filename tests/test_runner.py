@@ -227,3 +227,25 @@ def test_planned_realizations_first_then_the_next_seeds_when_asked(tmp_path):
         more_realizations(planned, 0)
     with pytest.raises(TypeError, match="jobs"):
         solve_refinements(["not a job"])
+
+
+def test_models_beside_the_reference_give_the_same_curves():
+    """A realization alone in its process computes the other models in a second thread while
+    the reference is solved: every curve equals the one of the sequential run, and everything
+    is computed once (the surface too, though both threads may ask for it)."""
+    from validation.run.realization import run_realization
+
+    (task,) = plan_scene(tiny(**{"realizations.count": 1, "quantities.use":
+                                 ["area", "load", "separation", "conductance", "leakage"]}))
+    sequential = run_realization(task)
+    beside = run_realization(task, overlap=True)
+    assert set(beside.curves) == set(sequential.curves) == set(task.models)
+    assert list(beside.curves) == list(sequential.curves)
+    for name, curve in sequential.curves.items():
+        for quantity in ("load", "separation", "area", "conductance", "leakage"):
+            expected = getattr(curve, quantity)
+            if expected is not None:
+                np.testing.assert_array_equal(getattr(beside.curves[name], quantity), expected,
+                                              err_msg=f"{name} {quantity}")
+    assert sorted(beside.computed) == sorted(sequential.computed)
+    assert sum(entry.startswith("surface") for entry in beside.computed) == 1
