@@ -45,7 +45,6 @@ in the solver's error. The system is solved by sparse LU (:func:`_solve_pressure
 from __future__ import annotations
 
 import math
-import threading
 import warnings
 
 import numpy as np
@@ -55,6 +54,7 @@ import scipy.sparse.csgraph
 import scipy.sparse.linalg
 
 from bem import checks
+from bem.background import BackgroundCall
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT", "BackgroundLeakage",
@@ -327,31 +327,10 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 
 
-class _Solves(threading.Thread):
-    """:func:`hydraulic_aperture` of one gap along ``directions``, one after the other, in a
-    daemon thread (an interrupted caller does not wait for it)."""
-
-    def __init__(self, gap, spacing: float, directions: tuple[str, ...], periodic: bool):
-        super().__init__(name=f"leakage-{''.join(directions)}", daemon=True)
-        self._arguments = (gap, spacing, directions, periodic)
-        self._values: list[float] = []
-        self._error: BaseException | None = None
-        self.start()
-
-    def run(self) -> None:
-        gap, spacing, directions, periodic = self._arguments
-        try:
-            for direction in directions:
-                self._values.append(hydraulic_aperture(gap, spacing, direction=direction,
-                                                       periodic=periodic))
-        except BaseException as error:   # re-raised in the caller's thread by result()
-            self._error = error
-
-    def result(self) -> list[float]:
-        self.join()
-        if self._error is not None:
-            raise self._error
-        return self._values
+def _apertures(gap, spacing: float, directions: tuple[str, ...], periodic: bool) -> list[float]:
+    """:func:`hydraulic_aperture` of ``gap`` along each of ``directions``, one after the other."""
+    return [hydraulic_aperture(gap, spacing, direction=direction, periodic=periodic)
+            for direction in directions]
 
 
 class BackgroundLeakage:
@@ -361,9 +340,9 @@ class BackgroundLeakage:
     The sparse LU factorisation releases the GIL, so the two flow directions of a gap (one
     thread each; one thread for both above :data:`PARALLEL_DIRECTIONS_LIMIT` cells, so that
     one factor is held at a time) and the caller's own work run on separate cores. At most
-    ``pending`` gaps are in flight (:meth:`submit` waits for the oldest beyond that), which bounds the memory held
-    by gaps and factors. The threads are daemons: a caller interrupted by Ctrl-C does not wait
-    for them.
+    ``pending`` gaps are in flight (:meth:`submit` waits for the oldest beyond that), which
+    bounds the memory held by gaps and factors. The threads are daemons
+    (:class:`bem.background.BackgroundCall`): a caller interrupted by Ctrl-C does not wait.
 
     Parameters
     ----------
@@ -379,7 +358,7 @@ class BackgroundLeakage:
         self.spacing = checks.positive("spacing", spacing)
         self.periodic = checks.flag("periodic", periodic)
         self.pending = checks.integer("pending", pending, minimum=1)
-        self._running: dict[object, list[_Solves]] = {}
+        self._running: dict[object, list[BackgroundCall]] = {}
         self._results: dict[object, float] = {}
 
     def submit(self, key, gap) -> None:
@@ -388,7 +367,8 @@ class BackgroundLeakage:
             self._collect(next(iter(self._running)))
         together = np.size(gap) > PARALLEL_DIRECTIONS_LIMIT
         groups = (FLOW_DIRECTIONS,) if together else tuple((d,) for d in FLOW_DIRECTIONS)
-        self._running[key] = [_Solves(gap, self.spacing, group, self.periodic)
+        self._running[key] = [BackgroundCall(_apertures, gap, self.spacing, group, self.periodic,
+                                             name=f"leakage-{''.join(group)}")
                               for group in groups]
 
     def _collect(self, key) -> None:

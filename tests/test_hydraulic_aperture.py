@@ -236,13 +236,13 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     gap = np.clip(scipy.ndimage.gaussian_filter(
         np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
     names = []
-    original = bem.flow._Solves.__init__
+    original = bem.flow._apertures
 
-    def spy(self, gap, spacing, directions, periodic):
+    def spy(gap, spacing, directions, periodic):
         names.append(directions)
-        original(self, gap, spacing, directions, periodic)
+        return original(gap, spacing, directions, periodic)
 
-    monkeypatch.setattr(bem.flow._Solves, "__init__", spy)
+    monkeypatch.setattr(bem.flow, "_apertures", spy)
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0)
     flow.submit("large", gap)
@@ -250,4 +250,4 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
-    assert names == [("x", "y"), ("x",), ("y",)]
+    assert sorted(names) == [("x",), ("x", "y"), ("y",)]

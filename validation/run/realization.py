@@ -36,6 +36,7 @@ from typing import Callable
 
 import numpy as np
 
+from bem.background import BackgroundCall
 from bem.curve import ContactCurve
 from validation.common import models
 from validation.common.models import ModelInputs
@@ -199,43 +200,30 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
     return curve
 
 
-def _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap
-            ) -> dict[str, ContactCurve]:
-    """Every model's curve: the reference first, since on a separation path the other models
-    follow its loads; on a load path, with ``overlap``, the others beside it in a thread."""
+def _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap):
+    """Every model's curve and the loads of the path: the reference first, since on a
+    separation path the other models follow its loads; on a load path, with ``overlap``, the
+    others beside it in a thread."""
     order = sorted(task.models, key=lambda name: not models.entry(name).reference)
     reference = [name for name in order if models.entry(name).reference]
     others = [name for name in order if name not in reference]
+
+    def curves_of(names: list[str], path: dict) -> dict[str, ContactCurve]:
+        return {name: _model_curve(models.entry(name), inputs, path, quantities, cache, log)
+                for name in names}
     if overlap and loads is not None and reference and others:
         path = dict(loads=loads)
-
-        outcome: dict = {}
-
-        def rest() -> None:
-            try:
-                outcome["curves"] = {name: _model_curve(models.entry(name), inputs, path,
-                                                        quantities, cache, log)
-                                     for name in others}
-            except BaseException as error:   # re-raised below, in the caller's thread
-                outcome["error"] = error
-        # a daemon: an interrupted run (Ctrl-C) does not wait for it
-        thread = threading.Thread(target=rest, name="models", daemon=True)
-        thread.start()
-        curves = {name: _model_curve(models.entry(name), inputs, path, quantities, cache, log)
-                  for name in reference}
-        thread.join()
-        if "error" in outcome:
-            raise outcome["error"]
-        curves.update(outcome["curves"])
-        return {name: curves[name] for name in order}
+        beside = BackgroundCall(curves_of, others, path, name="models")
+        curves = curves_of(reference, path)
+        curves.update(beside.result())
+        return {name: curves[name] for name in order}, loads
     curves: dict[str, ContactCurve] = {}
     for name in order:
-        item = models.entry(name)
         path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
-        curves[name] = _model_curve(item, inputs, path, quantities, cache, log)
-        if item.reference and loads is None:
+        curves.update(curves_of([name], path))
+        if name in reference and loads is None:
             loads = curves[name].load
-    return curves
+    return curves, loads
 
 
 def run_realization(task: RealizationTask, *, overlap: bool = False) -> RealizationResult:
@@ -264,10 +252,7 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
                                           # an even grid along both sides: the scene
                                           # checks it (a measured map's tiles are made even)
                                           error_estimate=task.bem.reference_error))
-    curves = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)
-    if loads is None:   # a separation path: the others followed the reference's loads
-        loads = next((curves[name].load for name in task.models
-                      if models.entry(name).reference), None)
+    curves, loads = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)
     path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
     sampled = sampling.sample_realization(
         task, heights, summits, inputs, curves, cache, log, version=source_version(),
