@@ -60,9 +60,9 @@ class PathSolver:
     def _budget(self) -> Budget:
         return Budget(_WORK_PER_POINT * self.max_iter)
 
-    def _newton(self, delta, separation, budget, load=None):
+    def _newton(self, delta, separation, budget, load=None, approach_rate=None):
         return newton(self.problem, delta, separation, target_load=load, tol=self.tol,
-                      max_iter=self.max_iter, budget=budget)
+                      max_iter=self.max_iter, budget=budget, approach_rate=approach_rate)
 
     def _fallback(self, separation: float, load: float | None, budget: Budget):
         """Cold start from the mean-field estimate, then the interaction-strength homotopy."""
@@ -144,7 +144,7 @@ class PathSolver:
                                * (previous.separation - separation), 0.0)
         else:
             delta, separation = mean_field_start(problem, load)
-        solution, state = self._newton(delta, separation, budget, load)
+        solution, state = self._newton(delta, separation, budget, load, previous.tangent)
         spent = solution.iterations
         if not solution.converged and depth < _MAX_SPLIT_DEPTH and budget:
             middle = math.sqrt(previous_load * load) if previous_load > 0 else 0.25 * load

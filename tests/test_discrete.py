@@ -522,3 +522,45 @@ def test_the_model_keeps_no_state_between_calls():
     again = model.at_separation([1e-3, 0.0, -1e-3])
     np.testing.assert_array_equal(first.load, again.load)
     np.testing.assert_array_equal(first.extras["iterations"], again.extras["iterations"])
+
+
+def test_conjugate_gradients_from_a_start_reach_the_same_solution():
+    from asperity.complementarity import _cg
+
+    rng = np.random.default_rng(3)
+    factor = rng.standard_normal((40, 40))
+    matrix = factor @ factor.T + 40 * np.eye(40)
+    rhs = rng.standard_normal(40)
+    exact = np.linalg.solve(matrix, rhs)
+    products = []
+
+    def apply(values):
+        products.append(1)
+        return matrix @ values
+
+    cold, converged, definite = _cg(apply, rhs, rtol=1e-12, max_iter=200)
+    assert converged and definite
+    cold_products = len(products)
+    products.clear()
+    start = exact + 1e-6 * rng.standard_normal(40)
+    warm, converged, definite = _cg(apply, rhs, rtol=1e-12, max_iter=200, start=start)
+    assert converged and definite and len(products) < cold_products
+    np.testing.assert_allclose(cold, exact, rtol=0, atol=1e-10 * np.abs(exact).max())
+    np.testing.assert_allclose(warm, exact, rtol=0, atol=1e-10 * np.abs(exact).max())
+    products.clear()
+    same, converged, _ = _cg(apply, rhs, rtol=1e-6, max_iter=200, start=exact)
+    assert converged and len(products) == 1 and np.array_equal(same, exact)
+
+
+def test_a_load_path_agrees_with_the_dense_oracle_at_its_separations():
+    # under load control every Newton step's second solve starts from the previous one's
+    # solution (the approach rate): the answers must still be those of the oracle
+    e_star = 1.0
+    summits = random_summits(11, 60, radius_scale=0.02)
+    model = DiscreteAsperityModel(summits, e_star=e_star)
+    first = model.at_separation([-1.5e-3]).load[0]
+    curve = model.at_load(first * np.array([0.05, 0.2, 0.5, 1.0]), quantities=("area",))
+    assert np.all(curve.extras["converged"])
+    for separation, forces in zip(curve.separation, curve.extras["forces"]):
+        expected = dense_active_set_solution(summits, e_star, separation)
+        np.testing.assert_allclose(forces, expected, rtol=0, atol=1e-7 * expected.max())
