@@ -39,7 +39,8 @@ leaves a periodic cluster). No spanning cluster: h_eff is exactly 0.
 
 The flow is read from the viscous dissipation ``Q dp = sum over faces T (dp_face)^2 / (12 mu)``
 (boundary half-faces included), which the solution minimises, so its error is of second order
-in the solver's error. The system is solved by sparse LU (:func:`_solve_pressure`).
+in the solver's error. The system is solved by sparse LU up to :data:`DIRECT_SOLVE_LIMIT` cells
+and by conjugate gradients preconditioned with algebraic multigrid above (:func:`_solve_pressure`).
 """
 
 from __future__ import annotations
@@ -57,7 +58,8 @@ from bem import checks
 from bem.background import BackgroundCall
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT", "BackgroundLeakage",
+__all__ = ["DIRECT_SOLVE_LIMIT", "FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT",
+           "BackgroundLeakage",
            "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
 
 #: Directions of the pressure drop: along x (columns, axis 1) or y (rows, axis 0) of ``gap[j, i]``.
@@ -210,19 +212,57 @@ def _dissipation(pressure: np.ndarray, faces, boundary) -> float:
 
 
 
-def _solve_pressure(matrix, rhs: np.ndarray) -> np.ndarray:
-    """``A p = b`` by sparse LU (SuperLU), the matrix being symmetric positive definite.
+#: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
+#: conjugate gradients (:func:`_solve_pressure`). Measured on one 5 % contact gap (one core): at
+#: 1024^2 LU 11.6 s and 1.0 GB, multigrid 7.5 s and 0.4 GB; at 2048^2 LU 84 s and 4.9 GB,
+#: multigrid 34 s and 2.0 GB, the apertures equal to 1e-14 (docs/guide/benchmarks.md).
+DIRECT_SOLVE_LIMIT = 1024 * 1024
+#: Relative residual ``||b - A p|| / ||b||`` of the multigrid solve (on the Jacobi-scaled
+#: system). The aperture comes from the dissipation, whose error is of second order in the
+#: pressure's: on the gaps above it agreed with the sparse LU to 1e-14.
+MULTIGRID_TOLERANCE = 1e-10
+#: Most conjugate-gradient iterations of the multigrid solve (37-58 were needed above).
+MULTIGRID_MAX_ITERATIONS = 500
 
-    Fill-reducing order: minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the
-    fill of the default column order on these grids); no pivoting (``diag_pivot_thresh=0``:
-    elimination of a symmetric positive definite matrix is stable in any order). Chosen over
-    algebraic multigrid by measurement (benchmarks/bench_leakage.py): exact whatever the
-    contrast of g^3 (which spans 20 decades in a contact gap), and faster at 256^2 and near
-    percolation.
+
+def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int | None = None) -> np.ndarray:
+    """``A p = b`` for the symmetric positive-definite flow system of a gap of ``cells`` cells
+    (default: the system's size).
+
+    Up to :data:`DIRECT_SOLVE_LIMIT` cells by sparse LU (SuperLU): fill-reducing order by
+    minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the fill of the default
+    column order on these grids), no pivoting (``diag_pivot_thresh=0``: elimination of a
+    symmetric positive definite matrix is stable in any order). Chosen over algebraic multigrid
+    there by measurement (benchmarks/bench_leakage.py): exact whatever the contrast of g^3
+    (which spans 20 decades in a contact gap), and faster at 256^2 and 512^2 and near
+    percolation. Above, the factor outgrows the memory (4.9 GB at 2048^2), and the system is
+    solved by conjugate gradients preconditioned with one V-cycle of pyAMG's smoothed
+    aggregation, built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``, which makes
+    the 20 decades of g^3 harmless to the aggregation) with the scaled constant ``1/D`` as its
+    near-null space, to :data:`MULTIGRID_TOLERANCE`. A multigrid solve that stops short of it
+    warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
     """
-    factor = scipy.sparse.linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A",
-                                      diag_pivot_thresh=0.0, options={"SymmetricMode": True})
-    return factor.solve(rhs)
+    size = rhs.size if cells is None else cells
+    if size <= DIRECT_SOLVE_LIMIT:
+        factor = scipy.sparse.linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A",
+                                          diag_pivot_thresh=0.0,
+                                          options={"SymmetricMode": True})
+        return factor.solve(rhs)
+    import pyamg
+
+    scale = 1.0 / np.sqrt(matrix.diagonal())
+    jacobi = scipy.sparse.dia_array((scale, 0), shape=matrix.shape)
+    scaled = (jacobi @ matrix @ jacobi).tocsr()
+    hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=(1.0 / scale)[:, None])
+    residuals: list[float] = []
+    solution = hierarchy.solve(rhs * scale, tol=MULTIGRID_TOLERANCE, accel="cg",
+                               maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)
+    reached = residuals[-1] / residuals[0] if residuals and residuals[0] > 0 else 0.0
+    if not reached <= MULTIGRID_TOLERANCE:
+        warnings.warn(f"hydraulic_aperture: the multigrid solve of {size} cells stopped at a "
+                      f"relative residual {reached:.3g} > {MULTIGRID_TOLERANCE:g} after "
+                      f"{len(residuals) - 1} iterations", ConvergenceWarning, stacklevel=3)
+    return solution * scale
 
 
 def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
@@ -269,7 +309,9 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     -----
     Cost: one sparse LU factorisation of the spanning cells' system: 0.2-0.9 s at 256^2,
     1.2-2.6 s at 512^2 and 4-8 s at 1024^2 on two cores shared with other jobs (one BLAS
-    thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py.
+    thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py;
+    above :data:`DIRECT_SOLVE_LIMIT` cells a multigrid-preconditioned solve, 34 s and 2 GB at
+    2048^2.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
@@ -287,7 +329,7 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
         return 0.0
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
-        pressure = _solve_pressure(matrix, rhs)
+        pressure = _solve_pressure(matrix, rhs, cells=conductivity.size)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=2)
@@ -320,10 +362,10 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
                        for direction in FLOW_DIRECTIONS])
 
 
-#: Gaps of more cells than this have their two directions factorised one after the other, not
-#: at once: the sparse LU of a 1024^2 gap holds about 0.5 GB (39 million entries), of a 2048^2
-#: gap about 2 GB; a check of a 512^2 scan whose reference is refined to 1024^2 peaked at 2.6 GB
-#: with both directions at once.
+#: Gaps of more cells than this have their two directions solved one after the other, not
+#: at once: the sparse LU of a 1024^2 gap holds about 0.5 GB (39 million entries), the multigrid
+#: hierarchy of a 2048^2 gap about 2 GB; a check of a 512^2 scan whose reference is refined to
+#: 1024^2 peaked at 2.6 GB with both directions at once.
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 
 

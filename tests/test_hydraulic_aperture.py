@@ -251,3 +251,39 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
+
+
+@BOTH
+@pytest.mark.parametrize("seed", [1, 2])
+def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch, periodic, seed):
+    """Above DIRECT_SOLVE_LIMIT cells the flow system is solved by multigrid-preconditioned
+    conjugate gradients; forced on smaller gaps (about 16 % contact, g^3 over many decades near
+    the contact edges) it must give the sparse LU's aperture."""
+    import bem.flow
+
+    gap = _random_gap(96, seed)
+    gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
+    direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
+    monkeypatch.setattr(bem.flow, "DIRECT_SOLVE_LIMIT", 0)
+    used = []
+    original = bem.flow._solve_pressure
+
+    def spy(matrix, rhs, *, cells=None):
+        used.append(cells > bem.flow.DIRECT_SOLVE_LIMIT)
+        return original(matrix, rhs, cells=cells)
+
+    monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
+    multigrid = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
+    assert used == [True, True] and min(direct) > 0
+    np.testing.assert_allclose(multigrid, direct, rtol=1e-9)
+
+
+def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
+    import bem.flow
+
+    gap = _random_gap(96, 3)
+    monkeypatch.setattr(bem.flow, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow, "MULTIGRID_MAX_ITERATIONS", 1)
+    with pytest.warns(bem.ConvergenceWarning, match="multigrid solve of 9216 cells stopped"):
+        value = hydraulic_aperture(gap, 1.0)
+    assert value > 0 and np.isfinite(value)
