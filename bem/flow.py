@@ -213,16 +213,17 @@ def _dissipation(pressure: np.ndarray, faces, boundary) -> float:
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
-#: conjugate gradients (:func:`_solve_pressure`). Measured on one 5 % contact gap (one core): at
-#: 1024^2 LU 11.6 s and 1.0 GB, multigrid 7.5 s and 0.4 GB; at 2048^2 LU 84 s and 4.9 GB,
-#: multigrid 34 s and 2.0 GB, the apertures equal to 1e-14 (docs/guide/benchmarks.md).
+#: conjugate gradients (:func:`_solve_pressure`): the LU factor of a 2048^2 gap took 4.9 GB
+#: (84 s per direction), the multigrid 2.7 GB (docs/guide/benchmarks.md, "The leakage reference").
 DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: Relative residual ``||b - A p|| / ||b||`` of the multigrid solve (on the Jacobi-scaled
 #: system). The aperture comes from the dissipation, whose error is of second order in the
-#: pressure's: on the gaps above it agreed with the sparse LU to 1e-14.
-MULTIGRID_TOLERANCE = 1e-10
-#: Most conjugate-gradient iterations of the multigrid solve (37-58 were needed above).
-MULTIGRID_MAX_ITERATIONS = 500
+#: pressure's: on an elastic contact gap near percolation (512^2, 29 % contact) it agreed with
+#: the sparse LU to 1e-12 (75 and 133 iterations, open and periodic); 1e-8 left 3e-6 on a gap
+#: whose g^3 spans more decades (tests/test_hydraulic_aperture.py).
+MULTIGRID_TOLERANCE = 1e-9
+#: Most conjugate-gradient iterations of the multigrid solve.
+MULTIGRID_MAX_ITERATIONS = 1000
 
 
 def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int | None = None) -> np.ndarray:
@@ -237,10 +238,12 @@ def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int | None = None) -> np.
     (which spans 20 decades in a contact gap), and faster at 256^2 and 512^2 and near
     percolation. Above, the factor outgrows the memory (4.9 GB at 2048^2), and the system is
     solved by conjugate gradients preconditioned with one V-cycle of pyAMG's smoothed
-    aggregation, built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``, which makes
-    the 20 decades of g^3 harmless to the aggregation) with the scaled constant ``1/D`` as its
-    near-null space, to :data:`MULTIGRID_TOLERANCE`. A multigrid solve that stops short of it
-    warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
+    aggregation, built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with the
+    scaled constant ``1/D`` as its near-null space and the evolution strength of connection
+    (near percolation, where thin necks carry the flow, the classical symmetric strength needed
+    5-7 times the iterations), to :data:`MULTIGRID_TOLERANCE` (``matrix`` is scaled in place). A
+    multigrid solve that stops short of it warns (:class:`bem.warnings.ConvergenceWarning`) and
+    returns its last iterate.
     """
     size = rhs.size if cells is None else cells
     if size <= DIRECT_SOLVE_LIMIT:
@@ -250,10 +253,13 @@ def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int | None = None) -> np.
         return factor.solve(rhs)
     import pyamg
 
-    scale = 1.0 / np.sqrt(matrix.diagonal())
-    jacobi = scipy.sparse.dia_array((scale, 0), shape=matrix.shape)
-    scaled = (jacobi @ matrix @ jacobi).tocsr()
-    hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=(1.0 / scale)[:, None])
+    # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
+    scaled = matrix.tocsr()
+    scale = 1.0 / np.sqrt(scaled.diagonal())
+    scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
+    scaled.data *= scale[scaled.indices]
+    hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=(1.0 / scale)[:, None],
+                                                  strength="evolution")
     residuals: list[float] = []
     solution = hierarchy.solve(rhs * scale, tol=MULTIGRID_TOLERANCE, accel="cg",
                                maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)
@@ -310,8 +316,8 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     Cost: one sparse LU factorisation of the spanning cells' system: 0.2-0.9 s at 256^2,
     1.2-2.6 s at 512^2 and 4-8 s at 1024^2 on two cores shared with other jobs (one BLAS
     thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py;
-    above :data:`DIRECT_SOLVE_LIMIT` cells a multigrid-preconditioned solve, 34 s and 2 GB at
-    2048^2.
+    above :data:`DIRECT_SOLVE_LIMIT` cells a multigrid-preconditioned solve, 35 s and 2.7 GB at
+    2048^2 with 5 % contact.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
@@ -364,7 +370,7 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
 #: at once: the sparse LU of a 1024^2 gap holds about 0.5 GB (39 million entries), the multigrid
-#: hierarchy of a 2048^2 gap about 2 GB; a check of a 512^2 scan whose reference is refined to
+#: hierarchy of a 2048^2 gap about 2.7 GB; a check of a 512^2 scan whose reference is refined to
 #: 1024^2 peaked at 2.6 GB with both directions at once.
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 

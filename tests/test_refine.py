@@ -209,3 +209,26 @@ def test_leakage_is_solved_again_only_where_a_leakage_cell_is_held_by_the_band(t
         new, old = r.curves["bem"].leakage, b.curves["bem"].leakage
         assert new[0] == old[0] and new[1] != old[1] and new[2] == old[2]
         assert r.curves["bem"].area[0] != b.curves["bem"].area[0]
+
+
+def test_leakage_is_not_solved_again_above_its_grid_limit(tmp_path, monkeypatch):
+    """On grids finer than MAX_LEAKAGE_GRID a held leakage cell keeps the leakage and band of
+    the grid below (a Reynolds solve there takes minutes and gigabytes)."""
+    from validation import run_scenes
+    from validation.judge import decide
+
+    leaky = WM | {"quantities": {"use": ["area", "load", "separation", "leakage"]},
+                  "realizations": {"count": 1, "seed": 7}, "bem": {"max_grid": 64}}
+    scene = parse_scene(leaky, source="test")
+    (held,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
+    level = held.refinement.levels[0]
+    assert level.grid == 64 and level.leakage.get(2.3)   # on 32^2 the leakage band holds
+    monkeypatch.setattr(decide, "MAX_LEAKAGE_GRID", 32)
+    (kept,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
+    level = kept.refinement.levels[0]
+    assert level.grid == 64 and level.points == held.refinement.levels[0].points
+    assert not level.leakage.get(2.3)
+    curve = kept.realizations[2.3][0].curves["bem"]
+    base = parse_scene(leaky | {"bem": {"max_grid": 32}}, source="test")
+    (original,) = run_scenes([base], progress=False, cache_dir=str(tmp_path))
+    np.testing.assert_array_equal(curve.leakage, original.realizations[2.3][0].curves["bem"].leakage)

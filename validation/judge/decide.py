@@ -27,7 +27,8 @@ import numpy as np
 from validation.common import models
 from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
-from validation.run.refine import RefineJob, merge_points, solver_tolerance, unavailable
+from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, merge_points, solver_tolerance,
+                                   unavailable)
 from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
 from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
                                        run_looks, scene_plan, undecided_share)
@@ -156,7 +157,8 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
             if chosen.size:
                 points[value] = tuple(int(k) for k in chosen)
                 leaky = held.get("leakage", np.zeros(mask.shape, bool))
-                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
+                if grid <= MAX_LEAKAGE_GRID:
+                    leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
                 # the band expected on the finer grid: half the present one (first order)
                 tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
                                                      scene.bem.tol)

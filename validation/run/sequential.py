@@ -206,7 +206,8 @@ class RefinementRecord:
     def describe(self, parameter: str = "") -> str:
         """E.g. ``refined on 512²: 3 load point(s) (leakage at 1) at D = 2.05 (solver
         tolerance 1.0e-04); stopped: grid limit reached (max_grid = 512)``: the leakage is solved
-        again only where a leakage cell is held by the band."""
+        again only where a leakage cell is held by the band, on grids up to
+        :data:`validation.run.refine.MAX_LEAKAGE_GRID`."""
         if not self.levels:
             return f"not refined: {self.reason}"
         parts = []
