@@ -140,3 +140,30 @@ def test_transforms_leave_their_input_untouched(backend):
     np.testing.assert_array_equal(spectrum, kept)
     np.testing.assert_array_equal(fft.inverse(spectrum), first)
     np.testing.assert_allclose(first, real, atol=1e-15)
+
+
+def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
+    import bem.halfspace as halfspace
+
+    monkeypatch.setenv("ASPERITY_FFT_THREADS", "4")
+    assert halfspace.fft_threads((512, 512)) == 1                 # small grids: one thread
+    for idle, expected in [(0.0, 1), (0.4, 1), (0.6, 2), (1.0, 2), (2.7, 4), (9.0, 4)]:
+        monkeypatch.setattr(halfspace, "idle_cpus", lambda idle=idle: idle)
+        assert halfspace.fft_threads((1024, 1024)) == expected
+    # without /proc/stat: the CPUs the 1-minute load average leaves
+    monkeypatch.setattr(halfspace, "idle_cpus", lambda: None)
+    monkeypatch.setattr(halfspace.os, "getloadavg", lambda: (1.0, 0.0, 0.0))
+    assert halfspace.fft_threads((1024, 1024)) == 3
+    monkeypatch.setattr(halfspace.os, "getloadavg", lambda: (7.0, 0.0, 0.0))
+    assert halfspace.fft_threads((1024, 1024)) == 1
+
+
+def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
+    import bem.halfspace as halfspace
+
+    samples = iter([(100, 1000), (250, 1200)])     # 150 of 200 ticks idle
+    monkeypatch.setattr(halfspace, "_cpu_times", lambda: next(samples))
+    monkeypatch.setattr(halfspace.os, "cpu_count", lambda: 2)
+    assert halfspace.idle_cpus(0.0) == pytest.approx(1.5)
+    monkeypatch.setattr(halfspace, "_cpu_times", lambda: (_ for _ in ()).throw(OSError("none")))
+    assert halfspace.idle_cpus(0.0) is None
