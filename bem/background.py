@@ -11,7 +11,17 @@ from __future__ import annotations
 import threading
 from typing import Any, Callable
 
-__all__ = ["BackgroundCall"]
+__all__ = ["BackgroundCall", "running"]
+
+_lock = threading.Lock()
+_running = 0
+
+
+def running() -> int:
+    """Background calls of this process running now (each keeps a core busy, e.g. the models
+    a realization computes beside its reference: :func:`bem.halfspace.fft_threads` leaves
+    their cores to them)."""
+    return _running
 
 
 class BackgroundCall(threading.Thread):
@@ -34,14 +44,26 @@ class BackgroundCall(threading.Thread):
         self._call = (function, arguments)
         self._value: Any = None
         self._error: BaseException | None = None
-        self.start()
+        global _running
+        with _lock:   # counted from now on, not from when the thread gets scheduled
+            _running += 1
+        try:
+            self.start()
+        except BaseException:
+            with _lock:
+                _running -= 1
+            raise
 
     def run(self) -> None:
+        global _running
         function, arguments = self._call
         try:
             self._value = function(*arguments)
         except BaseException as error:   # re-raised in the caller's thread by result()
             self._error = error
+        finally:
+            with _lock:
+                _running -= 1
 
     def result(self) -> Any:
         """The call's value, once it has returned; its exception re-raised if it raised."""

@@ -167,3 +167,22 @@ def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
     assert halfspace.idle_cpus(0.0) == pytest.approx(1.5)
     monkeypatch.setattr(halfspace, "_cpu_times", lambda: (_ for _ in ()).throw(OSError("none")))
     assert halfspace.idle_cpus(0.0) is None
+
+
+def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkeypatch):
+    import threading
+
+    import bem.halfspace as halfspace
+    from bem.background import BackgroundCall, running
+
+    monkeypatch.setenv("ASPERITY_FFT_THREADS", "2")
+    monkeypatch.setattr(halfspace, "idle_cpus", lambda: 1.0)
+    assert running() == 0 and halfspace.fft_threads((1024, 1024)) == 2
+    release = threading.Event()
+    beside = BackgroundCall(release.wait, 10.0, name="models")
+    try:
+        assert running() == 1 and halfspace.fft_threads((1024, 1024)) == 1
+    finally:
+        release.set()
+        assert beside.result() is True
+    assert running() == 0
