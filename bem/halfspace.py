@@ -65,7 +65,14 @@ def _cpu_times() -> tuple[int, int]:
 
 def idle_cpus(interval: float = IDLE_SAMPLE) -> float | None:
     """CPUs of the machine left idle over the next ``interval`` seconds (e.g. 1.0 when one of
-    two cores was busy), from /proc/stat; None where it cannot be read (not Linux)."""
+    two cores was busy), from /proc/stat; None where it cannot be read (not Linux).
+
+    Raises
+    ------
+    ValueError
+        For an ``interval`` that is not a finite number >= 0 (seconds).
+    """
+    interval = checks.non_negative("interval", interval)
     try:
         idle, total = _cpu_times()
         time.sleep(interval)

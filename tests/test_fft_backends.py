@@ -186,3 +186,11 @@ def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkey
         release.set()
         assert beside.result() is True
     assert running() == 0
+
+
+@pytest.mark.parametrize("interval", [-1.0, float("nan"), "0.1"])
+def test_idle_cpus_refuses_a_bad_interval(interval):
+    from bem.halfspace import idle_cpus
+
+    with pytest.raises((ValueError, TypeError), match="interval"):
+        idle_cpus(interval)
