@@ -75,6 +75,8 @@ def check_quantities(quantities: Iterable[str] | str,
     """The set of quantities asked for; ``ValueError`` naming ``quantities`` if one is unknown."""
     if isinstance(quantities, str):
         quantities = (quantities,)
+    if isinstance(quantities, (bytes, bytearray, memoryview)):   # iterates as integers
+        raise TypeError(f"quantities must be strings among {allowed}, got {quantities!r}")
     try:
         want = frozenset(quantities)
     except TypeError:
