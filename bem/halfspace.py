@@ -35,78 +35,19 @@ inverse FFT make one product.
 from __future__ import annotations
 
 import math
-import os
-import time
 
 import numpy as np
 import scipy.fft
 
-from bem import background, checks
+from bem import checks
 
-from bem.fft import PaddedRealFFT2, RealFFT2, default_threads
+from bem.fft import PaddedRealFFT2, RealFFT2, fft_threads
 from bem.reference import love_pixel_displacement
 
-__all__ = ["HalfSpace", "fft_threads", "idle_cpus"]
+__all__ = ["HalfSpace"]
 
 
 
-
-
-#: Interval [s] over which :func:`idle_cpus` measures the idle time of the machine's CPUs.
-IDLE_SAMPLE = 0.1
-
-
-def _cpu_times() -> tuple[int, int]:
-    """(idle, total) clock ticks of all CPUs since boot, from the first line of /proc/stat."""
-    with open("/proc/stat", encoding="ascii") as stream:
-        values = [int(value) for value in stream.readline().split()[1:9]]
-    return values[3] + values[4], sum(values)    # idle + iowait; user ... steal
-
-
-def idle_cpus(interval: float = IDLE_SAMPLE) -> float | None:
-    """CPUs of the machine left idle over the next ``interval`` seconds (e.g. 1.0 when one of
-    two cores was busy), from /proc/stat; None where it cannot be read (not Linux).
-
-    Raises
-    ------
-    ValueError
-        For an ``interval`` that is not a finite number >= 0 (seconds).
-    """
-    interval = checks.non_negative("interval", interval)
-    try:
-        idle, total = _cpu_times()
-        time.sleep(interval)
-        idle_after, total_after = _cpu_times()
-    except (OSError, ValueError, IndexError):
-        return None
-    if total_after <= total:
-        return None
-    return (os.cpu_count() or 1) * (idle_after - idle) / (total_after - total)
-
-
-def fft_threads(shape: tuple[int, int]) -> int:
-    """Default number of FFT threads for a convolution grid of ``shape`` (see HalfSpace): one
-    below 1024 x 1024 points; above, the calling thread and the CPUs found idle right now
-    (:func:`idle_cpus`), at most :func:`bem.fft.default_threads` less the process's own
-    background calls running now (:func:`bem.background.running`: a realization's models
-    computed beside its reference get their core; measured on a 512^2 check, two FFT threads
-    beside them took 242 s of process time against 145 s with one).
-
-    Idle CPUs measured now rather than the 1-minute load average, which also counts this
-    process's own work of the last minute and jobs that have just ended: a check's finer
-    reference, solved after its first stage had kept both cores busy, got one FFT thread on two
-    idle cores. Where /proc/stat is not readable, the load average is used.
-    """
-    if shape[0] * shape[1] < 1024 * 1024:
-        return 1
-    cpus = default_threads()
-    idle = idle_cpus()
-    if idle is None:
-        try:
-            idle = cpus - 1.0 - os.getloadavg()[0]
-        except (AttributeError, OSError):  # pragma: no cover - no load average either
-            idle = cpus - 1.0
-    return max(1, min(cpus - background.running(), int(math.floor(1.0 + idle + 0.5))))
 
 
 class HalfSpace:
@@ -133,8 +74,8 @@ class HalfSpace:
     threads : int, optional
         FFT threads. Default (:func:`fft_threads`): one below a 1024 x 1024 convolution grid,
         where threads gain little; above, the calling thread and the CPUs available to the
-        process that are idle when the operator is built. On a busy machine a multi-threaded FFT waits
-        for its descheduled threads: a 2-thread FFT pair took 40-48 ms for any size from 128^2
+        process that are idle when the operator is built. On a busy machine a multi-threaded
+        FFT waits for its descheduled threads: a 2-thread FFT pair took 40-48 ms for any size from 128^2
         to 1024^2 here under a load of 5 on 2 cores, against 0.06-21 ms on one thread.
     planner_effort : str, optional
         pyFFTW planner effort; default "FFTW_MEASURE" for convolution grids of 1024 x 1024

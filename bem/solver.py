@@ -208,7 +208,8 @@ def solve_contact(
     and iteration k changed no contact pixel (none left the contact set by the projection
     ``p >= 0`` and no non-contact pixel with negative gap entered it). ``residual`` reports the
     left side over ``sum p``. The stiffness solve stops when ``||1 - (K q)_C||_2 <= 0.1 tol
-    sqrt(|C|)`` (at least 1e-11), its error then a fifth of the contact solve's. Non-convergence gives ``converged=False``, a message and a
+    sqrt(|C|)`` (at least 1e-11), its error then a fifth of the contact solve's.
+    Non-convergence gives ``converged=False``, a message and a
     :class:`bem.warnings.ConvergenceWarning`; the last iterate is returned.
 
     Raises

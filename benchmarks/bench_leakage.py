@@ -44,7 +44,7 @@ little contact (where the best multigrid is within its scatter), and 2-3 times f
 percolation, where multigrid needs Jacobi scaling and evolution strength not to fail and then
 40-100 iterations. ``bem.hydraulic_aperture`` therefore uses the direct solve up to 1024^2
 cells; above, where the factor outgrows the memory (4.9 GB at 2048^2), smoothed-aggregation
-multigrid with conjugate gradients (``bem.flow.DIRECT_SOLVE_LIMIT``). 1024^2 takes 4-8 s here, not the
+multigrid with conjugate gradients (``bem.flow_solver.DIRECT_SOLVE_LIMIT``). 1024^2 takes 4-8 s here, not the
 3 s hoped for.
 
 Usage: ``nice python benchmarks/bench_leakage.py [--sizes 256 512 1024] [--solvers direct

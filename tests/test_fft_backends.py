@@ -143,45 +143,45 @@ def test_transforms_leave_their_input_untouched(backend):
 
 
 def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
-    import bem.halfspace as halfspace
+    import bem.fft as fft
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "4")
-    assert halfspace.fft_threads((512, 512)) == 1                 # small grids: one thread
+    assert fft.fft_threads((512, 512)) == 1                 # small grids: one thread
     for idle, expected in [(0.0, 1), (0.4, 1), (0.6, 2), (1.0, 2), (2.7, 4), (9.0, 4)]:
-        monkeypatch.setattr(halfspace, "idle_cpus", lambda idle=idle: idle)
-        assert halfspace.fft_threads((1024, 1024)) == expected
+        monkeypatch.setattr(fft, "idle_cpus", lambda idle=idle: idle)
+        assert fft.fft_threads((1024, 1024)) == expected
     # without /proc/stat: the CPUs the 1-minute load average leaves
-    monkeypatch.setattr(halfspace, "idle_cpus", lambda: None)
-    monkeypatch.setattr(halfspace.os, "getloadavg", lambda: (1.0, 0.0, 0.0))
-    assert halfspace.fft_threads((1024, 1024)) == 3
-    monkeypatch.setattr(halfspace.os, "getloadavg", lambda: (7.0, 0.0, 0.0))
-    assert halfspace.fft_threads((1024, 1024)) == 1
+    monkeypatch.setattr(fft, "idle_cpus", lambda: None)
+    monkeypatch.setattr(fft.os, "getloadavg", lambda: (1.0, 0.0, 0.0))
+    assert fft.fft_threads((1024, 1024)) == 3
+    monkeypatch.setattr(fft.os, "getloadavg", lambda: (7.0, 0.0, 0.0))
+    assert fft.fft_threads((1024, 1024)) == 1
 
 
 def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
-    import bem.halfspace as halfspace
+    import bem.fft as fft
 
     samples = iter([(100, 1000), (250, 1200)])     # 150 of 200 ticks idle
-    monkeypatch.setattr(halfspace, "_cpu_times", lambda: next(samples))
-    monkeypatch.setattr(halfspace.os, "cpu_count", lambda: 2)
-    assert halfspace.idle_cpus(0.0) == pytest.approx(1.5)
-    monkeypatch.setattr(halfspace, "_cpu_times", lambda: (_ for _ in ()).throw(OSError("none")))
-    assert halfspace.idle_cpus(0.0) is None
+    monkeypatch.setattr(fft, "_cpu_times", lambda: next(samples))
+    monkeypatch.setattr(fft.os, "cpu_count", lambda: 2)
+    assert fft.idle_cpus(0.0) == pytest.approx(1.5)
+    monkeypatch.setattr(fft, "_cpu_times", lambda: (_ for _ in ()).throw(OSError("none")))
+    assert fft.idle_cpus(0.0) is None
 
 
 def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkeypatch):
     import threading
 
-    import bem.halfspace as halfspace
+    import bem.fft as fft
     from bem.background import BackgroundCall, running
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "2")
-    monkeypatch.setattr(halfspace, "idle_cpus", lambda: 1.0)
-    assert running() == 0 and halfspace.fft_threads((1024, 1024)) == 2
+    monkeypatch.setattr(fft, "idle_cpus", lambda: 1.0)
+    assert running() == 0 and fft.fft_threads((1024, 1024)) == 2
     release = threading.Event()
     beside = BackgroundCall(release.wait, 10.0, name="models")
     try:
-        assert running() == 1 and halfspace.fft_threads((1024, 1024)) == 1
+        assert running() == 1 and fft.fft_threads((1024, 1024)) == 1
     finally:
         release.set()
         assert beside.result() is True
@@ -190,7 +190,7 @@ def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkey
 
 @pytest.mark.parametrize("interval", [-1.0, float("nan"), "0.1"])
 def test_idle_cpus_refuses_a_bad_interval(interval):
-    from bem.halfspace import idle_cpus
+    from bem.fft import idle_cpus
 
     with pytest.raises((ValueError, TypeError), match="interval"):
         idle_cpus(interval)

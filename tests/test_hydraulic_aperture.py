@@ -260,16 +260,17 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     conjugate gradients; forced on smaller gaps (about 16 % contact, g^3 over many decades near
     the contact edges) it must give the sparse LU's aperture."""
     import bem.flow
+    import bem.flow_solver
 
     gap = _random_gap(96, seed)
     gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
     direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
-    monkeypatch.setattr(bem.flow, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     used = []
     original = bem.flow._solve_pressure
 
-    def spy(matrix, rhs, *, cells=None):
-        used.append(cells > bem.flow.DIRECT_SOLVE_LIMIT)
+    def spy(matrix, rhs, *, cells):
+        used.append(cells > bem.flow_solver.DIRECT_SOLVE_LIMIT)
         return original(matrix, rhs, cells=cells)
 
     monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
@@ -279,11 +280,11 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
 
 
 def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
-    import bem.flow
+    import bem.flow_solver
 
     gap = _random_gap(96, 3)
-    monkeypatch.setattr(bem.flow, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow, "MULTIGRID_MAX_ITERATIONS", 1)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "MULTIGRID_MAX_ITERATIONS", 1)
     with pytest.warns(bem.ConvergenceWarning, match="multigrid solve of 9216 cells stopped"):
         value = hydraulic_aperture(gap, 1.0)
     assert value > 0 and np.isfinite(value)

@@ -32,6 +32,7 @@ import numpy as np
 from scipy import signal
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.flow_solver import DIRECT_SOLVE_LIMIT
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
@@ -55,11 +56,12 @@ SOLVER_SHARE = 0.01
 #: Loosest solver tolerance a refined solve uses.
 LOOSEST_TOLERANCE = 1e-4
 #: Largest grid (points per side) on which a finer reference solves the leakage again; on finer
-#: grids the leakage and its band stay those of the grid below. Up to it the Reynolds system is
-#: solved by sparse LU (bem.flow.DIRECT_SOLVE_LIMIT); on 2048^2 by multigrid, 2.7 GB and 35 s
-#: per direction with 5 % contact, minutes near percolation, where a refined 2048^2 path of
-#: six points with its leakage had not finished after 30 min (a 1024^2 scan's check).
-MAX_LEAKAGE_GRID = 1024
+#: grids the leakage and its band stay those of the grid below. It is the side of the largest
+#: gap the Reynolds system is solved for by sparse LU (bem.flow_solver.DIRECT_SOLVE_LIMIT); on
+#: 2048^2, by multigrid, 2.7 GB and 35 s per direction with 5 % contact, minutes near
+#: percolation, where a refined 2048^2 path of six points with its leakage had not finished
+#: after 30 min (a 1024^2 scan's check).
+MAX_LEAKAGE_GRID = math.isqrt(DIRECT_SOLVE_LIMIT)
 
 
 def unavailable(scene) -> str | None:
