@@ -49,12 +49,6 @@ def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
     return int(merged)
 
 
-def _open_gap(solution: ContactSolution) -> np.ndarray:
-    """The solved gap with the contact set closed (0) and the solver's round-off below zero
-    clipped: the field the fluid flows through."""
-    return np.where(solution.contact, 0.0, np.maximum(solution.gap, 0.0))
-
-
 def _check_path(name: str, values, *, non_negative: bool) -> np.ndarray:
     return checks.contact_path(name, values, non_negative=non_negative)
 
@@ -273,7 +267,7 @@ def contact_curve(
         if want_stiffness:
             stiffness[index] = solution.stiffness
         if want_leakage:
-            flow.submit(int(index), _open_gap(solution))
+            flow.submit(int(index), solution.fluid_gap)
         if callback is not None:
             callback(int(index), solution)
     if want_leakage:

@@ -128,6 +128,12 @@ class ContactSolution:
         return 2.0 * self.stiffness / self.e_star
 
     @property
+    def fluid_gap(self) -> np.ndarray:
+        """The gap the fluid flows through [length]: ``gap`` with the contact set closed (0) and
+        the solver's round-off below zero clipped (the input of :func:`bem.flow.leakage_aperture`)."""
+        return np.where(self.contact, 0.0, np.maximum(self.gap, 0.0))
+
+    @property
     def area_fraction(self) -> float:
         """Real over nominal contact area [-]."""
         return self.area / self.nominal_area

@@ -38,7 +38,6 @@ import numpy as np
 import scipy.stats
 
 import bem
-from bem.path import _open_gap
 from validation import self_affine_surface
 
 LITERATURE = {"Wang & Müser 2021": 0.415, "Dapp et al. 2012": 0.42}
@@ -67,7 +66,7 @@ class SealingSearch:
         return self.solutions[load]
 
     def leaks(self, load: float, direction: str) -> bool:
-        gap = _open_gap(self.solve(load))
+        gap = self.solve(load).fluid_gap
         return bem.hydraulic_aperture(gap, 1.0 / self.n, direction=direction, periodic=True) > 0
 
     def threshold(self, direction: str) -> bem.ContactSolution:

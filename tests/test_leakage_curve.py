@@ -46,7 +46,12 @@ def test_leakage_falls_with_load_and_is_exactly_zero_once_sealed(heights, period
     # each point is the aperture of its own gap with the contact set closed, periodic as solved
     for index, solution in kept.items():
         gap = np.where(solution.contact, 0.0, np.maximum(solution.gap, 0.0))
+        np.testing.assert_array_equal(solution.fluid_gap, gap)
         assert curve.leakage[index] == leakage_aperture(gap, 1.0 / N, periodic=periodic)
+    # the fluid gap closes exactly the contact set, where the solved gap holds round-off
+    loaded = kept[int(np.argmax(loads))]
+    assert np.any(loaded.gap[loaded.contact] != 0.0)
+    assert np.all(loaded.fluid_gap[loaded.contact] == 0.0)
 
 
 def test_only_curves_that_ask_for_leakage_get_it(heights):

@@ -27,7 +27,7 @@ import numpy as np
 from validation.common import models
 from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
-from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, merge_points, solver_tolerance,
+from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, merge_job, solver_tolerance,
                                    unavailable)
 from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
 from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
@@ -106,27 +106,23 @@ def _reference_name(result) -> str:
 
 def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
     """Solve the points of ``level`` on its grid for every realization (or those in ``only``)
-    and merge them into each realization's reference curve, in place."""
+    and merge them into each realization's reference curve, in place: one path per
+    realization, with the leakage solved again only at the level's leakage points (elsewhere
+    the leakage and its band stay those of the grid below)."""
     jobs, where = [], []
     for value, points in level.points.items():
-        with_leakage = tuple(level.leakage.get(value, ()))
-        without = tuple(k for k in points if k not in with_leakage)
-        parts = [(part, leakage) for part, leakage in ((without, False), (with_leakage, True))
-                 if part]
+        with_leakage = tuple(k for k in points if k in set(level.leakage.get(value, ())))
         for index, result in enumerate(by_value[value]):
             if only is not None and result.task not in only:
                 continue
             factor = level.grid // result.task.surface.n
-            for part, leakage in parts:
-                jobs.append(RefineJob(result.task, part, factor, level.tolerances[value],
-                                      leakage))
-                where.append((value, index, part))
-    for (value, index, part), (curve, computed) in zip(where, solve(jobs)):
+            jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value],
+                                  with_leakage))
+            where.append((value, index))
+    for job, (value, index), (curve, computed) in zip(jobs, where, solve(jobs)):
         result = by_value[value][index]
         name = _reference_name(result)
-        merged = merge_points(result.curves[name], np.array(part), curve,
-                              level.grid, result.task.surface.L / level.grid,
-                              result.task.surface.n)
+        merged = merge_job(result.curves[name], job, curve, level.grid)
         log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
                                  if computed else ())
         by_value[value][index] = replace(result, curves={**result.curves, name: merged},

@@ -32,6 +32,7 @@ import numpy as np
 from scipy import signal
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.flow import BackgroundLeakage
 from bem.flow_solver import DIRECT_SOLVE_LIMIT
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
@@ -42,7 +43,7 @@ from validation.surfaces.families import surface_heights, surface_identity
 from validation.surfaces.wm import wm_surface
 
 __all__ = ["MAX_LEAKAGE_GRID", "SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "interpolated_scan",
-           "merge_points",
+           "merge_job", "merge_points",
            "refined_heights",
            "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
 
@@ -224,7 +225,26 @@ class RefineJob:
     points: tuple[int, ...]       # load point indices
     factor: int                   # grid = factor * task.surface.n
     tol: float                    # solver tolerance of the finer solve (T40)
-    leakage: bool = True          # solve the leakage too (when the scene asks for it)
+    # the load point indices (among ``points``) where the leakage is solved too, when the
+    # scene asks for it; elsewhere the finer curve's leakage is NaN (not solved)
+    leakage_points: tuple[int, ...] = ()
+
+
+def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
+              grid: int) -> ContactCurve:
+    """``curve`` (a realization's reference) with the points of ``job`` replaced by its finer
+    solve ``finer`` on ``grid`` points per side (:func:`merge_points`); the leakage, and its
+    band, only at the job's ``leakage_points`` (elsewhere those of the grid below stay)."""
+    s = job.task.surface
+    solved = [k for k, point in enumerate(job.points) if point in set(job.leakage_points)]
+    others = [k for k in range(len(job.points)) if k not in set(solved)]
+    for positions, drop in ((others, True), (solved, False)):
+        if positions:
+            part = _take(finer, np.array(positions))
+            curve = merge_points(curve, np.array([job.points[k] for k in positions]),
+                                 replace(part, leakage=None) if drop else part, grid,
+                                 s.L / grid, s.n)
+    return curve
 
 
 def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
@@ -237,20 +257,35 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     values = np.array(task.loads.values())[list(job.points)]
     loads = values * task.e_star * s.L**2
     stiffness = needs_stiffness(task.quantities)
-    leakage = needs_leakage(task.quantities) and job.leakage
-    quantities = tuple(q for q in model_quantities(task.quantities)
-                       if leakage or q != "leakage")
+    leaky = (tuple(k for k in job.points if k in set(job.leakage_points))
+             if needs_leakage(task.quantities) else ())
+    quantities = tuple(q for q in model_quantities(task.quantities) if q != "leakage")
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
-                    leakage=leakage,
+                    leakage_points=leaky,
                     periodic=task.bem.periodic, tol=job.tol, max_iter=task.bem.max_iter)
     cached = cache.load(key, decode=curve_from_arrays)
     if cached is not None:
         return cached, False
     heights = refined_heights(s, task.seed, job.factor)
-    curve = contact_curve(heights, s.spacing / job.factor, loads=loads, quantities=quantities,
+    spacing = s.spacing / job.factor
+    # One path through every point; the Reynolds solves of the points that need them run in
+    # background threads while the path goes on (as contact_curve's own leakage does).
+    flow = BackgroundLeakage(spacing, periodic=task.bem.periodic) if leaky else None
+    positions = {job.points.index(k) for k in leaky}
+
+    def submit(index: int, solution) -> None:
+        if index in positions:
+            flow.submit(index, solution.fluid_gap)
+
+    curve = contact_curve(heights, spacing, loads=loads, quantities=quantities,
                           e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
-                          max_iter=task.bem.max_iter)
+                          max_iter=task.bem.max_iter, callback=submit if leaky else None)
+    if leaky:
+        leakage = np.full(len(job.points), np.nan)
+        for index, value in flow.results().items():
+            leakage[index] = value
+        curve = replace(curve, leakage=leakage)
     cache.store(key, curve_arrays(curve))
     return curve, True
 
