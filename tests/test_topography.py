@@ -137,6 +137,9 @@ def test_missing_data_error_or_explicit_fill(tmp_path):
     assert min(abs(filled.heights[0, 0] - value) for value in nearest) < 1e-12
     mean = read_topography(path, fill="mean", detrend="plane")
     assert np.all(np.isfinite(mean.heights))
+    assert filled.filled == mean.filled == 45     # said, so that a report can say it
+    assert read_topography(write_gwyddion_ascii(tmp_path / "whole.txt", plane(32, 32), 1.0),
+                           fill="mean").filled == 0
     np.testing.assert_allclose(mean.heights, 0.0, atol=1e-12)    # plane fitted on valid points
     np.save(tmp_path / "empty.npy", np.full((32, 32), np.nan))
     with pytest.raises(ValueError, match="no valid height"):
@@ -164,8 +167,20 @@ def test_bad_files(tmp_path):
     with pytest.raises(ValueError, match="path"):
         read_topography(tmp_path / "absent.txt")
     (tmp_path / "words.txt").write_text("a b c\nd e f\n")
-    with pytest.raises(ValueError, match="numeric"):
+    with pytest.raises(ValueError, match="first line is not numbers"):
         read_topography(tmp_path / "words.txt", file_unit="m", physical_size=1.0)
+    # a spreadsheet's column names: named as a header row (was "could not convert 'c0.c1...'")
+    names = ",".join(f"c{k}" for k in range(32))
+    values = "\n".join(",".join(f"{v:.3f}" for v in row) for row in rough(32, 32))
+    (tmp_path / "table.csv").write_text(names + "\n" + values)
+    with pytest.raises(ValueError, match=r"first line is not numbers \('c0,c1,c2,.*header row"):
+        read_topography(tmp_path / "table.csv", file_unit="m", physical_size=1.0)
+    (tmp_path / "table.csv").write_text("# " + names + "\n" + values)   # as the message says
+    assert read_topography(tmp_path / "table.csv", file_unit="m",
+                           physical_size=1.0).heights.shape == (32, 32)
+    (tmp_path / "empty.txt").write_text("")
+    with pytest.raises(ValueError, match="empty file"):
+        read_topography(tmp_path / "empty.txt", file_unit="m", physical_size=1.0)
     np.save(tmp_path / "complex.npy", np.ones((4, 4), dtype=complex))
     with pytest.raises(ValueError, match="real numbers"):
         read_topography(tmp_path / "complex.npy", file_unit="m", physical_size=1.0)

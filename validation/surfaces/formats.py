@@ -93,6 +93,12 @@ def _read_text(path: pathlib.Path) -> Loaded:
             elif line.strip() and not line.lstrip().startswith("#"):
                 first_data = line
                 break
+    if not first_data:
+        raise _Unreadable("no numbers in it (an empty text file)")
+    fields = [f for f in re.split(r"[\s;]+|,(?=\s*[-+.\d])|,\s*$", first_data.strip()) if f]
+    if fields and not any(_is_number(f) or _is_number(f.replace(",", ".")) for f in fields):
+        raise _Unreadable(f"its first line is not numbers ({first_data.strip()[:40]!r}...): a "
+                          f"header row? Remove it, or start it with '#'")
     delimiter, decimal_comma = None, False
     if "," in first_data:                   # "1.5, 2.5" separates; "1,5\t2,5" is a decimal comma
         delimiter = "," if all(_is_number(field) for field in first_data.split(",")) else None
@@ -252,6 +258,8 @@ def load_map(path: pathlib.Path, reader: str = "auto", channel: int | None = Non
     heights = np.asarray(heights)
     if not (np.issubdtype(heights.dtype, np.integer) or np.issubdtype(heights.dtype, np.floating)):
         raise ValueError(f"{path}: heights must be real numbers, got dtype {heights.dtype}")
+    if heights.size == 0:
+        raise ValueError(f"{path}: no heights in it (an empty file)")
     if heights.ndim != 2 or min(heights.shape) < 2:
         raise ValueError(f"{path}: a line scan or single point (shape {heights.shape}), "
                          "not a height map")

@@ -45,6 +45,9 @@ class Topography:
         Length unit of heights, spacing and size (a key of :data:`LENGTH_UNITS`).
     source : str
         The file and the reader that read it.
+    filled : int
+        Points of the file's map that were missing and filled (``fill``): of the map as
+        cropped, or of the file's grid when its pixels were resampled to squares.
 
     Raises
     ------
@@ -59,6 +62,7 @@ class Topography:
     physical_size: tuple[float, float]
     unit: str
     source: str
+    filled: int = 0
 
     def __post_init__(self) -> None:
         checks.record_arrays(self, ("heights",), ndim=2)
@@ -73,6 +77,7 @@ class Topography:
         choice("unit", self.unit, LENGTH_UNITS)
         if not isinstance(self.source, str):
             raise checks.InputTypeError(f"source must be a str, got {type(self.source).__name__}")
+        object.__setattr__(self, "filled", checks.integer("filled", self.filled, minimum=0))
 
 
 def _physical_size(value) -> tuple[tuple[float, str | None], tuple[float, str | None]]:
@@ -252,11 +257,14 @@ def read_topography(
             raise ValueError(f"{path}: pixels are not square (dx = {spacing:g}, dy = "
                              f"{spacing_y:g} {height_unit}); pass resample='finer' or "
                              "'coarser' to resample the map onto square pixels")
+        filled = int(np.count_nonzero(~np.isfinite(heights)))
         heights, spacing = resample_square(_clean(heights, None, fill, path), spacing,
                                            spacing_y, resample)
     heights = _crop(heights) if square == "crop" else heights
     if min(heights.shape) < MIN_SIDE:
         _too_small(path, heights.shape)
+    if square_pixels:
+        filled = int(np.count_nonzero(~np.isfinite(heights)))
     heights = _clean(heights, detrend, fill, path)
     heights *= file_factor / out_factor
     if cutoff is not None:
@@ -265,7 +273,7 @@ def read_topography(
                                                        heights.shape, height_unit))
     return Topography(heights=frozen_array(heights), spacing=spacing,
                       physical_size=(heights.shape[1] * spacing, heights.shape[0] * spacing),
-                      unit=height_unit, source=f"{path} ({source})")
+                      unit=height_unit, source=f"{path} ({source})", filled=filled)
 
 
 def _too_small(path: pathlib.Path, shape: tuple[int, int]) -> None:
