@@ -69,6 +69,20 @@ def test_area_load_relation_unchanged_or_not():
     assert area_load_unchanged(results(discrete={})).verdict == UNDECIDED  # pair missing
 
 
+def test_on_one_surface_the_interaction_findings_read_the_difference_itself():
+    """Two models of the same surface differ by a number, not a sample: one realization
+    decides (a) and (b) (with a confidence interval over one realization it never did)."""
+    same = results(discrete=dict(area=1.03), discrete_no_interaction={})[:1]
+    finding = area_load_unchanged(same)
+    assert finding.verdict == REPRODUCED and "(on this surface) at 8 of 8" in finding.evidence
+    changed = results(discrete=dict(area=1.5), discrete_no_interaction={})[:1]
+    assert area_load_unchanged(changed).verdict == CONTRADICTED
+    down = results(discrete=dict(separation=-0.4, conductance=0.7), discrete_no_interaction={})
+    assert interaction_shift(down[:1], 0.05).verdict == REPRODUCED
+    up = results(discrete=dict(separation=0.4, conductance=1.3), discrete_no_interaction={})
+    assert interaction_shift(up[:1], 0.05).verdict == CONTRADICTED
+
+
 def test_interaction_shift_direction_matters():
     down = results(discrete=dict(separation=-0.4, conductance=0.7), discrete_no_interaction={})
     assert interaction_shift(down, 0.05).verdict == REPRODUCED

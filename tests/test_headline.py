@@ -270,6 +270,11 @@ def test_every_number_of_the_summary_comes_from_the_tables(default_report):
             assert close.any(), (token, sentence)
 
 
+def _fraction_list(cells) -> str:
+    values = sorted({100.0 * float(r["area_fraction"]) for r in cells})
+    return f"{values[0]:g}–{values[-1]:g} %" if len(values) > 1 else f"{values[0]:g} %"
+
+
 def test_the_summary_names_the_theory_the_rule_chooses(default_report):
     # the rule, computed here from headline.csv: the model that beats the most others head to
     # head (the smaller largest |mean error| on the cells both are compared at)
@@ -303,10 +308,17 @@ def test_the_summary_names_the_theory_the_rule_chooses(default_report):
                     for m in models}
             best = min(models, key=lambda m: (-wins[m], largest(m, slots[m])))
             means = [float(r["mean_error"]) for r in cells if r["model"] == best]
+            verdicts = [r["verdict"] for r in cells if r["model"] == best]
             label = model_label(best)
-            assert (f"{label} (mean error {error_text(min(means), quantity)} to "
-                    f"{error_text(max(means), quantity)}") in sentence.replace(
+            low, high = error_text(min(means), quantity), error_text(max(means), quantity)
+            # "use" only where the chosen model holds at every cell, else only "closest"
+            verb = ("use" if set(verdicts) == {"holds"} else "none holds, closest"
+                    if set(verdicts) == {"fails"} else "closest")
+            assert (f"contact ({_fraction_list(cells)}) {verb} {label} (mean error {low}"
+                    + (f" to {high}" if high != low else "")) in sentence.replace(
                         f"{label} (mean gap ū) (", f"{label} ("), (regime, sentence)
+            if verb == "closest":
+                assert f"holds at {verdicts.count('holds')} of {len(verdicts)} cells" in sentence
             checked += 1
     assert checked >= 6
     assert "- Leakage: not compared in this run." in summary   # the quick report has none
@@ -324,3 +336,19 @@ def test_a_new_report_replaces_the_pages_of_the_previous_one(tmp_path):
     (tmp_path / "notes.md").write_text("the user's")
     owned = {p.name for p in previous_report(tmp_path)}
     assert owned == {"report.md", "old-scene.md"}
+
+
+def test_a_headline_cell_without_a_known_error_says_why_not_nan():
+    from validation.judge.headline import HeadlineCell
+    from validation.report.front import headline_cell_text
+
+    def cell(mean, reasons):
+        return HeadlineCell("discrete", "leakage", "leakage", 0.01, 1e-4, 0, mean, mean, mean,
+                            math.nan, math.nan, 0.02, (0.05, 0.2), ("undecided", "undecided"),
+                            ("", ""), reasons, one_surface=True)
+
+    assert headline_cell_text(cell(math.nan, ("unconverged", "unconverged")), 1) == \
+        "not converged ?"
+    assert headline_cell_text(cell(math.nan, ("reference band", "")), 0) == \
+        "not known (reference band) ?"
+    assert headline_cell_text(cell(-0.14, ("", "")), 1) == "-0.14 ± 0.02 ?"

@@ -18,6 +18,7 @@ from validation.common.labels import model_label
 from validation.judge.verdicts import (
     FAILS,
     HOLDS,
+    ErrorInterval,
     classify,
     confidence_interval,
     verdict_counts,
@@ -110,17 +111,30 @@ def _range_text(values: np.ndarray, unit: str = "") -> str:
     return f"{scale * values.min():+.3g}{suffix} to {scale * values.max():+.3g}{suffix}"
 
 
+def _interval(errors: np.ndarray) -> ErrorInterval:
+    """The mean difference of two models over realizations with its confidence interval; on one
+    surface the difference itself, exact (two models of the same surface: no sampling, and no
+    reference band between them)."""
+    if errors.shape[0] != 1:
+        return confidence_interval(errors)
+    mean = np.asarray(errors[0], dtype=float)
+    known = np.isfinite(mean)
+    return ErrorInterval(mean, np.where(known, 0.0, np.inf), np.full(mean.shape, np.nan),
+                         known.astype(int))
+
+
 def area_load_unchanged(results) -> Finding:
     """Finding (a): discrete model with against without interaction, relative area at equal load."""
     claim = "interaction leaves the area–load relation nearly unchanged"
     if not results or not {INTERACTION, NO_INTERACTION} <= set(results[0].curves):
         return _missing("a", claim, "the scene lacks the discrete model with and without interaction")
     errors = pairwise_errors(results, INTERACTION, NO_INTERACTION, ("area",))["area"]
-    interval = confidence_interval(errors)
+    interval = _interval(errors)
     verdicts = classify(interval, 0.0, UNCHANGED_TOLERANCE)
     counts = verdict_counts(verdicts)
     evidence = (f"area with / without interaction − 1: mean {_range_text(interval.mean, '%')} "
-                f"over the load path; within ±{100 * UNCHANGED_TOLERANCE:g} % (95 % interval) at "
+                f"over the load path; within ±{100 * UNCHANGED_TOLERANCE:g} % "
+                f"({'on this surface' if errors.shape[0] == 1 else '95 % interval'}) at "
                 f"{counts[HOLDS]} of {verdicts.size} points, outside at {counts[FAILS]} "
                 f"[{verdict_strip(verdicts)}]")
     return Finding("a", claim, evidence, majority(verdicts == HOLDS, verdicts == FAILS))
@@ -135,7 +149,7 @@ def interaction_shift(results, threshold: float) -> Finding:
     parts, verdicts = [], []
     for quantity, stack in errors.items():
         heavy = stack[:, stack.shape[1] // 2:]
-        interval = confidence_interval(heavy)
+        interval = _interval(heavy)
         point = classify(interval, 0.0, threshold)
         down, up = (point == FAILS) & (interval.mean < 0), (point == FAILS) & (interval.mean > 0)
         verdicts.append(majority(down, (point == HOLDS) | up))

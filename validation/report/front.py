@@ -14,7 +14,7 @@ import numpy as np
 from validation.judge.compare import COMPARED_QUANTITIES
 from validation.judge.findings import NEW
 from validation.judge.headline import HeadlineCell
-from validation.judge.verdicts import SYMBOLS
+from validation.judge.verdicts import SYMBOLS, UNCONVERGED
 from validation.common.labels import compared_label, model_label, model_rank
 from validation.report.sections import conventions, md_table, sweep_member
 from validation.report.summary import error_text
@@ -58,6 +58,10 @@ def headline_cell_text(cell: HeadlineCell | None, index: int) -> str:
         return "–"
     q = cell.quantity
     mark = SYMBOLS.get(cell.verdicts[index], "?")
+    if not math.isfinite(cell.mean):   # no realization's error is known at this fraction
+        reason = cell.reasons[index] if index < len(cell.reasons) else ""
+        return (f"not converged {mark}" if reason == UNCONVERGED
+                else f"not known{f' ({reason})' if reason else ''} {mark}")
     mean = error_text(cell.mean, q, unit=False)
     if cell.one_surface:
         band = error_text(cell.band, q, signed=False, unit=False) if math.isfinite(cell.band) \

@@ -10,7 +10,9 @@ wrong the others are; then what the paper's claims came to, and how precise the 
 head: on the headline cells both are compared at (surface families and fractions of the run
 that reach the regime), its largest ``|mean error|`` is the smaller (ties: the smaller largest
 ``|mean error|`` over all its cells, then the one that holds at more of them). So a model that
-a scene leaves out is neither favoured nor penalised. Its sentence gives the range of its mean
+a scene leaves out is neither favoured nor penalised. It is called the one to *use* only where
+it holds at every cell it is compared at in the regime; otherwise it is the *closest* (with
+the share of its cells that hold), and where it fails at every cell, "none holds". Its sentence gives the range of its mean
 errors there and the range its intervals span (the 95 % intervals over realizations, or ± the
 reference band for one surface). **How wrong the others are**: the largest mean error of each
 other model in the regime, from the smallest of them to the largest (marked where a model is
@@ -25,7 +27,7 @@ from collections import defaultdict
 from validation.judge.errors import ABSOLUTE_QUANTITIES, RELATIVE_QUANTITIES
 from validation.judge.findings import NEW
 from validation.judge.headline import REGIMES
-from validation.judge.verdicts import HOLDS
+from validation.judge.verdicts import FAILS, HOLDS
 from validation.common.labels import compared_label, model_label
 
 __all__ = ["MAX_SENTENCES", "SUMMARY_QUANTITIES", "RULE", "error_text", "number_text",
@@ -39,7 +41,8 @@ SUMMARY_QUANTITIES = ("area", "separation", "conductance", "leakage")
 RULE = ("*Light, intermediate and heavy contact: the BEM's contact-area fractions 0.1–1 %, 10 % "
         "and 30 % of the headline. The theory to use is the one that beats the most others "
         "head to head: on the headline cells both are compared at, its largest |mean error| "
-        "is the smaller. Errors relative for area and conductance, in σ for separation "
+        "is the smaller; it is to *use* where it holds at every cell, and only the *closest* "
+        "where it does not (none holds: it fails at every cell). Errors relative for area and conductance, in σ for separation "
         "(Persson: its mean gap ū against the BEM's), ln(h_eff/h_eff,BEM) for leakage; every "
         "number is in `headline.csv` and `findings.csv`.*")
 _NAMES = {"area": "Area", "separation": "Separation", "conductance": "Conductance",
@@ -130,18 +133,26 @@ def _worst(rows: list[dict]) -> dict:
     return max(finite, key=lambda r: abs(float(r["mean_error"]))) if finite else rows[0]
 
 
-def _use_part(regime: str, fractions, quantity: str, rows: list[dict], first: bool) -> str:
+def _use_part(regime: str, fractions, quantity: str, rows: list[dict]) -> str:
+    """The chosen model's part of the sentence: "use" it only where it holds at every cell it
+    is compared at; otherwise it is only the closest, and the sentence says how often it holds."""
+    held = sum(r["verdict"] == HOLDS for r in rows)
+    failed = sum(r["verdict"] == FAILS for r in rows)
+    verb = ("use" if held == len(rows) else "none holds, closest" if failed == len(rows)
+            else "closest")
+    where = f"at {_PHRASES[regime]} ({_fraction_text(fractions)}) {verb}"
     means = [float(r["mean_error"]) for r in rows if math.isfinite(float(r["mean_error"]))]
-    where = f"at {_PHRASES[regime]} ({_fraction_text(fractions)}){' use' if first else ''}"
     if not means:
         return f"{where} {_label(rows[0])}, whose error is not known there"
-    text = (f"{where} {_label(rows[0])} (mean error {error_text(min(means), quantity)} to "
-            f"{error_text(max(means), quantity)}")
+    low, high = error_text(min(means), quantity), error_text(max(means), quantity)
+    text = f"{where} {_label(rows[0])} (mean error {low}" + (f" to {high}" if high != low else "")
     lows = [float(r["low"]) for r in rows]
     highs = [float(r["high"]) for r in rows]
     if all(map(math.isfinite, lows + highs)):
         text += (f", intervals within {error_text(min(lows), quantity)} to "
                  f"{error_text(max(highs), quantity)}")
+    if verb == "closest":
+        text += f"; holds at {held} of {len(rows)} cells"
     return text + ")"
 
 
@@ -163,7 +174,7 @@ def _quantity_sentences(quantity: str, rows: list[dict]) -> list[str]:
             continue
         best, by_model, everywhere = _choose(held)
         reached = sorted({float(r["area_fraction"]) for r in held})
-        uses.append(_use_part(regime, reached, quantity, by_model[best], not uses))
+        uses.append(_use_part(regime, reached, quantity, by_model[best]))
         rest = sorted((w for w in (_worst(by_model[m]) for m in by_model if m != best)
                        if math.isfinite(float(w["mean_error"]))),
                       key=lambda r: abs(float(r["mean_error"])))
@@ -193,8 +204,12 @@ def _findings_sentence(findings: list[dict]) -> str | None:
     for key in sorted(by_key):
         rows = by_key[key]
         counts: dict[str, int] = defaultdict(int)
-        for row in rows:
-            counts[row["verdict"]] += 1
+        for row in rows:   # a claim the run could not test is said so, not "undecided"
+            counts["not tested" if str(row.get("evidence", "")).startswith("not tested")
+                   else row["verdict"]] += 1
+        if len(rows) == 1:   # one surface family (one scan): the verdict alone
+            parts.append(f"({key}) {rows[0]['claim']}: {next(iter(counts))}")
+            continue
         tally = ", ".join(f"{verdict} on {count}" for verdict, count in
                           sorted(counts.items(), key=lambda item: (-item[1], item[0])))
         parts.append(f"({key}) {rows[0]['claim']}: {tally} of {len(rows)}")
