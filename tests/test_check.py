@@ -8,6 +8,7 @@ own band and a few per cent of discretisation.
 
 import csv
 import math
+import re
 
 import numpy as np
 import pytest
@@ -56,7 +57,8 @@ def test_pressure_ranges():
     with pytest.raises(ValueError, match="needs --e-star"):
         r.dimensionless(None)
     for bad, match in (("1MPa", "LOW:HIGH"), ("1MPa:1e-3", "both ends"), ("5MPa:1MPa", "greater"),
-                       ("1MPa:2MPa:0", "COUNT"), ("1MPa:2MPa:x", "COUNT")):
+                       ("1MPa:2MPa:0", "COUNT"), ("1MPa:2MPa:x", "COUNT"),
+                       ("1MPa:100MPa:1", "COUNT must be at least 2")):
         with pytest.raises(ValueError, match=match):
             parse_pressure_range(bad)
     with pytest.raises(ValueError, match="below E"):
@@ -66,6 +68,93 @@ def test_pressure_ranges():
 def test_readable_units():
     assert length_unit_for(3e-7) == "nm" and length_unit_for(3e-6) == "um"
     assert format_pressure(3.2e6) == "3.2 MPa" and format_length(2e-8) == "20 nm"
+    # a value that prints as a round 1000 moves to the next prefix (1 MPa after a round trip
+    # through E* is 999999.9999 Pa, and was shown as "1e+03 kPa")
+    assert format_pressure(1e6 * (1 - 1e-12)) == "1 MPa"
+    assert format_pressure(999.4e3) == "999 kPa" and format_pressure(999.6e3) == "1 MPa"
+    assert format_length(1e-6 * (1 - 1e-12)) == "1 um" and format_length(999e-9) == "999 nm"
+
+
+def test_the_remedy_for_an_unconverged_area_is_a_longer_cutoff_than_the_one_applied():
+    from validation.check.resolution import Resolution, cutoff_text, resolution_lines
+
+    area = [Resolution("area", 0.3, 0.5, 0.02, 12)]
+    plain = "\n".join(resolution_lines(area, spacing=0.98, unit="nm", short_cutoff=None))
+    assert "not converged" in plain and "`--short-cutoff 8px` (= 7.84 nm)" in plain
+    assert "tables above" in plain
+    filtered = "\n".join(resolution_lines(area, spacing=0.98, unit="nm",
+                                          short_cutoff="7.84e-09 m"))
+    # filtered at 8 px already: the advice is a longer cutoff (16 px), in the scan's unit
+    assert "low-pass filtered at 7.84 nm (8 px)" in filtered
+    assert "`--short-cutoff 16px` (= 15.7 nm)" in filtered and "8px" not in filtered
+    assert cutoff_text("1.5e-05 m", 1.66, "um") == "15 um (9.04 px)"
+    converged = [Resolution("area", 0.01, 0.02, 0.01, 0)]
+    text = "\n".join(resolution_lines(converged, spacing=1.0, unit="nm", short_cutoff="8e-9 m"))
+    assert "is converged" in text and "8 nm (8 px)" in text
+
+
+def test_the_full_contact_ceiling_is_the_references_own():
+    """A flat square window in full contact (a rigid punch): K L / E* from the reference."""
+    import bem
+    from validation.check.window import FULL_CONTACT_STIFFNESS
+
+    flat = bem.solve_contact(np.zeros((64, 64)), 1.0 / 64, load=1e-3, stiffness=True)
+    assert flat.contact.all()
+    assert flat.stiffness == pytest.approx(FULL_CONTACT_STIFFNESS, rel=5e-3)
+
+
+def _stiffness_table(load, stiffness, unit="N/m³"):
+    from validation.check.physical import PhysicalTable
+
+    load = np.asarray(load, float)
+    return PhysicalTable("conductance", "K", unit, load, load * 115e9, np.asarray(stiffness),
+                         0.01 * np.asarray(stiffness), {}, {}, 0.2)
+
+
+def test_the_window_of_a_large_scan_is_named_with_its_sink_and_ceiling():
+    from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION as m
+    from validation.check.window import FULL_CONTACT_STIFFNESS, window_lines
+
+    # a 1 mm window (side in um) at p/E* up to 1e-3: it sinks by m p L / E* = 0.946 um
+    side, e_star = 1000.0, 115e9
+    ceiling = FULL_CONTACT_STIFFNESS * e_star / (side * 1e-6)
+    table = _stiffness_table([1e-4, 1e-3], [0.05 * ceiling, 0.2 * ceiling])
+    (text,) = window_lines([table], side=side, sigma=2.0, unit="um", e_star=e_star)
+    assert f"{m * 1e-3 * side:.3g} um = {m * 1e-3 * side / 2.0:.3g} σ" in text
+    assert f"{ceiling:.3g} N/m³; the reference reaches 20 % of it" in text
+    own = 1.0 / (1.0 / (0.2 * ceiling) - m * side * 1e-6 / e_star)
+    assert f"is {own:.3g} N/m³ at the highest pressure" in text
+    # near the ceiling the interface cannot be told from the window
+    near = _stiffness_table([1e-4, 1e-3], [0.5 * ceiling, 0.9 * ceiling])
+    (text,) = window_lines([near], side=side, sigma=2.0, unit="um", e_star=e_star)
+    assert "cannot be told from the window's" in text and "K_i" not in text
+    # a 512 nm AFM window at the same pressures: nothing to say
+    small = _stiffness_table([1e-4, 1e-3], [1e12, 1e13])
+    assert window_lines([small], side=512.0, sigma=5.0, unit="nm", e_star=e_star) == []
+
+
+def test_at_a_glance_each_theory_has_one_strip_per_field_and_the_best_is_named():
+    from validation.check.glance import glance_lines
+    from validation.check.physical import PhysicalTable
+
+    load = np.array([1e-5, 1e-4, 1e-3, 1e-2])       # p/E*: 1.15, 11.5, 115, 1150 MPa
+    h, f, u = "holds", "fails", "undecided"
+
+    def table(field, verdicts):
+        return PhysicalTable(field, field, "", load, load * 115e9, load, 0 * load,
+                             {m: load for m in verdicts},
+                             {m: np.array(v) for m, v in verdicts.items()}, 0.2, "20 %")
+
+    area = table("area", {"gw": [f, f, h, h], "persson": [u, h, h, f]})
+    leakage = table("leakage", {"gw": [f, f, f, u], "persson": [f, f, f, f]})
+    text = "\n".join(glance_lines([area, leakage]))
+    assert "at the 4 pressures from 1.15 MPa to 1.15 GPa" in text
+    assert "| original GW | ✘✘✔✔ | ✘✘✘? |" in text and "| Persson | ?✔✔✘ | ✘✘✘✘ |" in text
+    # ties on holds go to the fewer failures; the pressures are named as ranges
+    assert "- Area A/A0: Persson holds at 2 of 4 pressures (11.5 MPa to 115 MPa)." in text
+    assert "- Leakage h_eff: no theory holds at any pressure (some are undecided)." in text
+    everywhere = table("area", {"gw": [h, h, h, h]})
+    assert "- Area A/A0: original GW holds everywhere." in glance_lines([everywhere])
 
 
 def _one_cap_scan(path):
@@ -127,6 +216,9 @@ def test_check_report_heads_with_the_surface_and_its_resolution(checked):
     assert text.index("## Your surface: cap.npy") < text.index("## Is the reference converged")
     assert "128 x 128 pixels of 100 nm" in text and "E* = 100 GPa" in text
     assert "| 2 MPa |" in text and "(check-physical.png)" in text
+    # each table's tolerance in its field's measure (the scene's largest, 0.2)
+    assert "undecided within 20 %)" in text
+    assert re.search(r"undecided within 0\.2 σ = [0-9.]+ nm\)", text)
     assert (out / "check-physical.png").stat().st_size > 10_000
     for name in ("errors.csv", "verdicts.csv", "physical.csv", "check.toml"):
         assert (out / name).is_file()
@@ -149,6 +241,8 @@ def test_the_scene_it_writes_gives_the_same_numbers(checked):
     (["--e-star", "115"], "--e-star needs a unit"),
     (["--tiles", "3"], "--tiles must be a square"),
     (["--short-cutoff", "20"], "--short-cutoff needs a unit"),
+    (["--physical-size", "10"], "--physical-size needs a unit"),
+    (["--pressure", "1MPa:100MPa:1", "--e-star", "115GPa"], "COUNT must be at least 2"),
 ])
 def test_bad_options_are_named(checked, capsys, options, match):
     folder, _ = checked
@@ -175,3 +269,20 @@ def test_a_reader_message_names_the_checks_options(tmp_path, capsys):
     assert main(["check", str(tmp_path / "holes.npy"), "--physical-size", "1 um", "--file-unit",
                  "nm", "--out", str(tmp_path / "o")]) == 2
     assert "(on the command line: --fill)" in capsys.readouterr().err
+
+
+def test_the_report_says_how_much_of_the_scan_was_filled(tmp_path):
+    from validation.check.command import _filled_text
+    from validation.check.request import CheckRequest
+
+    holes = np.random.default_rng(1).standard_normal((64, 64))
+    holes[10, 10:14] = np.nan
+    np.save(tmp_path / "holes.npy", holes)
+    options = dict(physical_size="1 um", file_unit="nm")
+    few = _filled_text(CheckRequest(tmp_path / "holes.npy", fill="mean", **options))
+    assert few == "; 4 of 4096 points (0.0977 %) missing in the file and filled (`--fill mean`)"
+    holes[:32] = np.nan
+    np.save(tmp_path / "holes.npy", holes)
+    many = _filled_text(CheckRequest(tmp_path / "holes.npy", fill="interpolate", **options))
+    assert "2048 of 4096 points (50 %)" in many and "not measured topography" in many
+    assert _filled_text(CheckRequest(tmp_path / "holes.npy", **options)) == ""

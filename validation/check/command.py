@@ -12,6 +12,7 @@ as ``check.toml`` in the folder: ``python -m validation report DIR/check.toml`` 
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import pathlib
 import re
@@ -23,9 +24,11 @@ from dataclasses import replace
 
 import numpy as np
 
+from validation.check.glance import glance_lines
 from validation.check.physical import physical_tables, table_lines, write_csv
 from validation.check.request import CheckRequest, scene_text
-from validation.check.resolution import resolution, resolution_lines
+from validation.check.resolution import cutoff_text, resolution, resolution_lines
+from validation.check.window import window_lines
 from validation.check.units import format_pressure, parse_length, parse_pressure, \
     parse_pressure_range
 from validation.scenes.reader import parse_scene
@@ -55,6 +58,11 @@ def check_request(args: argparse.Namespace) -> CheckRequest:
     cutoff = None
     if args.short_cutoff is not None:
         cutoff = _cutoff(args.short_cutoff, args)
+    if args.physical_size is not None:
+        _, has_unit = parse_length("--physical-size", args.physical_size)
+        if not has_unit:
+            raise ValueError(f"--physical-size needs a unit, e.g. '10um', got "
+                             f"{args.physical_size!r}")
     tiles = args.tiles
     if tiles < 1 or round(tiles ** 0.5) ** 2 != tiles:
         raise ValueError(f"--tiles must be a square number >= 1 (1, 4, 9, ...), got {tiles}")
@@ -85,6 +93,28 @@ def _scene(request: CheckRequest, out: pathlib.Path, tiles: int = 1):
     return parse_scene(tomllib.loads(text), source=source), text
 
 
+#: Share of filled points above which the report says so in bold.
+MANY_FILLED = 0.05
+
+
+def _filled_text(request: CheckRequest) -> str:
+    """How many points of the scan were missing and filled (``--fill``), if any."""
+    if request.fill is None:
+        return ""
+    scan = request.read("m")
+    if not scan.filled:
+        return ""
+    share = scan.filled / scan.heights.size
+    text = (f"{scan.filled} of {scan.heights.size} points ({100 * share:.3g} %) missing in the "
+            f"file and filled (`--fill {request.fill}`)")
+    if share > MANY_FILLED:
+        text = (f"; **{text}: the filled points are not measured topography, yet every model "
+                f"and the reference see them**")
+    else:
+        text = f"; {text}"
+    return text
+
+
 def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list[str]:
     """What heads a check's report: the answer in physical units, then the resolution."""
     from validation.judge.analysis import analyse
@@ -108,16 +138,22 @@ def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list
     lines = [f"## Your surface: {request.path.name}\n",
              f"The whole scan as one surface: {rows} x {columns} pixels of {s.spacing:.4g} {unit}, "
              f"plane removed, σ (summit heights) = {realization.sigma:.4g} {unit}, {e_star}"
-             + (f", low-pass filtered at {request.short_cutoff}" if request.short_cutoff else
+             + (f", low-pass filtered at {cutoff_text(request.short_cutoff, s.spacing, unit)}"
+                if request.short_cutoff else
                 ", no short-wavelength cutoff")
+             + _filled_text(request)
              + ". One surface is not a population: the reference solves this very surface, so "
                "a theory **holds** where |error| + band ≤ tolerance, **fails** where |error| − "
                "band > tolerance, and stays undecided only where the reference's band straddles "
-               "the tolerance. Every model's value at each pressure, beside the reference with "
-               "its band (`physical.csv` has them all):\n",
-             "![Each theory against the reference in physical units](check-physical.png)\n"]
+               "the tolerance.\n"]
+    lines += glance_lines(tables)
+    lines += ["Every model's value at each pressure, beside the reference with its band "
+              "(`physical.csv` has them all):\n",
+              "![Each theory against the reference in physical units](check-physical.png)\n"]
     for table in tables:
         lines += table_lines(table)
+    lines += window_lines(tables, side=math.sqrt(rows * columns) * s.spacing,
+                          sigma=realization.sigma, unit=unit, e_star=request.e_star)
     lines += resolution_lines(resolution(half_grid, comparison, refined), spacing=s.spacing,
                               unit=unit, short_cutoff=request.short_cutoff)
     return lines

@@ -7,7 +7,7 @@ The scene runs in units of E* (``Load = W / (E* A0) = p / E*``) and of the scan'
 
 * nominal pressure ``p = Load E*`` [Pa] (only when E* is given);
 * real contact-area fraction ``A / A0`` (dimensionless);
-* separation ``d``, mean gap ``<g>`` and leakage ``h_eff`` in the scan's length unit;
+* separation ``d``, mean gap ``ū`` and leakage ``h_eff`` in the scan's length unit;
 * normal interfacial stiffness per unit nominal area ``K = -dp/dd = S / A0``, with
   ``S = conductance E* / 2`` (Barber's analogy, ``conductance = 2 S / E*``) [Pa/m = N/m³].
 
@@ -37,7 +37,7 @@ __all__ = ["FIELDS", "PhysicalTable", "physical_tables", "table_lines", "write_c
 #: "length" or "stiffness".
 FIELDS = (("area", "Real contact-area fraction A/A0", "fraction"),
           ("separation", "Separation d", "length"),
-          ("mean_gap", "Mean gap <g>", "length"),
+          ("mean_gap", "Mean gap ū", "length"),
           ("conductance", "Interfacial stiffness per unit area K = S/A0", "stiffness"),
           ("leakage", "Effective hydraulic aperture h_eff (leak rate ∝ h_eff³)", "length"))
 _SYMBOLS = {HOLDS: "✔", FAILS: "✘"}
@@ -58,6 +58,7 @@ class PhysicalTable:
     models: dict[str, np.ndarray]   # model -> value
     verdicts: dict[str, np.ndarray] # model -> verdict at ``tolerance``
     tolerance: float
+    tolerance_text: str = ""        # the tolerance in the field's measure, for the heading
 
 
 def _scale(kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
@@ -118,10 +119,22 @@ def physical_tables(realization, comparison, *, e_star: float | None, unit: str
                 values[model] = value * scale
                 verdicts[model] = np.asarray(entries[model].verdicts[index])
         pressure = None if e_star is None else comparison.load * e_star
+        tolerance = first.tolerances[index]
         tables.append(PhysicalTable(field, heading, written, np.asarray(comparison.load),
                                     pressure, reference * scale, band, values, verdicts,
-                                    first.tolerances[index]))
+                                    tolerance, _tolerance_text(field, tolerance,
+                                                               realization.sigma, unit)))
     return tables
+
+
+def _tolerance_text(field: str, tolerance: float, sigma: float, unit: str) -> str:
+    """A tolerance in the measure its field is judged in: relative (per cent), in units of σ
+    (and the scan's length unit), or as the logarithm of the ratio (and the factor)."""
+    if field in ("separation", "mean_gap"):
+        return f"{tolerance:g} σ = {tolerance * sigma:.3g} {unit}"
+    if field == "leakage":
+        return f"{tolerance:g} in ln h_eff, a factor {np.exp(tolerance):.3g}"
+    return f"{100 * tolerance:g} %"
 
 
 def _number(value: float) -> str:
@@ -137,7 +150,8 @@ def table_lines(table: PhysicalTable) -> list[str]:
     header = (["p"] if table.pressure is not None else []) + ["p/E*", f"BEM{unit}"] \
         + [model_label(m) for m in table.models]
     lines = [f"**{table.heading}**{unit} (✔ holds, ✘ fails, ? undecided within "
-             f"{table.tolerance:g}):\n", "| " + " | ".join(header) + " |",
+             f"{table.tolerance_text or f'{table.tolerance:g}'}):\n",
+             "| " + " | ".join(header) + " |",
              "|" + "---|" * len(header)]
     for k in range(table.load.size):
         row = ([format_pressure(table.pressure[k])] if table.pressure is not None else []) + \

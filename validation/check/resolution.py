@@ -24,7 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CONVERGED", "Resolution", "resolution", "resolution_lines", "SUGGESTED_CUTOFF"]
+from validation.surfaces.units import length_in
+
+__all__ = ["CONVERGED", "Resolution", "cutoff_text", "resolution", "resolution_lines",
+           "SUGGESTED_CUTOFF"]
 
 #: Largest median half-grid band (in the error measure of the quantity) for which the
 #: quantity is called converged at the scan's resolution: the smallest default tolerance.
@@ -98,25 +101,37 @@ def resolution_lines(rows: list[Resolution], *, spacing: float, unit: str,
                      f"{'yes' if r.converged else 'no'} |")
     lines.append("")
     area = next((r for r in rows if r.field == "area"), None)
-    cutoff = f"{SUGGESTED_CUTOFF * spacing:.3g} {unit}"
+    applied = (None if short_cutoff is None
+               else length_in("short_cutoff", short_cutoff, unit) / spacing)   # in pixels
+    suggested = SUGGESTED_CUTOFF if applied is None else 2.0 * applied
     if area is not None and not area.converged:
         lines.append(
             f"**The contact area is not converged at this resolution.** Solved on every second "
             f"pixel, the reference's area changes by a median {100 * area.half_grid_median:.0f} % "
             f"(up to {100 * area.half_grid_max:.0f} %): the area is set by roughness at the "
-            f"scale of the pixel ({spacing:.3g} {unit}), so the areas below are those of the "
-            f"scan as sampled, and a finer scan of the same surface would give a smaller one. "
-            + (f"The scan was low-pass filtered at {short_cutoff}; a longer cutoff converges "
-               f"the area further. " if short_cutoff else "")
-            + f"To compare the theories on a surface whose area the scan resolves, apply a "
-            f"short-wavelength cutoff of several pixels, e.g. `--short-cutoff "
-            f"{SUGGESTED_CUTOFF}px` (= {cutoff}): every model and the reference then see the "
-            f"same surface without the wavelengths below it, and the answer holds for that "
-            f"cutoff, which the report names.\n")
+            f"scale of the pixel ({spacing:.3g} {unit}), so the areas in the tables above are "
+            f"those of the scan as sampled, and a finer scan of the same surface would give a "
+            f"smaller one. "
+            + (f"The scan was low-pass filtered at {cutoff_text(short_cutoff, spacing, unit)}; a "
+               f"longer cutoff converges the area further, e.g. `--short-cutoff "
+               f"{suggested:.3g}px` (= {suggested * spacing:.3g} {unit}). " if applied else
+               f"To compare the theories on a surface whose area the scan resolves, apply a "
+               f"short-wavelength cutoff of several pixels, e.g. `--short-cutoff "
+               f"{suggested:.3g}px` (= {suggested * spacing:.3g} {unit}). ")
+            + "Every model and the reference then see the same surface without the wavelengths "
+              "below the cutoff, and the answer holds for that cutoff, which the report names.\n")
     elif area is not None:
         lines.append(
             f"The contact area is converged at this resolution (median half-grid band "
             f"{100 * area.half_grid_median:.1f} %)"
-            + (f", with the scan low-pass filtered at {short_cutoff}" if short_cutoff else "")
+            + (f", with the scan low-pass filtered at {cutoff_text(short_cutoff, spacing, unit)}"
+               if short_cutoff else "")
             + ".\n")
     return lines
+
+
+def cutoff_text(short_cutoff: str, spacing: float, unit: str) -> str:
+    """A short-wavelength cutoff as the scene key writes it (``"7.8125e-09 m"``) in the scan's
+    length ``unit`` and in pixels of ``spacing`` [unit]: ``7.81 nm (8 px)``."""
+    length = length_in("short_cutoff", short_cutoff, unit)
+    return f"{length:.3g} {unit} ({length / spacing:.3g} px)"

@@ -135,13 +135,23 @@ def parse_pressure_range(text: str, *, default_count: int = 12) -> PressureRange
         count = int(parts[2])
     if not high > low and not (count == 1 and high == low):
         raise ValueError(f"--pressure: HIGH must be greater than LOW, got {text!r}")
+    if count == 1 and high != low:
+        raise ValueError(f"--pressure: one pressure cannot span {parts[0]} to {parts[1]}; COUNT "
+                         f"must be at least 2 for a range (one pressure alone: LOW:LOW:1), got "
+                         f"{text!r}")
     return PressureRange(low, high, count, low_unit)
+
+
+def _shown(value: float) -> float:
+    """``value`` as printed to three significant figures (so that 0.99999999 MPa, a pressure
+    range's end after a round trip through E*, is shown in MPa, not as 1e+03 kPa)."""
+    return float(f"{value:.3g}")
 
 
 def length_unit_for(metres: float) -> str:
     """The length unit (nm, um or mm) in which ``metres`` reads as a number from 1 to 1000."""
     for unit in ("nm", "um", "mm"):
-        if abs(metres) < 1000.0 * LENGTH_UNITS[unit]:
+        if abs(_shown(metres / LENGTH_UNITS[unit])) < 1000.0:
             return unit
     return "m"
 
@@ -149,7 +159,7 @@ def length_unit_for(metres: float) -> str:
 def format_pressure(pascals: float) -> str:
     """A pressure in the prefix that reads best: ``3.2 MPa``."""
     for unit in ("GPa", "MPa", "kPa"):
-        if abs(pascals) >= PRESSURE_UNITS[unit]:
+        if abs(_shown(pascals / PRESSURE_UNITS[unit])) >= 1.0:
             return f"{pascals / PRESSURE_UNITS[unit]:.3g} {unit}"
     return f"{pascals:.3g} Pa"
 

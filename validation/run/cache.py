@@ -241,7 +241,8 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "judge/headline.py", "report/front.py", "report/summary.py",
                                  "report/atlas.py", "check/__init__.py", "check/command.py",
                                  "check/figure.py", "check/physical.py", "check/request.py",
-                                 "check/resolution.py", "check/units.py"})
+                                 "check/resolution.py", "check/units.py", "check/glance.py",
+                                 "check/window.py"})
 
 
 def source_version() -> str:

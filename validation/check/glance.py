@@ -1,0 +1,89 @@
+"""The check's answer at a glance: every theory's verdicts across the user's pressures, one
+strip of symbols per theory and field, and per field one sentence naming the theory that holds
+over most of the range.
+
+A strip reads left to right from the lowest to the highest pressure, one symbol per pressure
+(✔ holds, ✘ fails, ? undecided: :func:`validation.judge.verdicts.verdict_strip`), at the tolerance of
+the field's table (the scene's largest). The theory named for a field is the one that holds at
+the most pressures (ties: the fewer failures, then the order of the tables); it is said to hold
+"everywhere" only when it holds at every pressure.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from validation.check.units import format_pressure
+from validation.common.labels import model_label
+from validation.judge.verdicts import FAILS, HOLDS, verdict_strip
+
+__all__ = ["glance_lines"]
+
+_COLUMNS = {"area": "area A/A0", "separation": "separation d", "mean_gap": "mean gap ū",
+            "conductance": "stiffness K", "leakage": "leakage h_eff"}
+
+
+def _pressure(table, k: int) -> str:
+    return (format_pressure(table.pressure[k]) if table.pressure is not None
+            else f"{table.load[k]:.3g} E*")
+
+
+def _spans(table, held: np.ndarray) -> str:
+    """The pressures where ``held`` is true, as ranges of consecutive points."""
+    spans, k = [], 0
+    while k < held.size:
+        if held[k]:
+            end = k
+            while end + 1 < held.size and held[end + 1]:
+                end += 1
+            spans.append(_pressure(table, k) if end == k
+                         else f"{_pressure(table, k)} to {_pressure(table, end)}")
+            k = end + 1
+        else:
+            k += 1
+    return ", ".join(spans)
+
+
+def _sentence(table) -> str:
+    column = _COLUMNS[table.field]
+    name = column[0].upper() + column[1:]
+    if not table.verdicts:
+        return f"{name}: no theory is compared."
+    order = np.argsort(table.load, kind="stable")
+    counts = {m: (int(np.sum(np.asarray(v)[order] == HOLDS)),
+                  int(np.sum(np.asarray(v)[order] == FAILS))) for m, v in table.verdicts.items()}
+    best = min(counts, key=lambda m: (-counts[m][0], counts[m][1]))
+    held, failed = counts[best]
+    total = table.load.size
+    if held == 0:
+        return (f"{name}: no theory holds at any pressure"
+                + ("" if failed == total else " (some are undecided)") + ".")
+    where = _spans(table, np.asarray(table.verdicts[best])[order] == HOLDS)
+    if held == total:
+        return f"{name}: {model_label(best)} holds everywhere."
+    return f"{name}: {model_label(best)} holds at {held} of {total} pressures ({where})."
+
+
+def glance_lines(tables) -> list[str]:
+    """The check's first table: each theory's verdict strip per field, and one sentence per
+    field (module docstring). ``tables`` are :class:`validation.check.physical.PhysicalTable` s
+    of one surface (same pressures)."""
+    if not tables:
+        return []
+    first = tables[0]
+    order = np.argsort(first.load, kind="stable")
+    low, high = _pressure(first, int(order[0])), _pressure(first, int(order[-1]))
+    models = list(dict.fromkeys(m for t in tables for m in t.verdicts))
+    header = ["theory"] + [f"{_COLUMNS[t.field]} (±{t.tolerance_text or t.tolerance})"
+                           for t in tables]
+    lines = [f"**At a glance**: each theory at the {first.load.size} pressures from {low} to "
+             f"{high}, left to right (✔ holds, ✘ fails, ? undecided: the reference's band "
+             f"straddles the tolerance):\n",
+             "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for model in models:
+        cells = [verdict_strip(np.asarray(t.verdicts[model])[order]) if model in t.verdicts
+                 else "–" for t in tables]
+        lines.append(f"| {model_label(model)} | " + " | ".join(cells) + " |")
+    lines.append("")
+    lines += [f"- {_sentence(t)}" for t in tables]
+    return lines + [""]
