@@ -269,19 +269,23 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
         return cached, False
     heights = refined_heights(s, task.seed, job.factor)
     spacing = s.spacing / job.factor
-    # One path through every point; the Reynolds solves of the points that need them run in
-    # background threads while the path goes on (as contact_curve's own leakage does).
-    flow = BackgroundLeakage(spacing, periodic=task.bem.periodic) if leaky else None
+    # One path through every point (a second path for the leakage points alone started cold),
+    # the Reynolds solves of the points that need them after it: beside it they would take a
+    # core from the path's FFT threads, which are chosen when its operator is built.
     positions = {job.points.index(k) for k in leaky}
+    gaps = {}
 
-    def submit(index: int, solution) -> None:
+    def keep(index: int, solution) -> None:
         if index in positions:
-            flow.submit(index, solution.fluid_gap)
+            gaps[index] = solution.fluid_gap
 
     curve = contact_curve(heights, spacing, loads=loads, quantities=quantities,
                           e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
-                          max_iter=task.bem.max_iter, callback=submit if leaky else None)
+                          max_iter=task.bem.max_iter, callback=keep if leaky else None)
     if leaky:
+        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic)
+        for index in sorted(gaps):
+            flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)
         for index, value in flow.results().items():
             leakage[index] = value
