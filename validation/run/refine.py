@@ -250,7 +250,7 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
 def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     """The finer solve of ``job`` at its points (from the cache when there), and whether it
     was computed now. Loads are the task's, in the scene's dimensionless form times E* L^2."""
-    from bem.path import contact_curve
+    from bem.concurrent_path import concurrent_curve
 
     task = job.task
     s = task.surface
@@ -270,8 +270,9 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     heights = refined_heights(s, task.seed, job.factor)
     spacing = s.spacing / job.factor
     # One path through every point (a second path for the leakage points alone started cold),
-    # the Reynolds solves of the points that need them after it: beside it they would take a
-    # core from the path's FFT threads, which are chosen when its operator is built.
+    # dealt to concurrent sub-paths (bem.concurrent_path: one per free core), the Reynolds
+    # solves of the points that need them after it: beside it they would take a core from the
+    # sub-paths, whose FFT threads are chosen when their operators are built.
     positions = {job.points.index(k) for k in leaky}
     gaps = {}
 
@@ -279,11 +280,13 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
         if index in positions:
             gaps[index] = solution.fluid_gap
 
-    curve = contact_curve(heights, spacing, loads=loads, quantities=quantities,
-                          e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
-                          max_iter=task.bem.max_iter, callback=keep if leaky else None)
+    curve = concurrent_curve(heights, spacing, loads=loads, quantities=quantities,
+                             e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
+                             max_iter=task.bem.max_iter, callback=keep if leaky else None)
     if leaky:
-        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic)
+        # nothing else is held now: both directions at once wherever a sparse LU solves them
+        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic,
+                                 parallel_limit=DIRECT_SOLVE_LIMIT)
         for index in sorted(gaps):
             flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)
