@@ -342,19 +342,12 @@ class BackgroundLeakage:
         As in :func:`hydraulic_aperture`.
     pending : int
         Gaps in flight at most (>= 1).
-    parallel_limit : int, optional
-        Gaps of more cells than this solve their two directions one after the other, in one
-        thread (default :data:`PARALLEL_DIRECTIONS_LIMIT`); a caller with nothing else in
-        memory may raise it (a 1024^2 gap's two factors hold about 1 GB).
     """
 
-    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1,
-                 parallel_limit: int | None = None):
+    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1):
         self.spacing = checks.positive("spacing", spacing)
         self.periodic = checks.flag("periodic", periodic)
         self.pending = checks.integer("pending", pending, minimum=1)
-        self.parallel_limit = (PARALLEL_DIRECTIONS_LIMIT if parallel_limit is None
-                               else checks.integer("parallel_limit", parallel_limit, minimum=0))
         self._running: dict[object, list[BackgroundCall]] = {}
         self._results: dict[object, float] = {}
 
@@ -362,7 +355,7 @@ class BackgroundLeakage:
         """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
         while len(self._running) >= self.pending:
             self._collect(next(iter(self._running)))
-        together = np.size(gap) > self.parallel_limit
+        together = np.size(gap) > PARALLEL_DIRECTIONS_LIMIT
         groups = (FLOW_DIRECTIONS,) if together else tuple((d,) for d in FLOW_DIRECTIONS)
         self._running[key] = [BackgroundCall(_apertures, gap, self.spacing, group, self.periodic,
                                              name=f"leakage-{''.join(group)}")

@@ -221,8 +221,7 @@ def test_background_leakage_reports_a_bad_gap_and_bad_options():
     with pytest.raises(ValueError, match="gap"):
         flow.results()
     for keywords, match in (({"pending": 0}, "pending"),
-                            ({"periodic": "yes"}, "periodic"),
-                            ({"parallel_limit": -1}, "parallel_limit")):
+                            ({"periodic": "yes"}, "periodic")):
         with pytest.raises((ValueError, TypeError), match=match):
             BackgroundLeakage(1.0, **keywords)
     with pytest.raises(ValueError, match="spacing"):
@@ -249,17 +248,9 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
-    flow = BackgroundLeakage(1.0)           # (the limit is read when the solver is made)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
-    # a caller with the memory to spare raises the limit (each direction on its own thread)
-    names.clear()
-    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
-    flow = BackgroundLeakage(1.0, parallel_limit=40 * 40)
-    flow.submit("raised", gap)
-    assert flow.results()["raised"] == leakage_aperture(gap, 1.0)
-    assert sorted(names) == [("x",), ("y",)]
 
 
 @BOTH

@@ -284,9 +284,7 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
                              e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
                              max_iter=task.bem.max_iter, callback=keep if leaky else None)
     if leaky:
-        # nothing else is held now: both directions at once wherever a sparse LU solves them
-        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic,
-                                 parallel_limit=DIRECT_SOLVE_LIMIT)
+        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic)
         for index in sorted(gaps):
             flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)
