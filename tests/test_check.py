@@ -219,6 +219,8 @@ def test_check_report_heads_with_the_surface_and_its_resolution(checked):
     # each table's tolerance in its field's measure (the scene's largest, 0.2)
     assert "undecided within 20 %)" in text
     assert re.search(r"undecided within 0\.2 σ = [0-9.]+ nm\)", text)
+    # one surface: the rules over realizations are left out of "How to read the numbers"
+    assert "**One surface.**" in text and "How a verdict is reached" not in text
     assert (out / "check-physical.png").stat().st_size > 10_000
     for name in ("errors.csv", "verdicts.csv", "physical.csv", "check.toml"):
         assert (out / name).is_file()

@@ -352,3 +352,16 @@ def test_a_headline_cell_without_a_known_error_says_why_not_nan():
     assert headline_cell_text(cell(math.nan, ("reference band", "")), 0) == \
         "not known (reference band) ?"
     assert headline_cell_text(cell(-0.14, ("", "")), 1) == "-0.14 ± 0.02 ?"
+
+
+def test_the_rules_over_realizations_are_read_only_where_there_are_realizations(default_report):
+    from validation.report.sections import conventions
+
+    text = (default_report.folder / "report.md").read_text(encoding="utf-8")
+    assert "**How a verdict is reached.**" in text      # scenes of several realizations
+
+    every = "\n".join(conventions())
+    one = "\n".join(conventions(populations=False))
+    for paragraph in ("**How a verdict is reached.**", "**Two readings"):
+        assert paragraph in every and paragraph not in one
+    assert "**One surface.**" in one and "**Separation and mean gap.**" in one

@@ -81,7 +81,7 @@ def window_lines(tables, *, side: float, sigma: float, unit: str,
              "improved GW theory and the discrete model with interaction contain this term (the "
              "paper's uniform interaction); original GW, the discrete model without interaction "
              "and Persson's theory describe an unbounded interface without it, so at the "
-             "highest pressures their separation and stiffness errors are largely this term.")
+             "highest pressures part of their separation and stiffness errors is this term.")
     if math.isfinite(top) and share <= 0.5:
         own = 1.0 / (1.0 / top - window)
         text += (f" The interface's own stiffness, the window's compliance taken out in series "

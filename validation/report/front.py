@@ -248,4 +248,5 @@ def front_page(figures, analyses: list[Analysis], rows: dict) -> None:
     lines += precision_section(analyses)
     lines += findings_overview(analyses)
     lines += scenes_section(analyses)
-    lines += conventions()
+    lines += conventions(populations=not judged or any(
+        len(results) > 1 for a in judged for results in a.result.realizations.values()))

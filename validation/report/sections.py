@@ -84,11 +84,12 @@ def header(seconds, mode, command) -> list[str]:
     ]
 
 
-def conventions() -> list[str]:
+def conventions(populations: bool = True) -> list[str]:
     """How to read the report's numbers: the dimensionless quantities, the error measures,
     separation against mean gap, and how a verdict is reached (on the mean, per surface, and
-    on one surface)."""
-    return [
+    on one surface); without ``populations`` (every judged scene has one realization, e.g. a
+    check of one scan) the rules over realizations are left out."""
+    lines = [
         "## How to read the numbers\n",
         "Dimensionless quantities as in the paper: Area = A/L², Load = W/(E* L²), Separation = "
         "d/σ (σ: standard deviation of the summit heights of each realization), Conductance = "
@@ -137,6 +138,10 @@ def conventions() -> list[str]:
         "tolerance (reason: reference band); no interval over realizations and no per-surface "
         "reading.\n",
     ]
+    if populations:
+        return lines
+    return [line for line in lines if not line.startswith(("**How a verdict is reached.**",
+                                                            "**Two readings"))]
 
 
 def holds_cell(entry, index: int | None = None, load_format: str = ".1e", *,
