@@ -166,4 +166,23 @@ def test_one_surface_refines_wherever_its_band_holds_a_cell(error, band, refined
     scene = SimpleNamespace(tolerances=(0.2,))
     mask, smallest, held = band_decides(scene, synthetic_one(error, band), 0.95)
     assert bool(mask.all()) is refined and bool(mask.any()) is refined
-    np.testing.assert_allclose(smallest, band)
+    # the band the finer solve must resolve: that of the cells it holds, none where it holds none
+    np.testing.assert_allclose(smallest, band if refined else np.nan)
+
+
+def test_the_finer_solve_resolves_the_band_of_the_fields_it_decides_only():
+    """A separation decided with a tiny band does not set the finer solve's tolerance when only
+    the area is held open (it did: a 576² map's refinement ran at tol ~1e-7)."""
+    import dataclasses
+    from types import SimpleNamespace
+
+    from validation.judge.decide import band_decides
+
+    (one,) = synthetic_one(0.18, 0.03)      # the area: open, held by its band of 3 %
+    reference = one.curves["bem"]
+    extras = dict(reference.extras) | {"separation_error": np.full(4, 1e-6)}
+    one.curves["bem"] = dataclasses.replace(reference, extras=extras)
+    one.task.quantities = ("area", "separation")
+    mask, smallest, held = band_decides(SimpleNamespace(tolerances=(0.2,)), [one], 0.95)
+    assert mask.all() and not held["separation"].any()
+    np.testing.assert_allclose(smallest, 0.03)     # not 1e-6

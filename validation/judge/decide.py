@@ -75,8 +75,9 @@ def band_decides(scene, results: list, confidence: float
     model and quantity at a tolerance, on the mean or per surface) is undecided while the band
     of its reference field exceeds a quarter of the tolerance (on one surface: wherever the cell
     is undecided with a band, since only the band can leave it open there, however small).
-    Returns the mask, the smallest band over the fields at each point (NaN where none is known)
-    and the mask of each compared quantity alone (the mask is their union)."""
+    Returns the mask, the smallest band at each point over the fields whose cells it holds
+    there (NaN where it holds none: a finer solve need only resolve those fields' bands, eq.
+    T40) and the mask of each compared quantity alone (the mask is their union)."""
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
     held: dict[str, np.ndarray] = {}
@@ -85,7 +86,6 @@ def band_decides(scene, results: list, confidence: float
         if quantity not in COMPARED_QUANTITIES or entry.band is None:
             continue
         band = np.asarray(entry.band, dtype=float)
-        smallest = np.fmin(smallest, np.where(band > 0, band, np.inf))
         mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
         for index, tolerance in enumerate(entry.tolerances):
             open_ = entry.verdicts[index] == UNDECIDED
@@ -94,7 +94,9 @@ def band_decides(scene, results: list, confidence: float
             # one surface: an open cell is held by its band, whatever its size
             floor = 0.0 if entry.one_surface else REFERENCE_ACCURACY * tolerance
             with np.errstate(invalid="ignore"):
-                mask |= open_ & (band > floor)
+                holds_open = open_ & (band > floor)
+            mask |= holds_open
+            smallest = np.fmin(smallest, np.where(holds_open, band, np.inf))
     mask = (np.any(np.stack(list(held.values())), axis=0) if held
             else np.zeros(comparison.load.shape, bool))
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
