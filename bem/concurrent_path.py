@@ -69,18 +69,20 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
         if name in options:
             raise ValueError(f"concurrent_curve does not take {name!r} (each sub-path builds "
                              f"its own operator; load control only)")
-    z = np.asarray(heights, dtype=float)
-    parts = (path_parts(loads.size, z.shape) if parts is None
-             else checks.integer("parts", parts, minimum=1))
+    if parts is None:   # (the heights are checked by contact_curve, in every sub-path)
+        parts = path_parts(loads.size, np.shape(heights)) if np.ndim(heights) == 2 else 1
+    else:
+        parts = checks.integer("parts", parts, minimum=1)
     parts = min(parts, max(loads.size, 1))
     if parts == 1:
-        return contact_curve(z, spacing, loads=loads, callback=callback, **options)
+        return contact_curve(heights, spacing, loads=loads, callback=callback, **options)
     positions = [np.arange(start, loads.size, parts) for start in range(parts)]
 
     def solve(where: np.ndarray) -> ContactCurve:
         report = (None if callback is None
                   else lambda index, solution: callback(int(where[index]), solution))
-        return contact_curve(z, spacing, loads=loads[where], callback=report, **options)
+        return contact_curve(heights, spacing, loads=loads[where], callback=report,
+                             **options)
 
     # the other sub-paths start first, so that each operator sees the others running and takes
     # one FFT thread (bem.fft.fft_threads)

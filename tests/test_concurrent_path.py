@@ -63,3 +63,8 @@ def test_parts_follow_the_free_cpus(monkeypatch):
 def test_bad_arguments_are_named(heights, options, match):
     with pytest.raises((ValueError, TypeError), match=match):
         concurrent_curve(heights, 1.0 / N, loads=LOADS, **options)
+
+
+def test_bad_heights_are_named_by_the_path_not_by_numpy():
+    with pytest.raises((ValueError, TypeError), match="heights"):
+        concurrent_curve([["a", "b"], ["c", "d"]], 1.0, loads=LOADS)

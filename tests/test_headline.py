@@ -365,3 +365,10 @@ def test_the_rules_over_realizations_are_read_only_where_there_are_realizations(
     for paragraph in ("**How a verdict is reached.**", "**Two readings"):
         assert paragraph in every and paragraph not in one
     assert "**One surface.**" in one and "**Separation and mean gap.**" in one
+
+
+def test_runs_of_a_mask_are_its_stretches_of_consecutive_points():
+    from validation.judge.verdicts import true_runs
+
+    assert true_runs(np.array([1, 1, 0, 0, 1], bool)) == [(0, 1), (4, 4)]
+    assert true_runs(np.zeros(3, bool)) == [] and true_runs(np.ones(2, bool)) == [(0, 1)]

@@ -15,7 +15,7 @@ import numpy as np
 
 from validation.check.units import format_pressure
 from validation.common.labels import model_label
-from validation.judge.verdicts import FAILS, HOLDS, verdict_strip
+from validation.judge.verdicts import FAILS, HOLDS, true_runs, verdict_strip
 
 __all__ = ["glance_lines"]
 
@@ -30,18 +30,9 @@ def _pressure(table, k: int) -> str:
 
 def _spans(table, held: np.ndarray) -> str:
     """The pressures where ``held`` is true, as ranges of consecutive points."""
-    spans, k = [], 0
-    while k < held.size:
-        if held[k]:
-            end = k
-            while end + 1 < held.size and held[end + 1]:
-                end += 1
-            spans.append(_pressure(table, k) if end == k
-                         else f"{_pressure(table, k)} to {_pressure(table, end)}")
-            k = end + 1
-        else:
-            k += 1
-    return ", ".join(spans)
+    return ", ".join(_pressure(table, a) if a == b
+                     else f"{_pressure(table, a)} to {_pressure(table, b)}"
+                     for a, b in true_runs(held))
 
 
 def _sentence(table) -> str:

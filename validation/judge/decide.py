@@ -113,7 +113,8 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
     the leakage and its band stay those of the grid below)."""
     jobs, where = [], []
     for value, points in level.points.items():
-        with_leakage = tuple(k for k in points if k in set(level.leakage.get(value, ())))
+        leaky = set(level.leakage.get(value, ()))
+        with_leakage = tuple(k for k in points if k in leaky)
         for index, result in enumerate(by_value[value]):
             if only is not None and result.task not in only:
                 continue

@@ -21,6 +21,7 @@ from validation.judge.verdicts import (
     ErrorInterval,
     classify,
     confidence_interval,
+    true_runs,
     verdict_counts,
     verdict_strip,
 )
@@ -227,10 +228,8 @@ def improved_follows_discrete(results, tolerance: float) -> Finding:
 
 def _runs_text(load: np.ndarray, mask: np.ndarray) -> str:
     """The loads where ``mask`` is true, as runs ("1e-05–0.0001, 0.01"; "" where nowhere)."""
-    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
     return ", ".join(f"{load[a]:.2g}" if a == b else f"{load[a]:.2g}–{load[b]:.2g}"
-                     for a, b in zip(starts, stops))
+                     for a, b in true_runs(mask))
 
 
 def closest_models(comparison: Comparison) -> Finding:

@@ -61,6 +61,7 @@ __all__ = [
     "one_surface_reasons",
     "one_surface_verdicts",
     "reference_band",
+    "true_runs",
     "undecided_reasons",
     "validity_range",
     "verdict_counts",
@@ -310,6 +311,14 @@ class ValidityRange:
         return text + (" [whole range]" if self.points == self.total else "")
 
 
+def true_runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """The runs of consecutive true entries of a 1-D mask as (first, last) index pairs, last
+    included, in order: ``[(0, 1), (4, 4)]`` for ``[1, 1, 0, 0, 1]``."""
+    edges = np.diff(np.concatenate(([0], np.asarray(mask, dtype=np.int8), [0])))
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    return [(int(a), int(b)) for a, b in zip(starts, stops)]
+
+
 def verdict_range(loads: np.ndarray, holds: np.ndarray, tolerance: float,
                   area_fraction: np.ndarray | None = None) -> ValidityRange:
     """Longest contiguous run of points where ``holds`` is true (ties: the lower-load run).
@@ -335,13 +344,11 @@ def verdict_range(loads: np.ndarray, holds: np.ndarray, tolerance: float,
         if area_fraction.shape != loads.shape:
             raise ValueError(f"area_fraction must have the length of loads {loads.shape}, got "
                              f"shape {area_fraction.shape}")
-    # run lengths from the edges of the padded indicator
-    edges = np.diff(np.concatenate(([0], holds.astype(np.int8), [0])))
-    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    if starts.size == 0:
+    runs = true_runs(holds)
+    if not runs:
         return ValidityRange(tolerance, None, None, total=loads.size)
-    best = int(np.argmax(stops - starts))  # argmax takes the first (lowest-load) longest run
-    first, last = int(starts[best]), int(stops[best] - 1)
+    # max takes the first (lowest-load) of the longest runs
+    first, last = max(runs, key=lambda run: run[1] - run[0])
     area_min = area_max = float("nan")
     if area_fraction is not None:
         area_min, area_max = float(area_fraction[first]), float(area_fraction[last])

@@ -12,8 +12,8 @@ that reach the regime), its largest ``|mean error|`` is the smaller (ties: the s
 ``|mean error|`` over all its cells, then the one that holds at more of them). So a model that
 a scene leaves out is neither favoured nor penalised. It is called the one to *use* only where
 it holds at every cell it is compared at in the regime; otherwise it is the *closest* (with
-the share of its cells that hold), and where it fails at every cell, "none holds". Its sentence gives the range of its mean
-errors there and the range its intervals span (the 95 % intervals over realizations, or ± the
+the share of its cells that hold), and where it fails at every cell, "none holds". Its
+sentence gives the range of its mean errors there and the range its intervals span (the 95 % intervals over realizations, or ± the
 reference band for one surface). **How wrong the others are**: the largest mean error of each
 other model in the regime, from the smallest of them to the largest (marked where a model is
 not compared on every surface family). Every cell is read at its scene's largest tolerance.
@@ -42,8 +42,9 @@ RULE = ("*Light, intermediate and heavy contact: the BEM's contact-area fraction
         "and 30 % of the headline. The theory to use is the one that beats the most others "
         "head to head: on the headline cells both are compared at, its largest |mean error| "
         "is the smaller; it is to *use* where it holds at every cell, and only the *closest* "
-        "where it does not (none holds: it fails at every cell). Errors relative for area and conductance, in σ for separation "
-        "(Persson: its mean gap ū against the BEM's), ln(h_eff/h_eff,BEM) for leakage; every "
+        "where it does not (none holds: it fails at every cell). Errors relative for area and "
+        "conductance, in σ for separation (Persson: its mean gap ū against the BEM's), "
+        "ln(h_eff/h_eff,BEM) for leakage; every "
         "number is in `headline.csv` and `findings.csv`.*")
 _NAMES = {"area": "Area", "separation": "Separation", "conductance": "Conductance",
           "leakage": "Leakage"}

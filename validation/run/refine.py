@@ -236,8 +236,9 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
     solve ``finer`` on ``grid`` points per side (:func:`merge_points`); the leakage, and its
     band, only at the job's ``leakage_points`` (elsewhere those of the grid below stay)."""
     s = job.task.surface
-    solved = [k for k, point in enumerate(job.points) if point in set(job.leakage_points)]
-    others = [k for k in range(len(job.points)) if k not in set(solved)]
+    leaky = set(job.leakage_points)
+    solved = [k for k, point in enumerate(job.points) if point in leaky]
+    others = [k for k, point in enumerate(job.points) if point not in leaky]
     for positions, drop in ((others, True), (solved, False)):
         if positions:
             part = _take(finer, np.array(positions))
@@ -257,8 +258,8 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     values = np.array(task.loads.values())[list(job.points)]
     loads = values * task.e_star * s.L**2
     stiffness = needs_stiffness(task.quantities)
-    leaky = (tuple(k for k in job.points if k in set(job.leakage_points))
-             if needs_leakage(task.quantities) else ())
+    wanted = set(job.leakage_points) if needs_leakage(task.quantities) else set()
+    leaky = tuple(k for k in job.points if k in wanted)
     quantities = tuple(q for q in model_quantities(task.quantities) if q != "leakage")
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
@@ -273,7 +274,7 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     # dealt to concurrent sub-paths (bem.concurrent_path: one per free core), the Reynolds
     # solves of the points that need them after it: beside it they would take a core from the
     # sub-paths, whose FFT threads are chosen when their operators are built.
-    positions = {job.points.index(k) for k in leaky}
+    positions = {index for index, k in enumerate(job.points) if k in wanted}
     gaps = {}
 
     def keep(index: int, solution) -> None:
