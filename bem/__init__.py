@@ -10,6 +10,7 @@ unit of E*.
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.flow import hydraulic_aperture
 from bem.halfspace import HalfSpace
+from bem.interface import InterfaceModel, NominalContactModel
 from bem.model import BoundaryElementModel, ContactModel
 from bem.path import contact_curve, count_contacts
 from bem.solver import ContactSolution, solve_contact
@@ -17,4 +18,5 @@ from bem.warnings import ConvergenceWarning
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES", "HalfSpace", "solve_contact", "ContactSolution",
            "contact_curve", "count_contacts", "ConvergenceWarning", "ContactModel",
-           "BoundaryElementModel", "hydraulic_aperture"]
+           "BoundaryElementModel", "InterfaceModel", "NominalContactModel",
+           "hydraulic_aperture"]

@@ -96,7 +96,7 @@ def test_the_remedy_for_an_unconverged_area_is_a_longer_cutoff_than_the_one_appl
 def test_the_full_contact_ceiling_is_the_references_own():
     """A flat square window in full contact (a rigid punch): K L / E* from the reference."""
     import bem
-    from validation.check.window import FULL_CONTACT_STIFFNESS
+    from validation.check.frames import FULL_CONTACT_STIFFNESS
 
     flat = bem.solve_contact(np.zeros((64, 64)), 1.0 / 64, load=1e-3, stiffness=True)
     assert flat.contact.all()
@@ -111,26 +111,21 @@ def _stiffness_table(load, stiffness, unit="N/m³"):
                          0.01 * np.asarray(stiffness), {}, {}, 0.2)
 
 
-def test_the_window_of_a_large_scan_is_named_with_its_sink_and_ceiling():
+def test_the_frames_paragraph_names_the_nominal_contacts_sink_and_ceiling():
     from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION as m
-    from validation.check.window import FULL_CONTACT_STIFFNESS, window_lines
+    from validation.check.frames import FULL_CONTACT_STIFFNESS, frame_lines
 
-    # a 1 mm window (side in um) at p/E* up to 1e-3: it sinks by m p L / E* = 0.946 um
-    side, e_star = 1000.0, 115e9
-    ceiling = FULL_CONTACT_STIFFNESS * e_star / (side * 1e-6)
-    table = _stiffness_table([1e-4, 1e-3], [0.05 * ceiling, 0.2 * ceiling])
-    (text,) = window_lines([table], side=side, sigma=2.0, unit="um", e_star=e_star)
+    e_star = 115e9
+    table = _stiffness_table([1e-4, 1e-3], [1e12, 1e13])
+    (plain,) = frame_lines([table], sigma=2.0, unit="um", e_star=e_star, nominal_size=None)
+    assert "*Interface*" in plain and "`--nominal-size`" in plain
+    # a 10 mm nominal contact (side in um) at p/E* up to 1e-3: it sinks by m p L / E* = 9.46 um
+    side = 1e4
+    (text,) = frame_lines([table], sigma=2.0, unit="um", e_star=e_star, nominal_size=side)
     assert f"{m * 1e-3 * side:.3g} um = {m * 1e-3 * side / 2.0:.3g} σ" in text
-    assert f"{ceiling:.3g} N/m³; the reference reaches 20 % of it" in text
-    own = 1.0 / (1.0 / (0.2 * ceiling) - m * side * 1e-6 / e_star)
-    assert f"is {own:.3g} N/m³ at the highest pressure" in text
-    # near the ceiling the interface cannot be told from the window
-    near = _stiffness_table([1e-4, 1e-3], [0.5 * ceiling, 0.9 * ceiling])
-    (text,) = window_lines([near], side=side, sigma=2.0, unit="um", e_star=e_star)
-    assert "cannot be told from the window's" in text and "K_i" not in text
-    # a 512 nm AFM window at the same pressures: nothing to say
-    small = _stiffness_table([1e-4, 1e-3], [1e12, 1e13])
-    assert window_lines([small], side=512.0, sigma=5.0, unit="nm", e_star=e_star) == []
+    ceiling = FULL_CONTACT_STIFFNESS * e_star / (side * 1e-6)
+    assert f"{ceiling:.3g} N/m³" in text
+    assert frame_lines([], sigma=2.0, unit="um", e_star=e_star, nominal_size=None) == []
 
 
 def test_at_a_glance_each_theory_has_one_strip_per_field_and_the_best_is_named():

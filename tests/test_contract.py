@@ -37,7 +37,8 @@ def predicts(item, name: str) -> bool:
 def surface():
     heights = wm_surface(N, D=2.3, rms_slope=0.1, seed=3)
     inputs = models.ModelInputs(spacing=1.0 / N, nominal_area=1.0, heights=heights,
-                                e_star=E_STAR, m=1.0, bem_options=dict(tol=1e-11))
+                                e_star=E_STAR, m=1.0, bem_options=dict(tol=1e-11),
+                                nominal_size=4.0)   # bem_nominal needs one
     summits = inputs.summits()
     assert summits.count >= 10
     return inputs, float(np.mean(summits.height)), float(np.std(summits.height))
@@ -207,7 +208,8 @@ def test_models_pickle_for_process_pools(case):
 def test_registry_names_every_model_once_and_rejects_unknown_names():
     assert len(set(models.names())) == len(models.names())
     assert set(models.default_names()) <= set(models.names())
-    assert models.reference_names() == ("bem",)
+    assert models.reference_names() == ("bem", "bem_interface", "bem_nominal")
+    assert {models.frame_of(name) for name in models.reference_names()} == set(models.FRAMES)
     with pytest.raises(ValueError, match="unknown model"):
         models.entry("persson_typo")
     with pytest.raises(ValueError, match="already registered"):

@@ -215,7 +215,7 @@ def test_headline_and_validity_tables_have_their_columns(default_report):
     folder = default_report.folder
     with open(folder / "headline.csv", newline="", encoding="utf-8") as stream:
         header = next(csv.reader(stream))
-    assert header == ["scene", "D", "H", "L", "model", "quantity", "reference_field",
+    assert header == ["scene", "D", "H", "L", "model", "frame", "quantity", "reference_field",
                       "area_fraction", "regime", "Load", "realizations", "mean_error", "low",
                       "high", "half_width", "interval", "surfaces90_low", "surfaces90_high",
                       "reference_band", "confidence", "tolerance", "verdict",
@@ -261,6 +261,11 @@ def test_every_number_of_the_summary_comes_from_the_tables(default_report):
     for key in {r["finding"] for r in findings}:
         verdicts = [r["verdict"] for r in findings if r["finding"] == key]
         candidates += [len(verdicts)] + [verdicts.count(v) for v in set(verdicts)]
+    for tolerance in {r["tolerance"] for r in headline_rows}:   # the precision's median
+        widths = sorted(float(r["half_width"]) for r in headline_rows
+                        if r["tolerance"] == tolerance and math.isfinite(float(r["half_width"])))
+        if widths:
+            candidates.append(float(np.median(widths)))
     candidates = np.array([c for c in candidates if math.isfinite(c)])
     for sentence in sentences:
         assert sentence.endswith(".")

@@ -19,7 +19,8 @@ WM = {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 32},
       "realizations": {"count": 3, "seed": 7, "max": 6},
       "loads": {"min": 1e-4, "max": 1e-2, "count": 4},
       "models": {"use": ["gw", "bem"]}, "quantities": {"use": ["area", "load", "separation"]},
-      "bem": {"max_grid": 128}}
+      # the finer reference refines the finite window's reference: gw is judged against it here
+      "bem": {"max_grid": 128, "frames": ["finite"]}}
 
 
 def one(scene):
@@ -218,7 +219,8 @@ def test_leakage_is_not_solved_again_above_its_grid_limit(tmp_path, monkeypatch)
     from validation.judge import decide
 
     leaky = WM | {"quantities": {"use": ["area", "load", "separation", "leakage"]},
-                  "realizations": {"count": 1, "seed": 7}, "bem": {"max_grid": 64}}
+                  "realizations": {"count": 1, "seed": 7},
+                  "bem": {"max_grid": 64, "frames": ["finite"]}}
     scene = parse_scene(leaky, source="test")
     (held,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
     level = held.refinement.levels[0]

@@ -140,7 +140,8 @@ def test_a_band_not_estimated_is_written_as_such_never_as_zero(tmp_path):
     write_report(run_scenes([scene], progress=False), folder)
     markdown = report_text(folder)
     table = markdown[markdown.index("Verdicts per load point"):]
-    assert "Reference band: area: not estimated" in table
+    # GW and Persson are judged against the interface reference; the band says of which frame
+    assert "Reference band: area (interface): not estimated" in table
     assert "| not estimated |" in table and "| 0 % |" not in table
     errors = rows(folder / "errors.csv")
     assert {r["reference_band"] for r in errors} == {"not estimated"}

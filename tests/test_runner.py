@@ -59,7 +59,8 @@ def test_models_not_asked_for_are_not_computed():
                            progress=False)
     log = computed([result])
     assert not any(e.startswith(("discrete", "improved_gw")) for e in log)
-    assert set(result.realizations[2.3][0].curves) == {"gw", "bem"}
+    # the listed reference, and the interface reference that GW is judged against
+    assert set(result.realizations[2.3][0].curves) == {"gw", "bem", "bem_interface"}
 
 
 def test_cache_second_run_computes_nothing(tmp_path):
@@ -83,12 +84,13 @@ def test_changed_parameter_recomputes_only_what_depends_on_it(tmp_path):
     log = computed(run_scenes([replace(scene, bem=replace(scene.bem, tol=1e-7))],
                               cache_dir=str(tmp_path), progress=False))
     assert sum(e.startswith("bem ") for e in log) == 2
+    assert sum(e.startswith("bem_interface ") for e in log) == 2
     assert not any(e.startswith(("summits", "discrete")) for e in log)
     # A third realization computes that realization only.
     log = computed(run_scenes([replace(scene, realizations=3)], cache_dir=str(tmp_path),
                               progress=False))
     assert sorted(e for e in log if e.startswith(("bem", "summits", "discrete"))) == [
-        "bem D=2.3 seed=9 n=32", "discrete D=2.3 seed=9 n=32",
+        "bem D=2.3 seed=9 n=32", "bem_interface D=2.3 seed=9 n=32", "discrete D=2.3 seed=9 n=32",
         "discrete_no_interaction D=2.3 seed=9 n=32", "summits D=2.3 seed=9 n=32"]
 
 

@@ -34,6 +34,7 @@ def rows() -> tuple[EntryPoint, ...]:
     bem_fast = dict(tol=1e-6, max_iter=50)
     hertz_load = float(np.max(z()) - np.mean(z())) * 0.05
     model = functools.partial(bem.BoundaryElementModel, z(), SPACING, **bem_fast)
+    interface = functools.partial(bem.InterfaceModel, z(), SPACING, **bem_fast)
     return (
         # ---------------------------------------------------------------- bem
         EntryPoint("bem.solve_contact", bem.solve_contact,
@@ -93,6 +94,17 @@ def rows() -> tuple[EntryPoint, ...]:
                    lambda: dict(load=np.array([hertz_load])), arrays=dict(load="")),
         EntryPoint("BoundaryElementModel.at_separation",
                    lambda separation: model().at_separation(separation),
+                   lambda: dict(separation=np.array([float(z().max()) * 0.5])),
+                   arrays=dict(separation="")),
+        EntryPoint("bem.InterfaceModel", bem.InterfaceModel,
+                   lambda: dict(heights=z(), spacing=SPACING, **bem_fast),
+                   scalars=dict(spacing="positive", tol="positive", max_iter="integer",
+                                extension="choice"),
+                   arrays=dict(heights="")),
+        EntryPoint("InterfaceModel.at_load", lambda load: interface().at_load(load),
+                   lambda: dict(load=np.array([hertz_load])), arrays=dict(load="")),
+        EntryPoint("InterfaceModel.at_separation",
+                   lambda separation: interface().at_separation(separation),
                    lambda: dict(separation=np.array([float(z().max()) * 0.5])),
                    arrays=dict(separation="")),
         EntryPoint("bem.hydraulic_aperture", bem.hydraulic_aperture,

@@ -28,7 +28,7 @@ from validation.check.glance import glance_lines
 from validation.check.physical import physical_tables, table_lines, write_csv
 from validation.check.request import CheckRequest, scene_text
 from validation.check.resolution import cutoff_text, resolution, resolution_lines
-from validation.check.window import window_lines
+from validation.check.frames import frame_lines
 from validation.check.units import format_pressure, parse_length, parse_pressure, \
     parse_pressure_range
 from validation.scenes.reader import parse_scene
@@ -66,8 +66,28 @@ def check_request(args: argparse.Namespace) -> CheckRequest:
     tiles = args.tiles
     if tiles < 1 or round(tiles ** 0.5) ** 2 != tiles:
         raise ValueError(f"--tiles must be a square number >= 1 (1, 4, 9, ...), got {tiles}")
-    return CheckRequest(path, e_star, pressures, cutoff, args.fill, args.physical_size,
-                        args.file_unit, tiles, args.resample)
+    request = CheckRequest(path, e_star, pressures, cutoff, args.fill, args.physical_size,
+                           args.file_unit, tiles, args.resample)
+    nominal_size = getattr(args, "nominal_size", None)
+    if nominal_size is not None:
+        request = replace(request, nominal_size=_nominal_size(nominal_size, request))
+    return request
+
+
+def _nominal_size(text: str, request: CheckRequest) -> float:
+    """``--nominal-size`` in metres: a length with its unit, at least the scan's side."""
+    metres, has_unit = parse_length("--nominal-size", text)
+    if not has_unit:
+        raise ValueError(f"--nominal-size needs a unit, e.g. 10mm, got {text!r}")
+    if not metres > 0:
+        raise ValueError(f"--nominal-size must be a positive length, got {text!r}")
+    scan = request.read("m")
+    side = math.sqrt(scan.heights.size) * scan.spacing
+    if metres < side * (1 - 1e-9):
+        raise ValueError(f"--nominal-size must be at least the scan's side ({side:.4g} m): the "
+                         f"scan is a sample of the interface inside the nominal contact; got "
+                         f"{text!r}")
+    return metres
 
 
 def _cutoff(text: str, args: argparse.Namespace) -> str:
@@ -130,7 +150,9 @@ def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list
     from validation.check.figure import physical_figure
 
     physical_figure(tables, out / "check-physical.png")
-    reference = realization.curves["bem"]
+    from validation.common import models
+
+    reference = realization.curves[models.reference_among(realization.curves)]
     refined = np.asarray(reference.extras.get("grid", np.full(reference.load.shape, s.n))) > s.n
     rows, columns = s.grid
     e_star = ("E* not given: pressures and stiffness are in units of E*" if request.e_star is None
@@ -152,8 +174,8 @@ def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list
               "![Each theory against the reference in physical units](check-physical.png)\n"]
     for table in tables:
         lines += table_lines(table)
-    lines += window_lines(tables, side=math.sqrt(rows * columns) * s.spacing,
-                          sigma=realization.sigma, unit=unit, e_star=request.e_star)
+    lines += frame_lines(tables, sigma=realization.sigma, unit=unit, e_star=request.e_star,
+                         nominal_size=scene.nominal_size)
     lines += resolution_lines(resolution(half_grid, comparison, refined), spacing=s.spacing,
                               unit=unit, short_cutoff=request.short_cutoff)
     return lines
@@ -244,6 +266,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        help="the scan's width, e.g. '10 um', if the file does not state it")
     check.add_argument("--file-unit", default=None, metavar="UNIT",
                        help="the unit of the file's heights (nm, um, ...) if it does not state it")
+    check.add_argument("--nominal-size", default=None, metavar="LENGTH",
+                       help="side of your square nominal contact (a seal's width), e.g. 10mm: "
+                            "adds the finite frame of that contact, the interface plus its "
+                            "bulk sink, with improved GW (default: the interface frame alone)")
     check.add_argument("--tiles", type=int, default=1,
                        help="also answer on the scan cut into k x k tiles (4, 9, ...): how much "
                             "the answer varies across the scan (default 1: the whole scan only)")

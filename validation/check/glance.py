@@ -35,8 +35,15 @@ def _spans(table, held: np.ndarray) -> str:
                      for a, b in true_runs(held))
 
 
-def _sentence(table) -> str:
-    column = _COLUMNS[table.field]
+def _column(table, framed: bool) -> str:
+    """A field's name, with its frame where the check answers in both."""
+    from validation.common.models import FRAME_LABELS
+
+    return _COLUMNS[table.field] + (f" ({FRAME_LABELS[table.frame]})" if framed else "")
+
+
+def _sentence(table, framed: bool = False) -> str:
+    column = _column(table, framed)
     name = column[0].upper() + column[1:]
     if not table.verdicts:
         return f"{name}: no theory is compared."
@@ -65,7 +72,8 @@ def glance_lines(tables) -> list[str]:
     order = np.argsort(first.load, kind="stable")
     low, high = _pressure(first, int(order[0])), _pressure(first, int(order[-1]))
     models = list(dict.fromkeys(m for t in tables for m in t.verdicts))
-    header = ["theory"] + [f"{_COLUMNS[t.field]} (±{t.tolerance_text or t.tolerance})"
+    framed = len({t.frame for t in tables}) > 1
+    header = ["theory"] + [f"{_column(t, framed)} (±{t.tolerance_text or t.tolerance})"
                            for t in tables]
     lines = [f"**At a glance**: each theory at the {first.load.size} pressures from {low} to "
              f"{high}, left to right (✔ holds, ✘ fails, ? undecided: the reference's band "
@@ -76,5 +84,5 @@ def glance_lines(tables) -> list[str]:
                  else "–" for t in tables]
         lines.append(f"| {model_label(model)} | " + " | ".join(cells) + " |")
     lines.append("")
-    lines += [f"- {_sentence(t)}" for t in tables]
+    lines += [f"- {_sentence(t, framed)}" for t in tables]
     return lines + [""]

@@ -59,6 +59,7 @@ class PhysicalTable:
     verdicts: dict[str, np.ndarray] # model -> verdict at ``tolerance``
     tolerance: float
     tolerance_text: str = ""        # the tolerance in the field's measure, for the heading
+    frame: str = "interface"        # of the reference and of the models judged against it
 
 
 def _scale(kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
@@ -94,37 +95,47 @@ def physical_tables(realization, comparison, *, e_star: float | None, unit: str
     """The tables of one surface (a :class:`validation.run.runner.RealizationResult` and its
     :class:`validation.judge.compare.Comparison`), one per reference field the scene compares.
     ``e_star`` [Pa] or None (pressures and stiffness in units of E*); ``unit`` the scan's."""
-    curves = realization.curves
-    reference_curve = curves[models.reference_among(curves)]
     tables = []
-    for field, heading, kind in FIELDS:
-        entries = {model: entry for (model, _), entry in comparison.models.items()
-                   if entry.reference_field == field}
-        if not entries:
-            continue
-        reference = _value(reference_curve, field)
-        if reference is None:
-            continue
-        scale, written = _scale(kind, reference_curve, e_star, unit)
-        first = next(iter(entries.values()))
-        band = _band(field, reference, np.asarray(first.band, dtype=float),
-                     realization.sigma) * scale
-        index = len(first.tolerances) - 1
-        values, verdicts = {}, {}
-        quantity_of = {model: quantity for (model, quantity), entry in comparison.models.items()
-                       if entry.reference_field == field}
-        for model in model_order(entries):
-            value = _value(curves[model], quantity_of[model])
-            if value is not None:
-                values[model] = value * scale
-                verdicts[model] = np.asarray(entries[model].verdicts[index])
-        pressure = None if e_star is None else comparison.load * e_star
-        tolerance = first.tolerances[index]
-        tables.append(PhysicalTable(field, heading, written, np.asarray(comparison.load),
-                                    pressure, reference * scale, band, values, verdicts,
-                                    tolerance, _tolerance_text(field, tolerance,
-                                                               realization.sigma, unit)))
+    frames = list(dict.fromkeys(entry.frame for entry in comparison.models.values()))
+    for frame in frames:
+        for field, heading, kind in FIELDS:
+            entries = {model: entry for (model, _), entry in comparison.models.items()
+                       if entry.reference_field == field and entry.frame == frame}
+            if entries:
+                table = _table(realization, comparison, entries, field, heading, kind, e_star,
+                               unit, frame if len(frames) > 1 else "")
+                if table is not None:
+                    tables.append(table)
     return tables
+
+
+def _table(realization, comparison, entries, field, heading, kind, e_star, unit,
+           frame: str) -> PhysicalTable | None:
+    """The table of one reference field, of the models judged in one frame."""
+    curves = realization.curves
+    first = next(iter(entries.values()))
+    reference_curve = curves[first.reference_model or models.reference_among(curves)]
+    reference = _value(reference_curve, field)
+    if reference is None:
+        return None
+    scale, written = _scale(kind, reference_curve, e_star, unit)
+    band = _band(field, reference, np.asarray(first.band, dtype=float),
+                 realization.sigma) * scale
+    index = len(first.tolerances) - 1
+    values, verdicts = {}, {}
+    for model in model_order(entries):
+        value = _value(curves[model], entries[model].quantity)
+        if value is not None:
+            values[model] = value * scale
+            verdicts[model] = np.asarray(entries[model].verdicts[index])
+    pressure = None if e_star is None else comparison.load * e_star
+    tolerance = first.tolerances[index]
+    if frame:
+        heading = f"{heading}, {models.FRAME_LABELS[frame]}"
+    return PhysicalTable(field, heading, written, np.asarray(comparison.load), pressure,
+                         reference * scale, band, values, verdicts, tolerance,
+                         _tolerance_text(field, tolerance, realization.sigma, unit),
+                         first.frame)
 
 
 def _tolerance_text(field: str, tolerance: float, sigma: float, unit: str) -> str:
@@ -168,12 +179,12 @@ def write_csv(tables: list[PhysicalTable], path: str | pathlib.Path) -> pathlib.
     path = pathlib.Path(path)
     with path.open("w", newline="", encoding="utf-8") as handle:
         out = csv.writer(handle)
-        out.writerow(["field", "unit", "point", "load_p_over_e_star", "pressure_Pa", "model",
-                      "value", "reference_band", "verdict", "tolerance"])
+        out.writerow(["field", "frame", "unit", "point", "load_p_over_e_star", "pressure_Pa",
+                      "model", "value", "reference_band", "verdict", "tolerance"])
         for t in tables:
             for k in range(t.load.size):
                 pressure = "" if t.pressure is None else f"{t.pressure[k]:.10g}"
-                common = [t.field, t.unit or "1", k, f"{t.load[k]:.10g}", pressure]
+                common = [t.field, t.frame, t.unit or "1", k, f"{t.load[k]:.10g}", pressure]
                 out.writerow(common + ["bem", f"{t.reference[k]:.10g}", f"{t.band[k]:.10g}",
                                        "", ""])
                 for model, values in t.models.items():

@@ -31,7 +31,8 @@ from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.wm import surface_statistics
 
-__all__ = ["CheckRequest", "DEFAULT_PRESSURES", "MAX_REFINED_SIDE", "QUANTITIES", "scene_text"]
+__all__ = ["CheckRequest", "DEFAULT_PRESSURES", "INTERFACE_MODELS", "MAX_REFINED_SIDE",
+           "NOMINAL_MODELS", "QUANTITIES", "scene_text"]
 
 #: Default nominal pressures as multiples of E* times the rms slope (light to heavy contact).
 DEFAULT_PRESSURES = (5e-4, 0.15)
@@ -40,6 +41,13 @@ DEFAULT_COUNT = 12
 #: Largest scan side whose reference is refined onto the 2N interpolation (a 4096² non-periodic
 #: solve needs an 8192² FFT: several GB).
 MAX_REFINED_SIDE = 1024
+#: The models of the interface frame, the check's answer by default (a scan samples an
+#: interface larger than itself), with their reference (docs/theory.md 8.10).
+INTERFACE_MODELS = ("gw", "discrete_no_interaction", "persson", "gw_spectral", "bgt",
+                    "bem_interface")
+#: The models a nominal contact size adds: the finite frame of that square, improved GW with
+#: its uniform term and the interface reference plus the square's bulk sink.
+NOMINAL_MODELS = ("improved_gw", "improved_gw_spectral", "bem_nominal")
 #: Quantities the check compares: everything a tribologist asks of a contact.
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "leakage")
 
@@ -67,6 +75,9 @@ class CheckRequest:
         the answer varies across the scan.
     resample : str or None
         ``"finer"`` or ``"coarser"`` for pixels that are not square, or None (refused).
+    nominal_size : float or None
+        Side [m] of the user's square nominal contact (a seal's width), at least the scan's:
+        adds the finite frame of that square; None: the interface frame alone.
     """
 
     path: pathlib.Path
@@ -78,6 +89,7 @@ class CheckRequest:
     file_unit: str | None = None
     tiles: int = 1
     resample: str | None = None
+    nominal_size: float | None = None
 
     def read(self, unit: str = "m") -> Topography:
         """The scan as the scene will read it (plane removed), lengths in ``unit``."""
@@ -154,6 +166,11 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     lines += [f"# pressures in units of E*; {e_star}"]
     lines += [""] + _table("loads", {"quantity": "load", "min": low, "max": high, "count": count,
                                      "spacing": "log" if count > 1 else None})
+    models = INTERFACE_MODELS + (NOMINAL_MODELS if request.nominal_size is not None else ())
+    from validation.surfaces.units import LENGTH_UNITS
+
+    nominal = None if request.nominal_size is None else request.nominal_size / LENGTH_UNITS[unit]
+    lines += [""] + _table("models", {"use": list(models), "nominal_size": nominal})
     lines += [""] + _table("quantities", {"use": list(QUANTITIES)})
     refined = side <= MAX_REFINED_SIDE and tiles == 1
     lines += [""] + _table("bem", {"max_grid": 2 * side if refined else None})

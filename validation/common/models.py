@@ -20,8 +20,16 @@ import numpy as np
 
 from bem.model import ContactModel
 
-__all__ = ["ModelInputs", "ModelEntry", "register", "unregister", "entry", "names", "default_names", "build",
-           "labels", "styles", "reference_names", "reference_among", "reference_fields"]
+__all__ = ["FRAMES", "FRAME_LABELS", "ModelInputs", "ModelEntry", "register", "unregister", "entry", "names",
+           "default_names", "build", "labels", "styles", "reference_names", "reference_among",
+           "reference_for", "reference_fields", "frame_of", "frames_of"]
+
+#: The two problems a model may describe (docs/theory.md, section 8.10): an interface of
+#: unbounded nominal extent (per unit area, periodic, zero mean displacement), or a finite
+#: nominal contact, the L x L window pressed as a whole (its bulk sink in the separation).
+FRAMES = ("interface", "finite")
+#: How tables and reports name each frame.
+FRAME_LABELS = {"interface": "interface", "finite": "finite window"}
 
 
 class ModelInputs:
@@ -44,15 +52,34 @@ class ModelInputs:
         Interaction factor of the improved GW theory (eq. 2).
     bem_options : mapping
         Options of :func:`bem.contact_curve` (``periodic``, ``tol``, ``max_iter``, ...).
+    periodic_surface : bool
+        The heights are one period of a periodic surface (the interface reference solves them
+        as they are; otherwise their mirror extension, :class:`bem.InterfaceModel`).
+    nominal_size : float, optional
+        Side [length] of the square nominal contact of the finite frame, in place of the
+        window (``Scene.nominal_size``): the reference ``bem_nominal`` and improved GW's
+        uniform term describe that square.
     """
 
     def __init__(self, *, spacing: float, nominal_area: float, heights=None, summits=None,
                  e_star: float = 1.0, m: float = 1.0,
-                 bem_options: Mapping[str, Any] | None = None) -> None:
+                 bem_options: Mapping[str, Any] | None = None,
+                 periodic_surface: bool = False, nominal_size: float | None = None) -> None:
+        self.periodic_surface = bool(periodic_surface)
+        self.nominal_size = None if nominal_size is None else float(nominal_size)
         self.spacing, self.nominal_area = float(spacing), float(nominal_area)
         self.e_star, self.m = float(e_star), float(m)
         self.bem_options = dict(bem_options or {})
         self._heights, self._summits = heights, summits
+
+    @property
+    def interaction_m(self) -> float:
+        """Improved GW's m for the finite frame's nominal contact: ``m`` for the window, and
+        ``m L_n / L`` for a nominal square of side L_n (the uniform term ``m p sqrt(A) / E*``
+        of that square on the window's summits and loads)."""
+        if self.nominal_size is None:
+            return self.m
+        return self.m * self.nominal_size / float(np.sqrt(self.nominal_area))
 
     def heights(self) -> np.ndarray:
         """The height map [length] (made on first call when given as a function)."""
@@ -93,8 +120,12 @@ class ModelEntry:
     cached : bool
         Its load paths are expensive and cached by the runner.
     reference : bool
-        The exact reference the other models are compared with; with a separation path, the
-        other models follow its loads.
+        The exact reference of its frame, which the models of that frame are compared with;
+        with a separation path, the other models follow the first reference's loads.
+    frame : {"interface", "finite"}
+        The problem the model describes (:data:`FRAMES`): an unbounded interface (GW, BGT,
+        Persson, the discrete model without interaction) or the finite nominal contact of the
+        window (improved GW with its nominal area, the discrete model with interaction).
     inverse_consistent : bool
         ``at_load`` inverts ``at_separation`` (false for an approximation whose load path is
         solved exactly, like the one-iteration improved GW).
@@ -119,6 +150,7 @@ class ModelEntry:
     needs_summits: bool = True
     cached: bool = False
     reference: bool = False
+    frame: str = "interface"
     inverse_consistent: bool = True
     contacts: str = "asperities"
     default: bool = True
@@ -139,6 +171,8 @@ def register(name: str, factory: Callable[[ModelInputs], ContactModel], *, label
     item = ModelEntry(name, factory, label, **attributes)
     if item.contacts not in ("asperities", "patches", "none"):
         raise ValueError(f"contacts must be 'asperities', 'patches' or 'none', got {item.contacts!r}")
+    if item.frame not in FRAMES:
+        raise ValueError(f"frame must be one of {FRAMES}, got {item.frame!r}")
     _REGISTRY[name] = item
     return item
 
@@ -172,15 +206,44 @@ def reference_names() -> tuple[str, ...]:
     return tuple(name for name, item in _REGISTRY.items() if item.reference)
 
 
-def reference_among(names) -> str | None:
-    """The one registered reference model among ``names`` (``None`` when there is none).
+def reference_for(frame: str) -> str:
+    """The name of the first registered reference of ``frame`` (``ValueError`` when there is
+    none): the one a scene adds for that frame."""
+    if frame not in FRAMES:
+        raise ValueError(f"frame must be one of {FRAMES}, got {frame!r}")
+    found = [name for name in reference_names() if _REGISTRY[name].frame == frame]
+    if not found:
+        raise ValueError(f"no reference of the {frame} frame is registered")
+    return found[0]
 
-    Raises ``ValueError`` when ``names`` hold several references: a comparison needs one.
+
+def frame_of(name: str) -> str:
+    """The frame of the registered model ``name`` (``"interface"`` or ``"finite"``)."""
+    return entry(name).frame
+
+
+def frames_of(names) -> tuple[str, ...]:
+    """The frames of the registered models among ``names``, in the order of :data:`FRAMES`."""
+    found = {_REGISTRY[name].frame for name in names if name in _REGISTRY}
+    return tuple(frame for frame in FRAMES if frame in found)
+
+
+def reference_among(names, frame: str | None = None) -> str | None:
+    """The registered reference among ``names`` of ``frame`` (``None`` when there is none).
+
+    Without ``frame``: the one reference among ``names``, or, where both frames' references
+    are there, the finite window's (the paper's problem; callers that judge a model pass its
+    frame). Raises ``ValueError`` for a frame outside :data:`FRAMES`.
     """
-    found = [name for name in reference_names() if name in names]
+    if frame is not None and frame not in FRAMES:
+        raise ValueError(f"frame must be one of {FRAMES} or None, got {frame!r}")
+    found = [name for name in reference_names() if name in names
+             and (frame is None or _REGISTRY[name].frame == frame)]
+    if frame is None and len({_REGISTRY[name].frame for name in found}) > 1:
+        found = [name for name in found if _REGISTRY[name].frame == "finite"]
     if len(found) > 1:
-        raise ValueError(f"several reference models among the curves: {', '.join(found)}; "
-                         "a comparison needs exactly one")
+        raise ValueError(f"several reference models of one frame among the curves: "
+                         f"{', '.join(found)}; a comparison needs one per frame")
     return found[0] if found else None
 
 
@@ -244,7 +307,7 @@ def _improved_gw(inputs: ModelInputs, one_iteration: bool = False):
     from asperity import ImprovedGreenwoodWilliamson
 
     exact = inputs.summits().improved_greenwood_williamson(
-        inputs.nominal_area, e_star=inputs.e_star, m=inputs.m)
+        inputs.nominal_area, e_star=inputs.e_star, m=inputs.interaction_m)
     if not one_iteration:
         return exact
     return ImprovedGreenwoodWilliamson(exact.density, exact.radius, exact.sigma, mean=exact.mean,
@@ -274,23 +337,61 @@ def _bem(inputs: ModelInputs):
                                 **inputs.bem_options)
 
 
+def _extension(inputs: ModelInputs) -> str:
+    """How the interface reference makes a period of the heights (:class:`bem.InterfaceModel`)."""
+    return "periodic" if inputs.periodic_surface else "mirror"
+
+
+def _interface_options(inputs: ModelInputs) -> dict:
+    return {k: v for k, v in inputs.bem_options.items() if k != "periodic"}
+
+
+def _bem_nominal(inputs: ModelInputs):
+    from bem import NominalContactModel
+
+    if inputs.nominal_size is None:
+        raise ValueError("the reference bem_nominal needs a nominal size ([models] nominal_size)")
+    return NominalContactModel(inputs.heights(), inputs.spacing, e_star=inputs.e_star,
+                               nominal_size=inputs.nominal_size, extension=_extension(inputs),
+                               **_interface_options(inputs))
+
+
+def _bem_interface(inputs: ModelInputs):
+    from bem import InterfaceModel
+
+    return InterfaceModel(inputs.heights(), inputs.spacing, e_star=inputs.e_star,
+                          extension=_extension(inputs), **_interface_options(inputs))
+
+
 register("gw", _gw, label="original GW", style=dict(color="tab:blue", linestyle="--"))
 register("improved_gw", _improved_gw, label="improved GW",
-         style=dict(color="tab:orange", linestyle="-"), settings=lambda inputs: {"m": inputs.m})
+         style=dict(color="tab:orange", linestyle="-"), frame="finite", settings=lambda inputs: {"m": inputs.interaction_m})
 register("improved_gw_one_iteration", lambda inputs: _improved_gw(inputs, one_iteration=True),
          label="improved GW (one iteration)", style=dict(color="tab:red", linestyle="-."),
-         inverse_consistent=False, default=False, settings=lambda inputs: {"m": inputs.m})
+         inverse_consistent=False, default=False, frame="finite",
+         settings=lambda inputs: {"m": inputs.interaction_m})
 register("discrete_no_interaction", lambda inputs: _discrete(inputs, interaction=False),
          label="discrete (no interaction)", style=dict(color="tab:olive", linestyle=":"),
          cached=True)
 register("discrete", _discrete, label="discrete (interaction)",
-         style=dict(color="tab:green", linestyle="-"), cached=True)
+         style=dict(color="tab:green", linestyle="-"), cached=True, frame="finite")
 register("persson", _persson, label="Persson", style=dict(color="tab:purple", linestyle="-."),
          needs_summits=False, contacts="none", reference_fields={"separation": "mean_gap"},
          cached=True, settings=lambda inputs: {"window": PERSSON_WINDOW})
 register("bem", _bem, label="BEM (exact)", style=dict(color="black", linestyle="-", linewidth=2.0),
-         needs_summits=False, cached=True, reference=True, contacts="patches",
+         needs_summits=False, cached=True, reference=True, contacts="patches", frame="finite",
          settings=lambda inputs: {"options": inputs.bem_options})
+register("bem_interface", _bem_interface, label="BEM interface (exact)",
+         style=dict(color="dimgray", linestyle="--", linewidth=2.0), needs_summits=False,
+         cached=True, reference=True, contacts="patches", frame="interface",
+         settings=lambda inputs: {"options": _interface_options(inputs),
+                                  "extension": _extension(inputs)})
+register("bem_nominal", _bem_nominal, label="BEM nominal contact (exact)",
+         style=dict(color="black", linestyle=":", linewidth=2.0), needs_summits=False,
+         cached=True, reference=True, contacts="patches", frame="finite", default=False,
+         settings=lambda inputs: {"options": _interface_options(inputs),
+                                  "extension": _extension(inputs),
+                                  "nominal_size": inputs.nominal_size})
 
 
 # Theories from the spectral moments m0, m2, m4 of the heights (Nayak, McCool; Bush, Gibson &
@@ -305,7 +406,8 @@ def _spectral_moments(inputs: ModelInputs):
 def _gw_spectral(inputs: ModelInputs, improved: bool = False):
     summits = _spectral_moments(inputs).summits()
     if improved:
-        return summits.improved_greenwood_williamson(inputs.nominal_area, inputs.m, e_star=inputs.e_star)
+        return summits.improved_greenwood_williamson(inputs.nominal_area, inputs.interaction_m,
+                                                     e_star=inputs.e_star)
     return summits.greenwood_williamson(inputs.nominal_area, e_star=inputs.e_star)
 
 
@@ -327,7 +429,7 @@ register("gw_spectral", _gw_spectral, label="GW from the spectrum",
          settings=_spectral_settings)
 register("improved_gw_spectral", lambda inputs: _gw_spectral(inputs, improved=True),
          label="improved GW from the spectrum", style=dict(color="tab:brown", linestyle="-"),
-         needs_summits=False, cached=True,
-         settings=lambda inputs: {**_spectral_settings(inputs), "m": inputs.m})
+         needs_summits=False, cached=True, frame="finite",
+         settings=lambda inputs: {**_spectral_settings(inputs), "m": inputs.interaction_m})
 register("bgt", _bgt, label="Bush-Gibson-Thomas", style=dict(color="tab:pink", linestyle="-."),
          needs_summits=False, cached=True, settings=_spectral_settings)

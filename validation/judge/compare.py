@@ -23,7 +23,7 @@ its verdicts come from its error and the reference band alone
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -126,6 +126,11 @@ class ModelComparison:
     sealing_resolved: np.ndarray | None = None
     # the errors themselves, shape (realizations, points), NaN where not compared
     errors: np.ndarray | None = None
+    # the frame the model is judged in, the reference of that frame, and that reference's
+    # mean contact-area fraction per point (docs/theory.md 8.10)
+    frame: str = "finite"
+    reference_model: str = ""
+    area_fraction: np.ndarray | None = None
 
     @property
     def one_surface(self) -> bool:
@@ -200,6 +205,24 @@ class Comparison:
     # Load (the headline interpolates along them, validation.judge.headline)
     realization_area_fraction: np.ndarray | None = None
     realization_load: np.ndarray | None = None
+    # per frame: each realization's area fraction along the path of that frame's reference,
+    # and the reference's name (``area_fraction`` above is the finite frame's where both are)
+    frame_paths: dict[str, np.ndarray] = field(default_factory=dict)
+    references: dict[str, str] = field(default_factory=dict)
+
+    def band_source_of(self, entry: "ModelComparison") -> str:
+        """Where the band of the reference field ``entry`` is compared with came from."""
+        return self.band_source.get(entry.reference_field, "") if (
+            not self.frame_paths or self.references.get("finite") is None
+            or entry.frame == "finite") else \
+            self.band_source.get(f"{entry.reference_field} ({entry.frame})", "")
+
+    def paths_of(self, frame: str) -> np.ndarray:
+        """Each realization's area fraction along the reference path of ``frame``."""
+        if frame in self.frame_paths:
+            return self.frame_paths[frame]
+        paths = self.realization_area_fraction
+        return np.atleast_2d(self.area_fraction if paths is None else paths)
 
     @property
     def D(self) -> float:
@@ -326,7 +349,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     tolerances : tuple of float
         Error levels for the verdicts and validity ranges.
     reference_model : str, optional
-        The model compared against; default: the registered reference among the curves.
+        The model every other one is compared against; default: each model against the
+        registered reference of its own frame among the curves (docs/theory.md 8.10).
     reference_fields : dict, optional
         model -> {quantity: reference field}; default: the registry's entries
         (:func:`validation.common.models.reference_fields`).
@@ -355,36 +379,75 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if not results:
         raise ValueError("results holds no realizations to compare")
     first = results[0]
-    if reference_model is None:
-        reference_model = models.reference_among(first.curves)
-    if reference_model is None or reference_model not in first.curves:
-        which = "registered" if reference_model is None else repr(reference_model)
-        raise ValueError(f"the results hold no {which} reference curve (reference_model must "
-                         f"be a model of the results; registered "
-                         f"references: {', '.join(models.reference_names())})")
+    references = _references(first.curves, reference_model)
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
-    ref0 = first.curves[reference_model]
-    load = ref0.load / (ref0.e_star * first.task.surface.L**2)
-    paths = np.vstack([r.curves[reference_model].area_fraction for r in results])
-    area_fraction = paths.mean(axis=0)
+    primary = references.get("finite") or next(iter(references.values()))
+    primary_frame = next(f for f, name in references.items() if name == primary)
+    load = _dimensionless_load(first, primary)
+    paths = {frame: np.vstack([r.curves[name].area_fraction for r in results])
+             for frame, name in references.items()}
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in first.task.quantities)
-    fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in first.curves
-                                 for q in quantities))
-    bands = {name: _band(results, name, reference_model) for name in fields}
     entries: dict[tuple[str, str], ModelComparison] = {}
-    for model in first.curves:
-        if model == reference_model:
-            continue
-        own = mapping.get(model, {})
-        errors = pairwise_errors(results, model, reference_model, quantities, own)
-        for name, stack in errors.items():
-            field_name = own.get(name, name)
-            entries[(model, name)] = _model_comparison(
-                results, model, name, stack, bands[field_name][0], reference_model, load,
-                area_fraction, tolerances, field_name, confidence)
-    loads = np.vstack([r.curves[reference_model].load / (r.curves[reference_model].e_star
-                                                         * r.task.surface.L**2) for r in results])
+    sources: dict[str, str] = {}
+    for frame, reference in references.items():
+        judged = [m for m in first.curves if m not in references.values()
+                  and judged_frame(m, references, primary_frame) == frame]
+        fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in judged
+                                     for q in quantities))
+        bands = {name: _band(results, name, reference) for name in fields}
+        sources.update({_source_key(k, frame, primary_frame): v[1] for k, v in bands.items()})
+        area_fraction = paths[frame].mean(axis=0)
+        for model in judged:
+            own = mapping.get(model, {})
+            errors = pairwise_errors(results, model, reference, quantities, own)
+            for name, stack in errors.items():
+                field_name = own.get(name, name)
+                entries[(model, name)] = replace(_model_comparison(
+                    results, model, name, stack, bands[field_name][0], reference, load,
+                    area_fraction, tolerances, field_name, confidence),
+                    frame=frame, reference_model=reference, area_fraction=area_fraction)
+    loads = np.vstack([_dimensionless_load(r, primary) for r in results])
     return Comparison(value=first.task.sweep_value, parameter=first.task.surface.sweep_name,
-                      load=load, area_fraction=area_fraction, models=entries,
-                      band_source={k: v[1] for k, v in bands.items()}, confidence=confidence,
-                      realization_area_fraction=paths, realization_load=loads)
+                      load=load, area_fraction=paths[primary_frame].mean(axis=0),
+                      models=entries, band_source=sources, confidence=confidence,
+                      realization_area_fraction=paths[primary_frame], realization_load=loads,
+                      frame_paths=paths, references=dict(references))
+
+
+def _source_key(field_name: str, frame: str, primary_frame: str) -> str:
+    """The key of ``Comparison.band_source``: the field, with its frame unless primary."""
+    return field_name if frame == primary_frame else f"{field_name} ({frame})"
+
+
+def _dimensionless_load(result, reference: str) -> np.ndarray:
+    """The paper's Load = W / (E* L^2) of one realization's reference path."""
+    curve = result.curves[reference]
+    return curve.load / (curve.e_star * result.task.surface.L**2)
+
+
+def judged_frame(model: str, references: dict[str, str], primary_frame: str) -> str:
+    """The frame a model is judged in: its registry entry's where that frame's reference is
+    among ``references`` (frame -> reference); otherwise ``primary_frame`` (a scene that
+    computes one frame's reference only, ``[bem] frames``, or a model the registry does not
+    know). The comparison's entry records the frame it was judged in."""
+    if model in models.names() and models.frame_of(model) in references:
+        return models.frame_of(model)
+    return primary_frame
+
+
+def _references(curves, reference_model: str | None) -> dict[str, str]:
+    """frame -> reference model among ``curves``: the one named (its frame), else each
+    frame's registered reference present; ValueError when there is none."""
+    if reference_model is not None:
+        if reference_model not in curves:
+            raise ValueError(f"the results hold no {reference_model!r} reference curve "
+                             f"(reference_model must be a model of the results)")
+        frame = models.frame_of(reference_model) if reference_model in models.names() \
+            else "finite"
+        return {frame: reference_model}
+    found = {frame: models.reference_among(curves, frame) for frame in models.FRAMES}
+    found = {frame: name for frame, name in found.items() if name is not None}
+    if not found:
+        raise ValueError(f"the results hold no registered reference curve (registered "
+                         f"references: {', '.join(models.reference_names())})")
+    return found

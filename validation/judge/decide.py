@@ -80,10 +80,12 @@ def band_decides(scene, results: list, confidence: float
     T40) and the mask of each compared quantity alone (the mask is their union)."""
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
+    refined = _reference_name(results[0])
     held: dict[str, np.ndarray] = {}
     smallest = np.full(comparison.load.shape, np.inf)
     for (_, quantity), entry in comparison.models.items():
-        if quantity not in COMPARED_QUANTITIES or entry.band is None:
+        if quantity not in COMPARED_QUANTITIES or entry.band is None \
+                or entry.reference_model != refined:
             continue
         band = np.asarray(entry.band, dtype=float)
         mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
@@ -102,8 +104,11 @@ def band_decides(scene, results: list, confidence: float
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
 
 
-def _reference_name(result) -> str:
-    return models.reference_among(result.curves)
+def _reference_name(result) -> str | None:
+    """The reference a finer grid refines: the finite window's (validation.run.refine solves
+    the non-periodic problem; the interface reference keeps its own band)."""
+    name = models.reference_for("finite")
+    return name if name in result.curves else None
 
 
 def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
@@ -139,6 +144,9 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
     solved on the level below. ``solve(jobs)`` runs :class:`validation.run.refine.RefineJob` s and
     returns ``(curve, computed)`` per job (:func:`validation.run.refine.run_job`)."""
     reason = unavailable(scene)
+    if reason is None and models.reference_for("finite") not in scene.models:
+        reason = ("only the finite window's reference (the non-periodic BEM) is refined, and "
+                  "the scene has none")
     if reason is not None:
         return RefinementRecord((), reason)
     n, levels = scene.surface.n, []

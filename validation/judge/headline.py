@@ -131,15 +131,15 @@ def along_path(values: np.ndarray, before: np.ndarray, after: np.ndarray,
     return np.where(weight == 0.0, low, (1.0 - weight) * low + weight * high)
 
 
-def reached_fractions(comparison: Comparison, fractions=HEADLINE_FRACTIONS) -> tuple[float, ...]:
-    """The fractions every realization's path of ``comparison`` crosses."""
-    paths = _paths(comparison)
+def reached_fractions(comparison: Comparison, fractions=HEADLINE_FRACTIONS,
+                      frame: str | None = None) -> tuple[float, ...]:
+    """The fractions every realization's reference path of ``comparison`` crosses (of
+    ``frame``'s reference; default the comparison's own ``area_fraction``, the finite frame's
+    where both are)."""
+    paths = comparison.paths_of(frame) if frame is not None else np.atleast_2d(
+        comparison.area_fraction if comparison.realization_area_fraction is None
+        else comparison.realization_area_fraction)
     return tuple(f for f in fractions if crossing(paths, f)[3].all())
-
-
-def _paths(comparison: Comparison) -> np.ndarray:
-    paths = comparison.realization_area_fraction
-    return np.atleast_2d(comparison.area_fraction if paths is None else paths)
 
 
 @dataclass(frozen=True)
@@ -171,6 +171,7 @@ class HeadlineCell:
     reasons: tuple[str, ...]
     one_surface: bool = False
     confidence: float = CONFIDENCE
+    frame: str = "finite"     # the frame of the model and of the reference it is judged against
 
     @property
     def half_width(self) -> float:
@@ -236,16 +237,25 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
 def headline(comparison: Comparison, fractions=HEADLINE_FRACTIONS) -> list[HeadlineCell]:
     """Every compared model and quantity of ``comparison`` at each fraction that every
     realization's path crosses (module docstring), ordered by the comparison's models and
-    quantities, then by fraction."""
-    paths = _paths(comparison)
-    loads = comparison.realization_load
-    loads = np.atleast_2d(comparison.load if loads is None else loads)
+    quantities, then by fraction. Each model's fractions are those of the reference of its own
+    frame (docs/theory.md 8.10): the interface's contact area at a load is not the window's."""
     entries = [e for (_, quantity), e in comparison.models.items()
                if quantity in COMPARED_QUANTITIES and e.errors is not None]
-    if not entries:
-        return []
     cells = []
-    for fraction in reached_fractions(comparison, fractions):
+    for frame in dict.fromkeys(e.frame for e in entries):
+        cells += _frame_cells(comparison, [e for e in entries if e.frame == frame], frame,
+                              fractions)
+    position = {(e.model, e.quantity): i for i, e in enumerate(entries)}
+    return sorted(cells, key=lambda c: (position[(c.model, c.quantity)], c.fraction))
+
+
+def _frame_cells(comparison: Comparison, entries, frame: str, fractions) -> list[HeadlineCell]:
+    """The headline cells of the entries of one frame, along that frame's reference paths."""
+    paths = comparison.paths_of(frame)
+    loads = comparison.realization_load
+    loads = np.atleast_2d(comparison.load if loads is None else loads)
+    cells = []
+    for fraction in (f for f in fractions if crossing(paths, f)[3].all()):
         before, after, weight, _ = crossing(paths, fraction)
         with np.errstate(divide="ignore", invalid="ignore"):
             load = float(np.mean(np.exp(along_path(np.log(loads), before, after, weight))))
@@ -267,6 +277,5 @@ def headline(comparison: Comparison, fractions=HEADLINE_FRACTIONS) -> list[Headl
                 verdicts=tuple(str(v) for v in numbers["verdicts"][:, i]),
                 surface_verdicts=tuple(str(v) for v in numbers["surface_verdicts"][:, i]),
                 reasons=tuple(str(v) for v in numbers["reasons"][:, i]),
-                one_surface=e.one_surface, confidence=comparison.confidence))
-    position = {(e.model, e.quantity): i for i, e in enumerate(entries)}
-    return sorted(cells, key=lambda c: (position[(c.model, c.quantity)], c.fraction))
+                one_surface=e.one_surface, confidence=comparison.confidence, frame=frame))
+    return cells

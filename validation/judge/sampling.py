@@ -106,24 +106,31 @@ def sampling_study(results, tolerances) -> SamplingStudy | None:
     one sampling only or no reference curve."""
     if not results or len(getattr(results[0], "sampled", ())) < 2:
         return None
-    reference = models.reference_among(results[0].curves)
-    if reference is None:
+    if models.reference_among(results[0].curves) is None:
         return None
+    references = {frame: models.reference_among(results[0].curves, frame)
+                  for frame in models.FRAMES}
+    references = {frame: name for frame, name in references.items() if name is not None}
+
+    def reference_of(name: str) -> str:
+        """Each model against the reference of its own frame (docs/theory.md 8.10)."""
+        frame = models.frame_of(name) if name in models.names() else "finite"
+        return references.get(frame) or next(iter(references.values()))
     tolerances = tuple(float(t) for t in tolerances)
     factors = tuple(s.factor for s in results[0].sampled)
     names = tuple(model_order(results[0].sampled[0].curves))
     quantities = tuple(q for q in COMPARED_QUANTITIES if q in results[0].task.quantities)
-    views = {factor: [_View(r.task, {reference: r.curves[reference], **r.sampled[i].curves},
-                            r.sigma) for r in results]
+    views = {factor: [_View(r.task, {**{ref: r.curves[ref] for ref in references.values()},
+                                     **r.sampled[i].curves}, r.sigma) for r in results]
              for i, factor in enumerate(factors)}
-    comparisons = {factor: compare_realizations(view, tolerances=tolerances,
-                                                reference_model=reference)
+    comparisons = {factor: compare_realizations(view, tolerances=tolerances)
                    for factor, view in views.items()}
-    finest = {name: pairwise_errors(views[1], name, reference, quantities) for name in names}
+    finest = {name: pairwise_errors(views[1], name, reference_of(name), quantities)
+              for name in names}
     shifts = {}
     for factor in factors[1:]:
         for name in names:
-            errors = pairwise_errors(views[factor], name, reference, quantities)
+            errors = pairwise_errors(views[factor], name, reference_of(name), quantities)
             for quantity, stack in errors.items():
                 shifts[(name, quantity, factor)] = confidence_interval(stack - finest[name][quantity])
     grid = results[0].task.surface.grid

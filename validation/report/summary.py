@@ -29,6 +29,7 @@ from validation.judge.findings import NEW
 from validation.judge.headline import REGIMES
 from validation.judge.verdicts import FAILS, HOLDS
 from validation.common.labels import compared_label, model_label
+from validation.common.models import FRAME_LABELS
 
 __all__ = ["MAX_SENTENCES", "SUMMARY_QUANTITIES", "RULE", "error_text", "number_text",
            "summary_sentences"]
@@ -38,8 +39,10 @@ MAX_SENTENCES = 10
 #: Quantities the summary speaks of, in its order.
 SUMMARY_QUANTITIES = ("area", "separation", "conductance", "leakage")
 #: How the summary chooses (Markdown, printed under it).
-RULE = ("*Light, intermediate and heavy contact: the BEM's contact-area fractions 0.1–1 %, 10 % "
-        "and 30 % of the headline. The theory to use is the one that beats the most others "
+RULE = ("*Light, intermediate and heavy contact: the contact-area fractions 0.1–1 %, 10 % "
+        "and 30 % of the headline, each of the reference of the model's frame ([interface]: "
+        "the unbounded interface, periodic BEM; [finite window]: the window pressed as a "
+        "whole). Each model is judged in its own frame. The theory to use is the one that beats the most others "
         "head to head: on the headline cells both are compared at, its largest |mean error| "
         "is the smaller; it is to *use* where it holds at every cell, and only the *closest* "
         "where it does not (none holds: it fails at every cell). Errors relative for area and "
@@ -90,7 +93,10 @@ def _largest_tolerance_rows(rows: list[dict]) -> list[dict]:
 def _label(row: dict) -> str:
     label = model_label(row["model"])
     field = row.get("reference_field") or row["quantity"]
-    return label if field == row["quantity"] else f"{label} ({compared_label(row['quantity'], field)})"
+    label = label if field == row["quantity"] else \
+        f"{label} ({compared_label(row['quantity'], field)})"
+    frame = row.get("frame") or ""
+    return f"{label} [{FRAME_LABELS[frame]}]" if frame in FRAME_LABELS else label
 
 
 def _slot(row: dict) -> tuple:

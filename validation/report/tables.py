@@ -31,23 +31,24 @@ __all__ = ["INTERVALS", "TABLES", "records", "table_rows", "write_tables"]
 
 #: File name -> header of every table.
 TABLES = {
-    "curves.csv": ["scene", "D", "H", "L", "seed", "n", "model", "point", "converged", "Load",
+    "curves.csv": ["scene", "D", "H", "L", "seed", "n", "model", "frame", "point", "converged", "Load",
                    "Area", "Separation", "Conductance", "contacts", "load_W", "area",
                    "separation_d", "stiffness", "conductance", "sigma", "Mean_gap", "mean_gap",
                    "Leakage", "leakage", "leakage_error"],
-    "errors.csv": ["scene", "D", "H", "L", "model", "quantity", "reference_field", "point", "Load",
-                   "area_fraction_bem", "mean_error", "ci95_low", "ci95_high", "std_error",
+    "errors.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "reference_field", "point",
+                   "Load",
+                   "area_fraction_reference", "mean_error", "ci95_low", "ci95_high", "std_error",
                    "realizations", "reference_band", "reference_band_source", "confidence",
                    "surfaces90_low", "surfaces90_high", "sealing_disagreements",
                    "sealing_resolved"],
-    "verdicts.csv": ["scene", "D", "H", "L", "model", "quantity", "point", "Load", "tolerance",
+    "verdicts.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "point", "Load", "tolerance",
                      "verdict", "undecided_reason", "verdict_per_surface", "confidence"],
-    "headline.csv": ["scene", "D", "H", "L", "model", "quantity", "reference_field",
+    "headline.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "reference_field",
                      "area_fraction", "regime", "Load", "realizations", "mean_error", "low",
                      "high", "half_width", "interval", "surfaces90_low", "surfaces90_high",
                      "reference_band", "confidence", "tolerance", "verdict", "undecided_reason",
                      "verdict_per_surface"],
-    "validity.csv": ["scene", "D", "H", "L", "model", "quantity", "tolerance",
+    "validity.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "tolerance",
                      "area_fraction_min", "area_fraction_max", "load_min", "load_max",
                      "points", "total",
                      "holds", "fails", "undecided", "reference_band_max", "unconverged",
@@ -90,6 +91,13 @@ def _grid(surface) -> int | str:
     return rows if rows == columns else f"{rows}x{columns}"
 
 
+def frame_of(model: str) -> str:
+    """The frame column of a model's rows ("" for a model the registry does not know)."""
+    from validation.common import models
+
+    return models.frame_of(model) if model in models.names() else ""
+
+
 def _curve_rows(analysis) -> list[list]:
     from validation.judge.compare import converged_points
 
@@ -107,7 +115,7 @@ def _curve_rows(analysis) -> list[list]:
                        "e": curve.extras.get("leakage_error")}
                 for k in range(curve.load.size):
                     rows.append([result.scene.name, *sweep, r.task.seed, _grid(r.task.surface),
-                                 model, k, bool(converged[k])]
+                                 model, frame_of(model), k, bool(converged[k])]
                                 + [_column(values, q, k) for q in
                                    ("load", "area", "separation", "conductance", "contacts")]
                                 + [float(curve.load[k]), float(curve.area[k]),
@@ -134,14 +142,18 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
             low, high = (nan, nan) if e.surface is None else (e.surface.low, e.surface.high)
             per_surface = e.surface_verdicts or tuple(np.full(c.load.shape, "") for _ in
                                                       e.verdicts)
+            # the contact-area fraction of the reference the model is judged against
+            fraction = c.area_fraction if e.area_fraction is None else e.area_fraction
             for k in range(c.load.size):
-                out["errors.csv"].append([name, *sweep, model, quantity, e.reference_field, k,
-                                          c.load[k], c.area_fraction[k], e.interval.mean[k],
+                out["errors.csv"].append([name, *sweep, model, e.frame, quantity,
+                                          e.reference_field, k, c.load[k], fraction[k],
+                                          e.interval.mean[k],
                                           e.interval.low[k], e.interval.high[k],
                                           e.interval.std[k], int(e.interval.count[k]), cells[k],
-                                          c.band_source.get(e.reference_field, ""),
+                                          c.band_source_of(e),
                                           c.confidence, low[k], high[k], *sealing[k]])
-                out["verdicts.csv"] += [[name, *sweep, model, quantity, k, c.load[k], t, v[k],
+                out["verdicts.csv"] += [[name, *sweep, model, e.frame, quantity, k, c.load[k], t,
+                                         v[k],
                                          why[k], w[k], c.confidence]
                                         for t, v, why, w in zip(e.tolerances, e.verdicts,
                                                                 reasons, per_surface)]
@@ -149,7 +161,7 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                 counts = e.counts(index)
                 surface = (e.surface_counts(index) if e.surface_verdicts
                            else dict.fromkeys((HOLDS, FAILS, UNDECIDED), ""))
-                out["validity.csv"].append([name, *sweep, model, quantity, r.tolerance,
+                out["validity.csv"].append([name, *sweep, model, e.frame, quantity, r.tolerance,
                                             r.area_fraction_min, r.area_fraction_max, r.load_min,
                                             r.load_max, r.points, r.total, counts[HOLDS], counts[FAILS],
                                             counts[UNDECIDED],
@@ -173,7 +185,7 @@ def _headline_rows(analysis) -> list[list]:
         sweep = _sweep(analysis.result.scene.surface.at(value))
         for c in cells:
             band = c.band if np.isfinite(c.band) else NOT_ESTIMATED
-            rows += [[name, *sweep, c.model, c.quantity, c.reference_field, c.fraction,
+            rows += [[name, *sweep, c.model, c.frame, c.quantity, c.reference_field, c.fraction,
                       regime_of(c.fraction), c.load, c.realizations, c.mean, c.low, c.high,
                       c.half_width, INTERVALS[c.one_surface], c.surface_low, c.surface_high, band,
                       c.confidence, t, v, why, w]

@@ -242,7 +242,7 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/atlas.py", "check/__init__.py", "check/command.py",
                                  "check/figure.py", "check/physical.py", "check/request.py",
                                  "check/resolution.py", "check/units.py", "check/glance.py",
-                                 "check/window.py"})
+                                 "check/frames.py"})
 
 
 def source_version() -> str:

@@ -64,6 +64,7 @@ class RealizationTask:
     bem: BemSettings
     cache_dir: str | None = None
     sampling: tuple[int, ...] = (1,)   # sampling intervals in grid steps (Scene.sampling)
+    nominal_size: float | None = None  # Scene.nominal_size
 
     @property
     def sweep_value(self) -> float:
@@ -114,7 +115,8 @@ def plan_scene(scene: Scene, *, cache_dir: str | None = None) -> list[Realizatio
             tasks.append(RealizationTask(surface=surface, seed=seed, e_star=scene.e_star,
                                          loads=scene.loads, models=scene.models, m=scene.m,
                                          quantities=scene.quantities, bem=scene.bem,
-                                         cache_dir=cache_dir, sampling=scene.sampling))
+                                         cache_dir=cache_dir, sampling=scene.sampling,
+                                         nominal_size=scene.nominal_size))
     return tasks
 
 
@@ -251,7 +253,9 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
                                           max_iter=task.bem.max_iter,
                                           # an even grid along both sides: the scene
                                           # checks it (a measured map's tiles are made even)
-                                          error_estimate=task.bem.reference_error))
+                                          error_estimate=task.bem.reference_error),
+                         periodic_surface=task.surface.periodic or task.bem.periodic,
+                         nominal_size=task.nominal_size)
     curves, loads = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)
     path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)
     sampled = sampling.sample_realization(

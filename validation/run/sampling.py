@@ -148,7 +148,8 @@ def sample_realization(task, heights: Callable[[], np.ndarray], summits, inputs:
         at = ModelInputs(spacing=factor * inputs.spacing, nominal_area=inputs.nominal_area,
                          heights=lambda factor=factor: subsample(heights(), factor),
                          summits=found, e_star=inputs.e_star, m=inputs.m,
-                         bem_options=inputs.bem_options)
+                         bem_options=inputs.bem_options, periodic_surface=inputs.periodic_surface,
+                         nominal_size=inputs.nominal_size)
         out.append(Sampled(factor, SummitStatistics.of(found),
                            {name: curve(variant(name, factor), at) for name in names}))
     return tuple(out)

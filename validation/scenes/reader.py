@@ -28,6 +28,7 @@ __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
                "max_realizations": "realizations.max",
                "e_star": "material.e_star", "models": "models.use", "m": "models.m",
+               "nominal_size": "models.nominal_size",
                "quantities": "quantities.use", "tolerances": "tolerances.levels",
                "sampling": "sampling.factors"}
 _SURFACE_TABLES = ("surface", "realizations", "loads", "models", "quantities", "bem", "quick",
@@ -177,7 +178,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         top.fail("realizations", "does not belong in a scene of a measured map: its "
                  "realizations are its tiles (surface.tiles)")
     tables = dict(realizations=dict(count="integer", seed="integer", max="integer"),
-                  material=dict(e_star="number"), models=dict(use="strings", m="number"),
+                  material=dict(e_star="number"), models=dict(use="strings", m="number", nominal_size="number"),
                   quantities=dict(use="strings"), sampling=dict(factors="numbers"))
     for table, kinds in tables.items():
         reader = top.sub(table)
@@ -187,7 +188,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         reader.finish()
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
         periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
-        max_grid="integer"))
+        max_grid="integer", frames="strings"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
         realizations="integer", n="integer", count="integer", quantities="strings",
         max_grid="integer"))

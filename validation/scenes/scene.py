@@ -23,9 +23,10 @@ file's tables and keys map onto them::
     [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
     [material]  e_star                  -> Scene.e_star
     [loads]  quantity min max count spacing                -> LoadPath
-    [models]  use m                     -> Scene.models (registered names), Scene.m
+    [models]  use m nominal_size        -> Scene.models (registered names), Scene.m,
+                                           Scene.nominal_size
     [quantities]  use                   -> Scene.quantities
-    [bem]  periodic tol max_iter reference_error max_grid  -> BemSettings
+    [bem]  periodic tol max_iter reference_error max_grid frames  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
     [sampling]  factors                 -> Scene.sampling (surface scenes)
     [quick]  realizations n count quantities max_grid       -> QuickSettings
@@ -57,7 +58,9 @@ __all__ = [
 
 #: Models a scene uses unless it lists its own (any registered name may be listed:
 #: :func:`validation.common.models.names`).
-MODELS = _models.default_names()
+#: The finite frame's reference of a scene with a nominal size (``[models] nominal_size``).
+NOMINAL_REFERENCE = "bem_nominal"
+MODELS = tuple(sorted(_models.default_names(), key=lambda name: _models.entry(name).reference))
 #: Quantities a scene may ask for. ``leakage`` (the effective hydraulic aperture h_eff of the
 #: gap, docs/theory.md section 10) is computed only by scenes that list it: it costs the BEM a
 #: Reynolds solve per load point.
@@ -125,8 +128,13 @@ class BemSettings:
     # finest grid of the refined reference where its band decides (validation.run.refine);
     # None: never refined
     max_grid: int | None = None
+    # the frames whose references are computed ("interface", "finite": docs/theory.md 8.10);
+    # None: those of the scene's models (Scene resolves it)
+    frames: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
+        if self.frames is not None:
+            check.names(self, "frames", _models.FRAMES)
         check.flag(self, "periodic")
         check.number(self, "tol", above=0.0)
         if self.tol > 0.1:
@@ -201,6 +209,10 @@ class Scene:
     loads: LoadPath = field(default_factory=LoadPath)
     models: tuple[str, ...] = MODELS
     m: float = 1.0
+    # side of a square nominal contact [length] that the finite frame describes instead of the
+    # window: its reference is the interface's plus that square's bulk sink
+    # (bem.NominalContactModel), and improved GW's uniform term is that square's
+    nominal_size: float | None = None
     quantities: tuple[str, ...] = ("area", "load", "separation", "conductance", "contacts")
     bem: BemSettings = field(default_factory=BemSettings)
     tolerances: tuple[float, ...] = (0.05, 0.2)
@@ -218,11 +230,40 @@ class Scene:
         check.integer(self, "seed", 0)
         check.number(self, "e_star", above=0.0)
         check.number(self, "m", at_least=0.0)
+        if self.nominal_size is not None:
+            check.number(self, "nominal_size", above=0.0)
         check.names(self, "models", _models.names())
         check.names(self, "quantities", QUANTITIES)
         check.numbers(self, "tolerances", above=0.0)
         self._check_parts()
+        self._resolve_frames()
         self._check_sampling()
+
+    def _resolve_frames(self) -> None:
+        """Each frame's reference among the models: ``[bem] frames``, by default the frames of
+        the models it judges and of the references it lists, each model judged against the
+        reference of its own frame. A scene that lists no reference model compares nothing and
+        is left as it is."""
+        listed = [m for m in self.models if _models.entry(m).reference]
+        if self.kind != "surface" or not listed:
+            return
+        judged = [m for m in self.models if not _models.entry(m).reference]
+        if self.nominal_size is not None:   # the finite frame is the nominal square's
+            listed = [NOMINAL_REFERENCE if _models.frame_of(m) == "finite" else m
+                      for m in listed]
+        frames = self.bem.frames or _models.frames_of(judged + listed)
+        references = tuple(dict.fromkeys(
+            [m for m in listed if _models.frame_of(m) in frames]
+            + [NOMINAL_REFERENCE if frame == "finite" and self.nominal_size is not None
+               else _models.reference_for(frame) for frame in frames
+               if not any(_models.frame_of(m) == frame for m in listed)]))
+        object.__setattr__(self, "models", tuple(judged) + references)
+
+    @property
+    def frames(self) -> tuple[str, ...]:
+        """The frames whose reference the scene computes (``[bem] frames`` resolved; empty for
+        a scene without a reference), in the order of :data:`validation.common.models.FRAMES`."""
+        return _models.frames_of([m for m in self.models if _models.entry(m).reference])
 
     def _check_parts(self) -> None:
         parts = dict(surface=SurfaceSpec, loads=LoadPath, bem=BemSettings, quick=QuickSettings,

@@ -267,6 +267,13 @@ class SurfaceSpec:
         object.__setattr__(self, "read_options", tuple(pairs))
 
     @property
+    def periodic(self) -> bool:
+        """Whether a realization is one period of a periodic surface (a self-affine surface
+        generated with ``window = 1``): its interface reference is then the periodic BEM of
+        the map itself, not of its mirror extension (:class:`bem.InterfaceModel`)."""
+        return self.family == "self-affine" and self.window == 1
+
+    @property
     def grid(self) -> tuple[int, int]:
         """(rows, columns) of a realization: ``(n, n)``, or a measured tile's shape."""
         return (self.n, self.n) if self.shape is None else self.shape

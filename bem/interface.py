@@ -1,0 +1,225 @@
+"""The interface reference: a surface's contact as an unbounded interface (docs/theory.md, 8.10).
+
+The non-periodic reference (:class:`bem.BoundaryElementModel`, ``periodic=False``) presses the
+L x L window, as a whole, into a half-space: a *finite nominal contact*, whose separation
+contains the window's own sink ``m p L / E*`` and whose stiffness is capped near ``E*/L``
+(docs/theory.md, T47-T48). Persson's theory, GW, Bush-Gibson-Thomas and the discrete model
+without interaction describe instead an *interface* of unbounded nominal extent, per unit area,
+with zero mean elastic displacement: the periodic problem (Pastewka et al., PRE 87 (2013)
+062809, showed that the sub-linear stiffness of non-periodic solutions is this finite-size
+effect). :class:`InterfaceModel` solves that problem for a height map in one of two ways:
+
+* ``extension="periodic"``: the map *is* one period of a periodic surface (a self-affine
+  surface from the generator without a window): the periodic half-space on the map itself.
+* ``extension="mirror"``: any other window (a measured scan, a WM surface, a window of a larger
+  surface): its even (mirror) extension, 2N x 2M points of period twice the map, solved on the
+  periodic half-space. The extension is continuous across the map's edges (no height step, only
+  a slope kink along the mirror lines), its height and slope distributions are the map's, and
+  its power spectrum is the one :func:`asperity.spectrum.power_spectrum_2d` gives the map with
+  ``window="mirror"`` (Persson's theory is computed from the same spectrum). By symmetry each of
+  the four copies carries the same pressure, so intensive quantities (area fraction, mean
+  pressure, separation, mean gap, h_eff) are the map's, and extensive ones (load, area,
+  contacts, stiffness, conductance) are divided by four. The convolution grid is 2N x 2M, the
+  size the non-periodic solve pads to, so the cost is about that of the window.
+
+On the periodic half-space the mean displacement is zero, so the separation d (rigid plane to
+the mean plane of the heights) equals the mean gap: the interface's mean gap u-bar.
+
+The mirror method has an error of its own (its kinks, and its period 2L instead of the
+unbounded surface's): measured against the periodic solution of periodic self-affine surfaces
+(``benchmarks/bench_interface.py``), it is at most :data:`MIRROR_ERROR` (relative for area and
+stiffness, in units of the rms height for separation and mean gap). With ``error_estimate``
+these bounds are added to the per-point error estimates, so that the reference band holds the
+method's error as well as the discretisation's.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from types import MappingProxyType
+from typing import Any, Iterable
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from bem import checks
+from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.model import BoundaryElementModel, check_points
+
+__all__ = ["EXTENSIONS", "MIRROR_ERROR", "InterfaceModel", "NominalContactModel", "mirror_extension"]
+
+#: How a height map becomes one period of the interface: the map itself, or its mirror image.
+EXTENSIONS = ("periodic", "mirror")
+
+#: Bound on the mirror method's own error against the periodic solution, per quantity: relative
+#: for area and stiffness (and conductance), in units of the map's rms height for separation and
+#: mean gap. 1.5 times the largest error measured on periodic self-affine surfaces (H = 0.3, 0.5,
+#: 0.8, rolloff L/4, rms slope 0.1, 8 seeds each, 256^2, 0.5-30 % contact: area 0.046, mean gap
+#: 0.055, stiffness 0.064; benchmarks/bench_interface.py, docs/theory.md eq. T50).
+MIRROR_ERROR = MappingProxyType({"area": 0.07, "separation": 0.085, "mean_gap": 0.085,
+                                 "stiffness": 0.10, "conductance": 0.10})
+
+#: Curve fields that scale with the nominal area (divided by four for the mirror extension).
+_EXTENSIVE = ("load", "area", "contacts", "stiffness", "conductance")
+
+
+def mirror_extension(heights: ArrayLike) -> np.ndarray:
+    """The even extension of a height map: 2N x 2M points, period twice the map's.
+
+    ``out[:N, :M]`` is the map, ``out[:N, M:]`` its mirror image in x, ``out[N:, :]`` the
+    mirror image in y of the upper half, so that ``out[j, i] == out[2N-1-j, i] ==
+    out[j, 2M-1-i]``: each mirror line lies half a pixel beyond the map's edge (the cosine
+    extension of a type-II DCT).
+    """
+    z = np.asarray(heights, dtype=float)
+    if z.ndim != 2:
+        raise ValueError(f"heights must be a 2-D array, got shape {z.shape}")
+    return np.block([[z, z[:, ::-1]], [z[::-1, :], z[::-1, ::-1]]])
+
+
+class InterfaceModel(BoundaryElementModel):
+    """The boundary-element reference of the unbounded interface (module docstring).
+
+    Parameters
+    ----------
+    heights : array_like
+        Heights z[j, i] [length] on an N x M grid.
+    spacing : float
+        Grid step h [length].
+    extension : {"mirror", "periodic"}
+        ``"periodic"``: the map is one period of a periodic surface; ``"mirror"`` (default): its
+        even extension is.
+    **options
+        Keywords of :func:`bem.contact_curve` (``e_star``, ``tol``, ``max_iter``,
+        ``error_estimate``, ...), except ``periodic``, which this model sets.
+
+    Loads, areas, contacts and stiffness refer to the map's own nominal area ``N M h^2``. With
+    ``error_estimate`` and the mirror extension, every ``<quantity>_error`` extra also holds
+    :data:`MIRROR_ERROR` (eq. T50). Extra ``extension``: the method, for the record.
+    """
+
+    name = "bem_interface"
+
+    def __init__(self, heights: ArrayLike, spacing: float, *, extension: str = "mirror",
+                 **options: Any) -> None:
+        if "periodic" in options:
+            raise TypeError("options must not set periodic: the interface is solved on the "
+                            "periodic half-space (extension says how the map becomes a period)")
+        self.extension = checks.choice("extension", extension, EXTENSIONS)
+        super().__init__(heights, spacing, periodic=True, **options)
+        self.window = self.heights
+        if self.extension == "mirror":
+            extended = mirror_extension(self.window)
+            extended.setflags(write=False)
+            self.heights = extended
+        self.copies = self.heights.size // self.window.size
+
+    def __repr__(self) -> str:
+        return (f"{type(self).__name__}(heights of shape {self.window.shape}, "
+                f"spacing={self.spacing!r}, extension={self.extension!r}, "
+                f"options={self.options!r})")
+
+    def at_load(self, load: ArrayLike, *,
+                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """Contact at total loads W >= 0 [force] on the map's nominal area (any shape)."""
+        values = check_points("load", load, non_negative=True)
+        return self._scaled(self._solve(values * self.copies, "loads", quantities))
+
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """Contact at separations d [length] (any shape); d is the interface's mean gap."""
+        values = check_points("separation", separation)
+        return self._scaled(self._solve(values, "separations", quantities))
+
+    def _scaled(self, curve: ContactCurve) -> ContactCurve:
+        """The extended period's curve per copy of the map, with the method's error added."""
+        scale = 1.0 / self.copies
+        fields = {name: (None if getattr(curve, name) is None else getattr(curve, name) * scale)
+                  for name in _EXTENSIVE}
+        extras = dict(curve.extras)
+        for name in _EXTENSIVE:
+            if f"{name}_error" in extras:
+                extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * scale
+        if self.extension == "mirror":
+            extras.update(_method_error(curve, extras, scale, float(np.std(self.window))))
+        extras["extension"] = self.extension
+        return replace(curve, nominal_area=curve.nominal_area * scale, extras=extras, **fields)
+
+
+def _method_error(curve: ContactCurve, extras: dict, scale: float, rms_height: float) -> dict:
+    """The per-point error estimates with the mirror method's bound (:data:`MIRROR_ERROR`)
+    added: relative ones times the quantity, height-like ones times the rms height."""
+    out = {}
+    for name, bound in MIRROR_ERROR.items():
+        key = f"{name}_error"
+        if key not in extras:
+            continue
+        if name in ("separation", "mean_gap"):
+            added = bound * rms_height
+        else:
+            value = getattr(curve, name, None)
+            if value is None:
+                continue
+            added = bound * np.abs(np.asarray(value)) * scale
+        out[key] = np.asarray(extras[key]) + added
+    return out
+
+
+
+class NominalContactModel(InterfaceModel):
+    """The interface reference of a finite nominal contact: a square of side ``nominal_size``
+    pressed as a whole (docs/theory.md, eq. T49).
+
+    Under the mean pressure p the nominal square sinks as a uniformly loaded patch, by
+    ``m p L_n / E*`` on average (``m`` = :data:`bem.reference.UNIFORM_SQUARE_MEAN_DEFLECTION`
+    = 0.946, Timoshenko & Goodier; the uniform term of the improved GW theory), and the
+    interface and the patch act as springs in series. From the interface solution (d_i, K_i):
+
+        d = d_i + m p L_n / E*,      u-bar = u-bar_i + m p L_n / E*,
+        1/K = 1/K_i + m L_n / E*     (K = S / A0 per unit nominal area),
+
+    area, load and leakage unchanged. The map is a sample of the interface inside the nominal
+    contact (``nominal_size`` at least the map's side); its error estimates are the interface's
+    carried through these relations (the sink is exact for a uniform mean pressure).
+
+    Parameters
+    ----------
+    heights, spacing, extension, **options
+        As :class:`InterfaceModel`.
+    nominal_size : float
+        Side L_n [length] of the square nominal contact, at least the map's side.
+    """
+
+    name = "bem_nominal"
+
+    def __init__(self, heights: ArrayLike, spacing: float, *, nominal_size: float,
+                 **options: Any) -> None:
+        super().__init__(heights, spacing, **options)
+        side = float(np.sqrt(self.window.size)) * self.spacing
+        self.nominal_size = checks.positive("nominal_size", nominal_size)
+        if self.nominal_size < side * (1 - 1e-9):
+            raise ValueError(f"nominal_size must be at least the map's side {side:.6g}, got "
+                             f"{nominal_size!r}")
+
+    def _scaled(self, curve: ContactCurve) -> ContactCurve:
+        from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
+
+        interface = super()._scaled(curve)
+        e_star = interface.e_star
+        compliance = UNIFORM_SQUARE_MEAN_DEFLECTION * self.nominal_size / e_star   # per unit area
+        sink = np.asarray(interface.mean_pressure) * compliance
+        extras = dict(interface.extras)
+        extras["mean_gap"] = np.asarray(extras["mean_gap"]) + sink
+        extras["nominal_sink"] = sink
+        fields = {"separation": interface.separation + sink}
+        if interface.stiffness is not None:
+            area = interface.nominal_area
+            own = interface.stiffness / area                        # K_i per unit area
+            series = 1.0 / (1.0 / own + compliance)
+            ratio = (series / own) ** 2                              # dK/dK_i
+            fields["stiffness"] = series * area
+            fields["conductance"] = 2.0 * series * area / e_star
+            for name in ("stiffness", "conductance"):
+                if f"{name}_error" in extras:
+                    extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * ratio
+        return replace(interface, extras=extras, **fields)
