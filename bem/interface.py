@@ -16,7 +16,10 @@ effect). :class:`InterfaceModel` solves that problem for a height map in one of 
   periodic half-space. The extension is continuous across the map's edges (no height step, only
   a slope kink along the mirror lines), its height and slope distributions are the map's, and
   its power spectrum is the one :func:`asperity.spectrum.power_spectrum_2d` gives the map with
-  ``window="mirror"`` (Persson's theory is computed from the same spectrum). By symmetry each of
+  ``window="mirror"`` (Persson's theory is computed from the same spectrum). Its leakage, the
+  periodic Reynolds flow of the extension, is by symmetry exactly the map's non-periodic flow
+  through its own part of the gap (inlet and outlet edges, closed sides), solved on the map's
+  cells (``flow_window`` of :func:`bem.contact_curve`). By symmetry each of
   the four copies carries the same pressure, so intensive quantities (area fraction, mean
   pressure, separation, mean gap, h_eff) are the map's, and extensive ones (load, area,
   contacts, stiffness, conductance) are divided by four. The convolution grid is 2N x 2M, the
@@ -46,7 +49,8 @@ from bem import checks
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.model import BoundaryElementModel, check_points
 
-__all__ = ["EXTENSIONS", "MIRROR_ERROR", "InterfaceModel", "NominalContactModel", "mirror_extension"]
+__all__ = ["EXTENSIONS", "MIRROR_ERROR", "InterfaceModel", "NominalContactModel", "method_error",
+           "mirror_extension", "per_copy"]
 
 #: How a height map becomes one period of the interface: the map itself, or its mirror image.
 EXTENSIONS = ("periodic", "mirror")
@@ -112,6 +116,8 @@ class InterfaceModel(BoundaryElementModel):
             extended = mirror_extension(self.window)
             extended.setflags(write=False)
             self.heights = extended
+            # the extension's periodic flow is the map's own non-periodic flow (bem.path)
+            self.options["flow_window"] = self.window.shape
         self.copies = self.heights.size // self.window.size
 
     def __repr__(self) -> str:
@@ -133,37 +139,51 @@ class InterfaceModel(BoundaryElementModel):
 
     def _scaled(self, curve: ContactCurve) -> ContactCurve:
         """The extended period's curve per copy of the map, with the method's error added."""
-        scale = 1.0 / self.copies
-        fields = {name: (None if getattr(curve, name) is None else getattr(curve, name) * scale)
-                  for name in _EXTENSIVE}
+        curve = per_copy(curve, self.copies)
         extras = dict(curve.extras)
-        for name in _EXTENSIVE:
-            if f"{name}_error" in extras:
-                extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * scale
-        if self.extension == "mirror":
-            extras.update(_method_error(curve, extras, scale, float(np.std(self.window))))
         extras["extension"] = self.extension
-        return replace(curve, nominal_area=curve.nominal_area * scale, extras=extras, **fields)
+        if self.extension == "mirror":
+            rms = np.full(curve.load.shape, float(np.std(self.window)))
+            extras["window_rms_height"] = rms
+            extras.update(method_error(curve, extras, rms))
+        return replace(curve, extras=extras)
 
 
-def _method_error(curve: ContactCurve, extras: dict, scale: float, rms_height: float) -> dict:
-    """The per-point error estimates with the mirror method's bound (:data:`MIRROR_ERROR`)
-    added: relative ones times the quantity, height-like ones times the rms height."""
+def per_copy(curve: ContactCurve, copies: int) -> ContactCurve:
+    """A curve of an extension of ``copies`` copies of a map, per copy: load, area, contacts,
+    stiffness, conductance, their error estimates and the nominal area divided by ``copies``."""
+    scale = 1.0 / copies
+    fields = {name: (None if getattr(curve, name) is None else getattr(curve, name) * scale)
+              for name in _EXTENSIVE}
+    extras = dict(curve.extras)
+    for name in _EXTENSIVE:
+        if f"{name}_error" in extras:
+            extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * scale
+    return replace(curve, nominal_area=curve.nominal_area * scale, extras=extras, **fields)
+
+
+def method_error(curve: ContactCurve, extras, rms_height, index=None) -> dict:
+    """The per-point error estimates ``extras[<quantity>_error]`` with the mirror method's
+    bound (:data:`MIRROR_ERROR`, eq. T50) in them: relative ones times the quantity, height-like
+    ones times the map's rms height; the bound itself as ``<quantity>_method_error`` (what a
+    finer grid cannot narrow). ``index``: only at those points (the others unchanged); a
+    bound already in an estimate there is replaced, not added twice."""
     out = {}
+    points = slice(None) if index is None else np.asarray(index, dtype=int)
     for name, bound in MIRROR_ERROR.items():
         key = f"{name}_error"
-        if key not in extras:
+        height_like = name in ("separation", "mean_gap")
+        value = None if height_like else getattr(curve, name, None)
+        if key not in extras or (not height_like and value is None):
             continue
-        if name in ("separation", "mean_gap"):
-            added = bound * rms_height
-        else:
-            value = getattr(curve, name, None)
-            if value is None:
-                continue
-            added = bound * np.abs(np.asarray(value)) * scale
-        out[key] = np.asarray(extras[key]) + added
+        total = np.array(extras[key], dtype=float)
+        scale = rms_height if height_like else np.abs(np.asarray(value, dtype=float))
+        added = np.broadcast_to(bound * np.asarray(scale, dtype=float), total.shape)
+        method = np.array(extras.get(f"{name}_method_error", np.zeros(total.shape)), dtype=float)
+        total[points] += added[points] - method[points]
+        method[points] = added[points]
+        out[key], out[f"{name}_method_error"] = total, method
     return out
-
 
 
 class NominalContactModel(InterfaceModel):
@@ -175,10 +195,11 @@ class NominalContactModel(InterfaceModel):
     = 0.946, Timoshenko & Goodier; the uniform term of the improved GW theory), and the
     interface and the patch act as springs in series. From the interface solution (d_i, K_i):
 
-        d = d_i + m p L_n / E*,      u-bar = u-bar_i + m p L_n / E*,
-        1/K = 1/K_i + m L_n / E*     (K = S / A0 per unit nominal area),
+        d = d_i - m p L_n / E*,      1/K = 1/K_i + m L_n / E*   (K = S / A0 per unit area),
 
-    area, load and leakage unchanged. The map is a sample of the interface inside the nominal
+    the rigid plane nearer the far-field mean plane by the sink (as improved GW's
+    ``d = d1 - m p sqrt(A) / E*``), while the gap field, and with it area, mean gap u-bar and
+    leakage, is the interface's. The map is a sample of the interface inside the nominal
     contact (``nominal_size`` at least the map's side); its error estimates are the interface's
     carried through these relations (the sink is exact for a uniform mean pressure).
 
@@ -198,8 +219,42 @@ class NominalContactModel(InterfaceModel):
         side = float(np.sqrt(self.window.size)) * self.spacing
         self.nominal_size = checks.positive("nominal_size", nominal_size)
         if self.nominal_size < side * (1 - 1e-9):
-            raise ValueError(f"nominal_size must be at least the map's side {side:.6g}, got "
-                             f"{nominal_size!r}")
+            raise ValueError(f"nominal_size must be at least the map's side (its points per "
+                             f"side times spacing) {side:.6g}, got {nominal_size!r}")
+
+    def at_separation(self, separation: ArrayLike, *,
+                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
+        """Contact at separations d [length] of the nominal square (any shape): each point's
+        load is the root of ``d(W) = d`` (Brent's method on the load path of :meth:`at_load`,
+        monotone in W), then its curve is that load's."""
+        from scipy.optimize import brentq
+
+        values = check_points("separation", separation)
+        first = float(np.max(self.window))      # first contact: no load, no sink
+        loads = np.zeros(values.shape)
+        scale = self.window.size * self.spacing**2 * self.e_star_value * 1e-3   # p = 1e-3 E*
+
+        def excess(load: float, target: float) -> float:
+            return float(self.at_load(load, quantities=("area",)).separation) - target
+
+        for index in np.ndindex(values.shape):
+            target = float(values[index])
+            if target >= first:
+                continue
+            high = scale
+            while excess(high, target) > 0.0:
+                high *= 4.0
+                if high > 1e12 * scale:        # p > 1e9 E*: no contact problem of this kind
+                    raise ValueError(f"separation {target!r} is below what any supported load "
+                                     f"reaches (a mean pressure of 1e9 E* leaves it above)")
+            loads[index] = brentq(excess, 0.0, high, xtol=1e-14 * high, rtol=1e-13,
+                                  args=(target,))
+        return self.at_load(loads, quantities=quantities)
+
+    @property
+    def e_star_value(self) -> float:
+        """E* of the options (1 when not given) [pressure]."""
+        return float(self.options.get("e_star", 1.0))
 
     def _scaled(self, curve: ContactCurve) -> ContactCurve:
         from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
@@ -209,16 +264,16 @@ class NominalContactModel(InterfaceModel):
         compliance = UNIFORM_SQUARE_MEAN_DEFLECTION * self.nominal_size / e_star   # per unit area
         sink = np.asarray(interface.mean_pressure) * compliance
         extras = dict(interface.extras)
-        extras["mean_gap"] = np.asarray(extras["mean_gap"]) + sink
         extras["nominal_sink"] = sink
-        fields = {"separation": interface.separation + sink}
+        fields = {"separation": interface.separation - sink}
         if interface.stiffness is not None:
             area = interface.nominal_area
             own = interface.stiffness / area                        # K_i per unit area
-            series = 1.0 / (1.0 / own + compliance)
-            ratio = (series / own) ** 2                              # dK/dK_i
+            series = own / (1.0 + own * compliance)                  # 1/K = 1/K_i + m L_n/E*
+            ratio = 1.0 / (1.0 + own * compliance) ** 2              # dK/dK_i
             fields["stiffness"] = series * area
-            fields["conductance"] = 2.0 * series * area / e_star
+            if interface.conductance is not None:
+                fields["conductance"] = 2.0 * series * area / e_star
             for name in ("stiffness", "conductance"):
                 if f"{name}_error" in extras:
                     extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * ratio

@@ -105,8 +105,9 @@ def test_the_nominal_contact_adds_the_sink_of_its_square_and_its_compliance_in_s
     nominal = bem.NominalContactModel(z, 1 / 64, nominal_size=side).at_load(
         loads, quantities=("area", "stiffness"))
     m = UNIFORM_SQUARE_MEAN_DEFLECTION
-    np.testing.assert_allclose(nominal.separation, interface.separation + m * loads * side,
+    np.testing.assert_allclose(nominal.separation, interface.separation - m * loads * side,
                                rtol=1e-12)
+    np.testing.assert_allclose(nominal.extras["mean_gap"], interface.extras["mean_gap"])
     np.testing.assert_allclose(1.0 / nominal.stiffness, 1.0 / interface.stiffness + m * side,
                                rtol=1e-12)
     np.testing.assert_array_equal(nominal.area, interface.area)
@@ -213,3 +214,45 @@ def test_the_check_answers_in_the_interface_frame_and_adds_the_nominal_contact(t
                        ("10um", "at least the scan's side")):
         with pytest.raises(ValueError, match=match):
             check_request(_check_args(scan, physical_size="64um", file_unit="nm", nominal_size=bad))
+
+
+def test_the_leakage_of_the_mirror_extension_is_the_maps_own_non_periodic_flow():
+    """By symmetry the periodic Reynolds flow of the even extension equals the map's
+    non-periodic flow through its quarter of the gap, which the interface model solves."""
+    z = self_affine_surface(64, hurst=0.8, rms_slope=0.1, rolloff=0.25, window=128, seed=1)
+    loads = np.array([3e-3, 1e-2])
+    interface = bem.InterfaceModel(z, 1 / 64, tol=1e-10).at_load(loads, quantities=("leakage",))
+    whole = bem.contact_curve(mirror_extension(z), 1 / 64, loads=4 * loads, periodic=True,
+                              tol=1e-10, quantities=("leakage",))
+    assert np.all(whole.leakage > 0)
+    np.testing.assert_allclose(interface.leakage, whole.leakage, rtol=1e-8)
+    with pytest.raises(ValueError, match="flow_window"):
+        bem.contact_curve(z, 1 / 64, loads=loads, flow_window=(128, 64))
+
+
+def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_method_bound(
+        tmp_path):
+    """A finer grid narrows the interface's discretisation band, not the mirror method's own
+    bound (T50), which stays in the band of every refined point."""
+    from validation import run_scenes
+
+    scene = parse_scene(SCENE | {"models": {"use": ["gw", "bem_interface"]},
+                                 "realizations": {"count": 1, "seed": 7},
+                                 "bem": {"max_grid": 64}})
+    (result,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
+    levels = result.refinement.levels
+    assert levels and {level.reference for level in levels} == {"bem_interface"}
+    curve = result.realizations[2.3][0].curves["bem_interface"]
+    refined = np.flatnonzero(np.asarray(curve.extras["grid"]) == 64)
+    assert refined.size
+    np.testing.assert_allclose(curve.extras["area_method_error"][refined],
+                               MIRROR_ERROR["area"] * curve.area[refined])
+    assert np.all(curve.extras["area_error"][refined]
+                  >= curve.extras["area_method_error"][refined])
+    # the finer solve is the interface's: the periodic mirror extension of the 64^2 sample
+    from validation.run.refine import refined_heights
+
+    fine = refined_heights(scene.surface.at(2.3), 7, 2)
+    loads = np.array(scene.loads.values())[refined]
+    direct = bem.InterfaceModel(fine, 1 / 64, tol=1e-8).at_load(loads, quantities=("area",))
+    np.testing.assert_allclose(curve.area[refined], direct.area, rtol=1e-3)

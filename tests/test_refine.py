@@ -178,8 +178,8 @@ def test_leakage_is_solved_again_only_where_a_leakage_cell_is_held_by_the_band(t
     # deciding nothing here, the other cells' as computed
     decides = decide.band_decides
 
-    def no_leakage_band(scene, results, confidence):
-        _, band, held = decides(scene, results, confidence)
+    def no_leakage_band(scene, results, confidence, reference="bem"):
+        _, band, held = decides(scene, results, confidence, reference)
         held = {q: m for q, m in held.items() if q != "leakage"}
         return np.any(np.stack(list(held.values())), axis=0), band, held
 

@@ -35,6 +35,8 @@ def rows() -> tuple[EntryPoint, ...]:
     hertz_load = float(np.max(z()) - np.mean(z())) * 0.05
     model = functools.partial(bem.BoundaryElementModel, z(), SPACING, **bem_fast)
     interface = functools.partial(bem.InterfaceModel, z(), SPACING, **bem_fast)
+    nominal = functools.partial(bem.NominalContactModel, z(), SPACING, nominal_size=1.0,
+                                **bem_fast)
     return (
         # ---------------------------------------------------------------- bem
         EntryPoint("bem.solve_contact", bem.solve_contact,
@@ -105,6 +107,17 @@ def rows() -> tuple[EntryPoint, ...]:
                    lambda: dict(load=np.array([hertz_load])), arrays=dict(load="")),
         EntryPoint("InterfaceModel.at_separation",
                    lambda separation: interface().at_separation(separation),
+                   lambda: dict(separation=np.array([float(z().max()) * 0.5])),
+                   arrays=dict(separation="")),
+        EntryPoint("bem.NominalContactModel", bem.NominalContactModel,
+                   lambda: dict(heights=z(), spacing=SPACING, nominal_size=1.0, **bem_fast),
+                   scalars=dict(spacing="positive", nominal_size="positive", tol="positive",
+                                max_iter="integer"),
+                   arrays=dict(heights="")),
+        EntryPoint("NominalContactModel.at_load", lambda load: nominal().at_load(load),
+                   lambda: dict(load=np.array([hertz_load])), arrays=dict(load="")),
+        EntryPoint("NominalContactModel.at_separation",
+                   lambda separation: nominal().at_separation(separation),
                    lambda: dict(separation=np.array([float(z().max()) * 0.5])),
                    arrays=dict(separation="")),
         EntryPoint("bem.hydraulic_aperture", bem.hydraulic_aperture,

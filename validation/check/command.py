@@ -152,7 +152,9 @@ def _sections(result, sampled, request: CheckRequest, out: pathlib.Path) -> list
     physical_figure(tables, out / "check-physical.png")
     from validation.common import models
 
-    reference = realization.curves[models.reference_among(realization.curves)]
+    # the interface's reference: the check's answer, and the one its finer grid refines
+    reference = realization.curves[models.reference_among(realization.curves, "interface")
+                                   or models.reference_among(realization.curves)]
     refined = np.asarray(reference.extras.get("grid", np.full(reference.load.shape, s.n))) > s.n
     rows, columns = s.grid
     e_star = ("E* not given: pressures and stiffness are in units of E*" if request.e_star is None

@@ -9,7 +9,7 @@ patch: by ``m p L / E*`` on average for a uniform pressure (``m`` =
 interaction of the improved GW theory), and the stiffness per unit area ``K = -dp/dd`` can never
 exceed that of the square in full contact, a rigid square punch, ``K_max =``
 :data:`FULL_CONTACT_STIFFNESS` ``E* / L``. With ``--nominal-size`` the check adds that finite
-frame: the interface's answer plus the sink, the stiffness in series
+frame: the interface's answer with the rigid plane lowered by the sink, the stiffness in series
 (:class:`bem.NominalContactModel`), and improved GW, whose uniform term is the sink
 (docs/theory.md, eqs. T47-T49).
 """
@@ -67,7 +67,7 @@ def frame_lines(tables, *, sigma: float, unit: str, e_star: float | None,
     ceiling = FULL_CONTACT_STIFFNESS * per_unit / nominal_size
     k_unit = "N/m³" if e_star is not None else f"E*/{unit}"
     return [text + (f" *Finite nominal contact* of side {nominal_size:.4g} {unit} "
-                    "(`--nominal-size`): the interface's answer plus the bulk sink of that "
+                    "(`--nominal-size`): the interface's answer with the separation lowered by the bulk sink of that "
                     f"square under the mean pressure, m p L/E* = {sink:.3g} {unit} = "
                     f"{sink / sigma:.3g} σ at the highest pressure, and its compliance "
                     "m L/E* in series with the interface's stiffness (1/K = 1/K_i + m L/E*, "

@@ -46,7 +46,7 @@ MAX_REFINED_SIDE = 1024
 INTERFACE_MODELS = ("gw", "discrete_no_interaction", "persson", "gw_spectral", "bgt",
                     "bem_interface")
 #: The models a nominal contact size adds: the finite frame of that square, improved GW with
-#: its uniform term and the interface reference plus the square's bulk sink.
+#: its uniform term and the interface reference with the square's bulk sink.
 NOMINAL_MODELS = ("improved_gw", "improved_gw_spectral", "bem_nominal")
 #: Quantities the check compares: everything a tribologist asks of a contact.
 QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "leakage")

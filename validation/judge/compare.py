@@ -230,7 +230,8 @@ class Comparison:
         return self.value
 
 
-def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, str]:
+def _band(results, field_name: str, reference_model: str,
+          suffix: str = "_error") -> tuple[np.ndarray, str]:
     """Reference band of one field per point, and where it came from.
 
     Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
@@ -239,7 +240,7 @@ def _band(results, field_name: str, reference_model: str) -> tuple[np.ndarray, s
     """
     curves = [r.curves[reference_model] for r in results]
     points = curves[0].load.shape
-    estimates = [c.extras.get(f"{field_name}_error") for c in curves]
+    estimates = [c.extras.get(f"{field_name}{suffix}") for c in curves]
     if all(e is not None for e in estimates):
         absolute = np.vstack([np.asarray(e, dtype=float) for e in estimates])
         if field_name in LOG_QUANTITIES:
@@ -412,6 +413,14 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
                       models=entries, band_source=sources, confidence=confidence,
                       realization_area_fraction=paths[primary_frame], realization_load=loads,
                       frame_paths=paths, references=dict(references))
+
+
+def method_band(results, field_name: str, reference_model: str) -> np.ndarray:
+    """The part of the reference band of ``field_name`` that is the reference method's own
+    error (the mirror method's bound, extras ``<field>_method_error``; eq. T50), in the
+    comparison's measure: zero where the reference has none. A finer grid cannot narrow it."""
+    band, _ = _band(results, field_name, reference_model, suffix="_method_error")
+    return np.nan_to_num(band, nan=0.0)
 
 
 def _source_key(field_name: str, frame: str, primary_frame: str) -> str:

@@ -25,10 +25,10 @@ from typing import Callable, Iterable
 import numpy as np
 
 from validation.common import models
-from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
+from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations, method_band
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
-from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, merge_job, solver_tolerance,
-                                   unavailable)
+from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, interface_extension, merge_job,
+                                   solver_tolerance, unavailable)
 from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
 from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
                                        run_looks, scene_plan, undecided_share)
@@ -69,25 +69,27 @@ def extend_scene(scene, by_value: dict, run: Callable[[int], list],
                      lambda confidence: scene_share(scene, by_value, confidence))
 
 
-def band_decides(scene, results: list, confidence: float
+def band_decides(scene, results: list, confidence: float, reference: str = "bem"
                  ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """Load points of one sweep value where the reference band decides: some cell (a compared
     model and quantity at a tolerance, on the mean or per surface) is undecided while the band
     of its reference field exceeds a quarter of the tolerance (on one surface: wherever the cell
     is undecided with a band, since only the band can leave it open there, however small).
-    Returns the mask, the smallest band at each point over the fields whose cells it holds
-    there (NaN where it holds none: a finer solve need only resolve those fields' bands, eq.
+    Only the cells judged against ``reference`` count (its band is the one a finer solve of
+    it narrows). Returns the mask, the smallest band at each point over the fields whose cells
+    it holds there (NaN where it holds none: a finer solve need only resolve those fields' bands, eq.
     T40) and the mask of each compared quantity alone (the mask is their union)."""
     comparison = compare_realizations(results, tolerances=scene.tolerances,
                                       confidence=confidence)
-    refined = _reference_name(results[0])
     held: dict[str, np.ndarray] = {}
     smallest = np.full(comparison.load.shape, np.inf)
     for (_, quantity), entry in comparison.models.items():
         if quantity not in COMPARED_QUANTITIES or entry.band is None \
-                or entry.reference_model != refined:
+                or entry.reference_model != reference:
             continue
-        band = np.asarray(entry.band, dtype=float)
+        # only the discretisation part: a finer grid does not narrow the method's own bound
+        band = np.asarray(entry.band, dtype=float) - method_band(
+            results, entry.reference_field or quantity, reference)
         mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
         for index, tolerance in enumerate(entry.tolerances):
             open_ = entry.verdicts[index] == UNDECIDED
@@ -104,11 +106,15 @@ def band_decides(scene, results: list, confidence: float
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
 
 
-def _reference_name(result) -> str | None:
-    """The reference a finer grid refines: the finite window's (validation.run.refine solves
-    the non-periodic problem; the interface reference keeps its own band)."""
-    name = models.reference_for("finite")
-    return name if name in result.curves else None
+#: The references a finer grid can refine (validation.run.refine): the finite window's (the
+#: non-periodic problem) and the interface's (its periodic or mirror-extended problem). The
+#: reference of a nominal square (bem_nominal) keeps its band.
+REFINED = ("bem", "bem_interface")
+
+
+def _refined(names) -> list[str]:
+    """The refinable references among ``names``, in the order of :data:`REFINED`."""
+    return [name for name in REFINED if name in names]
 
 
 def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
@@ -124,12 +130,13 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
             if only is not None and result.task not in only:
                 continue
             factor = level.grid // result.task.surface.n
+            extension = None if level.reference == "bem" else interface_extension(result.task)
             jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value],
-                                  with_leakage))
+                                  with_leakage, extension))
             where.append((value, index))
     for job, (value, index), (curve, computed) in zip(jobs, where, solve(jobs)):
         result = by_value[value][index]
-        name = _reference_name(result)
+        name = level.reference
         merged = merge_job(result.curves[name], job, curve, level.grid)
         log = result.computed + ((f"{name}-refined {level.grid} {result.task.describe()}",)
                                  if computed else ())
@@ -144,38 +151,49 @@ def finer_reference(scene, by_value: dict, solve: Callable[[list], list],
     solved on the level below. ``solve(jobs)`` runs :class:`validation.run.refine.RefineJob` s and
     returns ``(curve, computed)`` per job (:func:`validation.run.refine.run_job`)."""
     reason = unavailable(scene)
-    if reason is None and models.reference_for("finite") not in scene.models:
-        reason = ("only the finite window's reference (the non-periodic BEM) is refined, and "
-                  "the scene has none")
+    references = _refined(scene.models)
+    if reason is None and not references:
+        reason = "the scene has no reference a finer grid can refine (bem, bem_interface)"
     if reason is not None:
         return RefinementRecord((), reason)
-    n, levels = scene.surface.n, []
-    grid = 2 * n
+    levels, grid = [], 2 * scene.surface.n
     while True:
         if grid > scene.bem.max_grid:
             return RefinementRecord(tuple(levels), f"grid limit reached (max_grid = "
                                     f"{scene.bem.max_grid})")
-        points, tolerances, leakage = {}, {}, {}
-        for value, results in by_value.items():
-            mask, band, held = band_decides(scene, results, confidence)
-            reference = results[0].curves[_reference_name(results[0])]
-            below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
-            chosen = np.flatnonzero(mask & below)
-            if chosen.size:
-                points[value] = tuple(int(k) for k in chosen)
-                leaky = held.get("leakage", np.zeros(mask.shape, bool))
-                if grid <= MAX_LEAKAGE_GRID:
-                    leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
-                # the band expected on the finer grid: half the present one (first order)
-                tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
-                                                     scene.bem.tol)
-        if not points:
+        found = [level for level in (_level(scene, by_value, confidence, grid, name)
+                                     for name in references) if level is not None]
+        if not found:
             return RefinementRecord(tuple(levels), "no undecided cell is held by the band"
                                     + (" any more" if levels else ""))
-        level = RefinementLevel(grid, points, tolerances, leakage)
-        _apply(by_value, level, solve)
-        levels.append(level)
+        for level in found:
+            _apply(by_value, level, solve)
+            levels.append(level)
         grid *= 2
+
+
+def _level(scene, by_value: dict, confidence: float, grid: int,
+           name: str) -> RefinementLevel | None:
+    """The points of reference ``name`` to solve on ``grid`` (those its band decides among the
+    points solved on the grid below), or None where there are none."""
+    n = scene.surface.n
+    points, tolerances, leakage = {}, {}, {}
+    for value, results in by_value.items():
+        mask, band, held = band_decides(scene, results, confidence, name)
+        reference = results[0].curves[name]
+        below = np.asarray(reference.extras.get("grid", np.full(mask.shape, n))) == grid // 2
+        chosen = np.flatnonzero(mask & below)
+        if chosen.size:
+            points[value] = tuple(int(k) for k in chosen)
+            leaky = held.get("leakage", np.zeros(mask.shape, bool))
+            if grid <= MAX_LEAKAGE_GRID:
+                leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
+            # the band expected on the finer grid: half the present one (first order)
+            tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
+                                                 scene.bem.tol)
+    if not points:
+        return None
+    return RefinementLevel(grid, points, tolerances, leakage, name)
 
 
 def decide_scene(scene, by_value: dict, run: Callable[[int], list],

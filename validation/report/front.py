@@ -123,7 +123,8 @@ def _effort(result: SceneResult) -> tuple[str, str]:
     if result.sequential is not None and len(result.sequential.used) > 1:
         used = " → ".join(map(str, result.sequential.used))
     levels = result.refinement.levels if result.refinement is not None else ()
-    finer = ", ".join(f"{level.grid}² at {sum(map(len, level.points.values()))} point(s)"
+    finer = ", ".join(f"{level.grid}²{' (interface)' if level.reference != 'bem' else ''} "
+                      f"at {sum(map(len, level.points.values()))} point(s)"
                       for level in levels) or "none"
     return used, finer
 

@@ -34,6 +34,7 @@ from scipy import signal
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.flow import BackgroundLeakage
 from bem.flow_solver import DIRECT_SOLVE_LIMIT
+from bem.interface import method_error, mirror_extension, per_copy
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
@@ -42,7 +43,8 @@ from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import surface_heights, surface_identity
 from validation.surfaces.wm import wm_surface
 
-__all__ = ["MAX_LEAKAGE_GRID", "SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "interpolated_scan",
+__all__ = ["MAX_LEAKAGE_GRID", "SOLVER_ERROR", "SOLVER_SHARE", "RefineJob", "interface_extension",
+           "interpolated_scan",
            "merge_job", "merge_points",
            "refined_heights",
            "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
@@ -228,6 +230,15 @@ class RefineJob:
     # the load point indices (among ``points``) where the leakage is solved too, when the
     # scene asks for it; elsewhere the finer curve's leakage is NaN (not solved)
     leakage_points: tuple[int, ...] = ()
+    # the reference refined: the window's (None: the non-periodic problem of the task) or the
+    # interface's, by the extension bem.InterfaceModel uses ("mirror" or "periodic")
+    extension: str | None = None
+
+
+def interface_extension(task) -> str:
+    """How the interface reference of ``task`` makes a period of its heights (the registry's
+    choice: the map itself when it is one period of a periodic surface, else its mirror)."""
+    return "periodic" if task.surface.periodic or task.bem.periodic else "mirror"
 
 
 def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
@@ -245,6 +256,12 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
             curve = merge_points(curve, np.array([job.points[k] for k in positions]),
                                  replace(part, leakage=None) if drop else part, grid,
                                  s.L / grid, s.n)
+    if job.extension == "mirror" and "window_rms_height" in curve.extras:
+        # the interface's band holds the mirror method's own error at every grid (eq. T50)
+        extras = dict(curve.extras)
+        extras.update(method_error(curve, extras, extras["window_rms_height"],
+                                   index=list(job.points)))
+        curve = replace(curve, extras=extras)
     return curve
 
 
@@ -263,13 +280,20 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     quantities = tuple(q for q in model_quantities(task.quantities) if q != "leakage")
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
-                    leakage_points=leaky,
+                    leakage_points=leaky, extension=job.extension,
                     periodic=task.bem.periodic, tol=job.tol, max_iter=task.bem.max_iter)
     cached = cache.load(key, decode=curve_from_arrays)
     if cached is not None:
         return cached, False
     heights = refined_heights(s, task.seed, job.factor)
     spacing = s.spacing / job.factor
+    window = heights.shape
+    periodic, copies = task.bem.periodic, 1
+    if job.extension is not None:   # the interface: the periodic half-space (bem.interface)
+        periodic = True
+        if job.extension == "mirror":
+            heights = mirror_extension(heights)
+            copies = heights.size // (window[0] * window[1])
     # One path through every point (a second path for the leakage points alone started cold),
     # dealt to concurrent sub-paths (bem.concurrent_path: one per free core), the Reynolds
     # solves of the points that need them after it: beside it they would take a core from the
@@ -278,14 +302,15 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     gaps = {}
 
     def keep(index: int, solution) -> None:
-        if index in positions:
-            gaps[index] = solution.fluid_gap
+        if index in positions:   # a mirror extension's flow is its map's own (bem.path)
+            gaps[index] = solution.fluid_gap[:window[0], :window[1]]
 
-    curve = concurrent_curve(heights, spacing, loads=loads, quantities=quantities,
-                             e_star=task.e_star, periodic=task.bem.periodic, tol=job.tol,
+    curve = concurrent_curve(heights, spacing, loads=loads * copies, quantities=quantities,
+                             e_star=task.e_star, periodic=periodic, tol=job.tol,
                              max_iter=task.bem.max_iter, callback=keep if leaky else None)
+    curve = per_copy(curve, copies) if copies > 1 else curve
     if leaky:
-        flow = BackgroundLeakage(spacing, periodic=task.bem.periodic)
+        flow = BackgroundLeakage(spacing, periodic=periodic and copies == 1)
         for index in sorted(gaps):
             flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)

@@ -194,6 +194,8 @@ class RefinementLevel:
     # cell is held by the band there); elsewhere the leakage and its band stay those of the
     # grid below: a Reynolds solve costs a 1024^2 reference about three times its contact solve
     leakage: dict = field(default_factory=dict)
+    # the reference refined: the finite window's ("bem") or the interface's ("bem_interface")
+    reference: str = "bem"
 
 
 @dataclass(frozen=True)
@@ -219,6 +221,8 @@ class RefinementRecord:
                 + (f" at {parameter} = {value:g}" if parameter else "")
                 for value, points in sorted(level.points.items()))
             tolerances = sorted(set(level.tolerances.values()))
-            parts.append(f"{level.grid}²: {per_value} (solver tolerance {tolerances[0]:.1e}"
+            which = " (interface)" if level.reference != "bem" else ""
+            parts.append(f"{level.grid}²{which}: {per_value} (solver tolerance "
+                         f"{tolerances[0]:.1e}"
                          + (f"–{tolerances[-1]:.1e}" if len(tolerances) > 1 else "") + ")")
         return "refined on " + "; ".join(parts) + f"; stopped: {self.reason}"
