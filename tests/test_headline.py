@@ -207,7 +207,10 @@ def test_the_atlas_is_drawn_per_scene_with_a_panel_per_swept_value(default_repor
         panels = [ax for ax in figure.axes]
         assert len(panels) == len(scene.surface.sweep_values)
         rows = [t.get_text() for t in panels[0].get_yticklabels()]
-        assert "original GW: area" in rows and "Persson: mean gap ū" in rows
+        # each row names its frame where a scene judges in both
+        assert "original GW: area [interface]" in rows
+        assert "Persson: mean gap ū [interface]" in rows
+        assert any(row.startswith("improved GW: separation d [finite") for row in rows)
         assert figure.legends and "within 0.2" in figure.legends[0].get_title().get_text()
 
 

@@ -275,8 +275,11 @@ def test_the_precision_of_each_scene_is_counted_from_its_headline(tmp_path):
     # the realizations per look and the finer reference the run spent
     looks = result.sequential.used
     assert cells[1] == (" → ".join(map(str, looks)) if len(looks) > 1 else str(looks[0]))
-    grids = [level.grid for level in result.refinement.levels]
-    assert cells[2] == "none" if not grids else cells[2].startswith(f"{grids[0]}² at ")
+    levels = result.refinement.levels
+    first = "" if not levels else (f"{levels[0].grid}²"
+                                   + (" (interface)" if levels[0].reference != "bem" else "")
+                                   + " at ")
+    assert cells[2] == "none" if not levels else cells[2].startswith(first)
     # independently, from the half-widths of headline.csv (each cell once: one tolerance)
     headline = [r for r in rows(folder / "headline.csv") if float(r["tolerance"]) == 0.2]
     widths = np.array([float(r["half_width"]) for r in headline])

@@ -270,8 +270,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        help="the unit of the file's heights (nm, um, ...) if it does not state it")
     check.add_argument("--nominal-size", default=None, metavar="LENGTH",
                        help="side of your square nominal contact (a seal's width), e.g. 10mm: "
-                            "adds the finite frame of that contact, the interface plus its "
-                            "bulk sink, with improved GW (default: the interface frame alone)")
+                            "adds the finite frame of that contact (the interface with that "
+                            "square's bulk sink) and improved GW (default: the interface frame "
+                            "alone)")
     check.add_argument("--tiles", type=int, default=1,
                        help="also answer on the scan cut into k x k tiles (4, 9, ...): how much "
                             "the answer varies across the scan (default 1: the whole scan only)")

@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
+from validation.check.units import format_length
 from validation.surfaces.units import LENGTH_UNITS
 
 __all__ = ["FULL_CONTACT_STIFFNESS", "frame_lines"]
@@ -66,7 +67,8 @@ def frame_lines(tables, *, sigma: float, unit: str, e_star: float | None,
     per_unit = 1.0 if e_star is None else e_star / LENGTH_UNITS[unit]
     ceiling = FULL_CONTACT_STIFFNESS * per_unit / nominal_size
     k_unit = "N/m³" if e_star is not None else f"E*/{unit}"
-    return [text + (f" *Finite nominal contact* of side {nominal_size:.4g} {unit} "
+    side = format_length(nominal_size * LENGTH_UNITS[unit])
+    return [text + (f" *Finite nominal contact* of side {side} "
                     "(`--nominal-size`): the interface's answer with the separation lowered by the bulk sink of that "
                     f"square under the mean pressure, m p L/E* = {sink:.3g} {unit} = "
                     f"{sink / sigma:.3g} σ at the highest pressure, and its compliance "

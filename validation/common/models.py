@@ -29,7 +29,7 @@ __all__ = ["FRAMES", "FRAME_LABELS", "ModelInputs", "ModelEntry", "register", "u
 #: nominal contact, the L x L window pressed as a whole (its bulk sink in the separation).
 FRAMES = ("interface", "finite")
 #: How tables and reports name each frame.
-FRAME_LABELS = {"interface": "interface", "finite": "finite window"}
+FRAME_LABELS = {"interface": "interface", "finite": "finite contact"}
 
 
 class ModelInputs:

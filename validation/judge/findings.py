@@ -70,7 +70,10 @@ as independent samples, so the interval is approximate).
 tolerance, every quantity by majority (original GW beside it for contrast).
 (e) Not tested in the paper: the asperity model with the most points that hold against the BEM
 at the largest tolerance (ties: smaller median |mean error|), and the loads where none holds,
-which include those where none could be decided (the verdict tables say which)."""
+which include those where none could be decided (the verdict tables say which).
+Frames: (a), (b) and (d) compare the paper's models with each other; (c), (f) and (g) read the
+exact solution of the finite window, the paper's problem; (e) and (h) judge each model against
+the reference of its own frame (the interface, or the finite contact)."""
 
 
 @dataclass(frozen=True)

@@ -112,10 +112,13 @@ def d1_measures_leakage(results, tolerance: float, reference_model: str | None =
     """
     claim = "the effective separation d1, not d, measures the leakage"
     if results and reference_model is None:
-        reference_model = models.reference_among(results[0].curves)
+        # the paper's claim is about its finite window: d1 = d + m p L/E* of that window
+        window = models.reference_for("finite")
+        reference_model = window if window in results[0].curves else None
     if not results or reference_model is None \
             or results[0].curves[reference_model].leakage is None:
-        return Finding("f", claim, "not tested: needs the BEM's leakage", UNDECIDED)
+        return Finding("f", claim, "not tested: needs the BEM's leakage of the finite window",
+                       UNDECIDED)
     if not all(np.isfinite(r.sigma) and r.sigma > 0 for r in results):
         return Finding("f", claim, "not tested: needs σ (no asperity model in the scene)",
                         UNDECIDED)

@@ -88,14 +88,28 @@ def plot_atlas(ax, comparison: Comparison, keys: list[tuple[str, str]], index: i
     ax.set_xlim(edges[0], edges[-1])
     ax.set_ylim(rows - 0.5, -0.5)
     if labels:
-        ax.set_yticks(np.arange(rows) - 0.5 + _BAR / 2,
-                      [f"{model_label(m)}: {compared_label(q, _field(comparison, m, q))}"
-                       for m, q in keys], fontsize=7)
+        ax.set_yticks(np.arange(rows) - 0.5 + _BAR / 2, row_labels(comparison, keys),
+                      fontsize=7)
         ax.tick_params(axis="y", length=0)
     else:
         ax.yaxis.set_major_locator(NullLocator())
-    ax.set_xlabel("BEM contact-area fraction A/A₀")
+    framed = len(comparison.frame_paths) > 1
+    ax.set_xlabel("BEM contact-area fraction A/A₀" + (" (finite contact; every row at the "
+                                                       "same loads)" if framed else ""))
     return drawn
+
+
+def row_labels(comparison: Comparison, keys: list[tuple[str, str]]) -> list[str]:
+    """The atlas rows' names: model and compared field, and the frame where a scene has two."""
+    from validation.common.models import FRAME_LABELS
+
+    framed = len({e.frame for e in comparison.models.values()}) > 1
+    out = []
+    for m, q in keys:
+        entry = comparison.models.get((m, q))
+        frame = f" [{FRAME_LABELS.get(entry.frame, entry.frame)}]" if framed and entry else ""
+        out.append(f"{model_label(m)}: {compared_label(q, _field(comparison, m, q))}{frame}")
+    return out
 
 
 def _field(comparison: Comparison, model: str, quantity: str) -> str:
@@ -108,13 +122,12 @@ def atlas_figure(comparisons: list[Comparison], tolerances):
     scene's largest tolerance; a legend of the colours above the panels."""
     from matplotlib.patches import Patch
 
-    from validation.common.labels import compared_label as label
     from validation.report.sections import sweep_member
 
     comparisons = sorted(comparisons, key=lambda c: c.value)
     keys = atlas_keys(comparisons)
     index = int(np.argmax(tolerances))
-    labels = [f"{model_label(m)}: {label(q, _field(comparisons[0], m, q))}" for m, q in keys]
+    labels = row_labels(comparisons[0], keys)
     columns = len(comparisons)
     left, legend = text_width(labels, 7) + 0.2, 0.55
     titles = 0.35 if columns > 1 else 0.1         # room for the panels' titles

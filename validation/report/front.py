@@ -16,6 +16,7 @@ from validation.judge.findings import NEW
 from validation.judge.headline import HeadlineCell
 from validation.judge.verdicts import SYMBOLS, UNCONVERGED
 from validation.common.labels import compared_label, model_label, model_rank
+from validation.common.models import FRAME_LABELS, FRAMES
 from validation.report.sections import conventions, md_table, sweep_member
 from validation.report.summary import error_text
 
@@ -86,7 +87,10 @@ def headline_table(analysis: Analysis) -> list[str]:
     sweep = len(analysis.result.scene.surface.sweep_values) > 1
     parameter = analysis.comparisons[0].parameter if analysis.comparisons else ""
     fractions = sorted({c.fraction for cells in by_value.values() for c in cells})
-    columns, header = [], ["model", "quantity"]
+    frames = [f for f in FRAMES if any(c.frame == f for cells in by_value.values()
+                                       for c in cells)]
+    framed = len(frames) > 1   # each frame's reference reaches a fraction at its own load
+    columns, header = [], ["model"] + (["frame"] if framed else []) + ["quantity"]
     for fraction in fractions:
         for value, cells in by_value.items():
             at = [c for c in cells if c.fraction == fraction]
@@ -94,18 +98,28 @@ def headline_table(analysis: Analysis) -> list[str]:
                 continue
             columns.append((fraction, value))
             header.append(f"{100 * fraction:g} %, {sweep_member(parameter, value)}" if sweep
+                          else f"{100 * fraction:g} %" if framed
                           else f"{100 * fraction:g} % (Load {at[0].load:.1e})")
-    keys = sorted({(c.model, c.quantity, c.reference_field) for cells in by_value.values()
-                   for c in cells},
-                  key=lambda k: (model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
+    keys = sorted({(c.model, c.quantity, c.reference_field, c.frame)
+                   for cells in by_value.values() for c in cells},
+                  key=lambda k: (FRAMES.index(k[3]) if k[3] in FRAMES else 0,
+                                 model_rank(k[0]), COMPARED_QUANTITIES.index(k[1])))
     found = {(c.model, c.quantity, c.fraction, value): c
              for value, cells in by_value.items() for c in cells}
-    rows = [[model_label(m), f"{compared_label(q, field)} ({_unit(q)})"]
+    rows = [[model_label(m)] + ([FRAME_LABELS.get(frame, frame)] if framed else [])
+            + [f"{compared_label(q, field)} ({_unit(q)})"]
             + [headline_cell_text(found.get((m, q, f, v)), index) for f, v in columns]
-            for m, q, field in keys]
+            for m, q, field, frame in keys]
     tolerance = analysis.result.scene.tolerances[index]
+    loads = [] if not framed or sweep else [
+        "Load at each fraction, per frame (its reference's): " + "; ".join(
+            f"{FRAME_LABELS[frame]} " + ", ".join(
+                f"{100 * f:g} % at {at[0].load:.1e}" for f in fractions
+                for at in ([c for cells in by_value.values() for c in cells
+                            if c.fraction == f and c.frame == frame],) if at)
+            for frame in frames) + ".\n"]
     return ([f"Within {tolerance:g}; {_realizations(analysis.result)}.\n"]
-            + md_table(header, rows))
+            + md_table(header, rows) + ([""] + loads if loads else []))
 
 
 def _realizations(result: SceneResult) -> str:

@@ -41,8 +41,9 @@ SUMMARY_QUANTITIES = ("area", "separation", "conductance", "leakage")
 #: How the summary chooses (Markdown, printed under it).
 RULE = ("*Light, intermediate and heavy contact: the contact-area fractions 0.1–1 %, 10 % "
         "and 30 % of the headline, each of the reference of the model's frame ([interface]: "
-        "the unbounded interface, periodic BEM; [finite window]: the window pressed as a "
-        "whole). Each model is judged in its own frame. The theory to use is the one that beats the most others "
+        "the unbounded interface, periodic BEM; [finite contact]: the window, or a given "
+        "nominal contact, pressed as a whole). Each model is judged in its own frame. The "
+        "theory to use is the one that beats the most others "
         "head to head: on the headline cells both are compared at, its largest |mean error| "
         "is the smaller; it is to *use* where it holds at every cell, and only the *closest* "
         "where it does not (none holds: it fails at every cell). Errors relative for area and "
