@@ -93,9 +93,7 @@ def plot_atlas(ax, comparison: Comparison, keys: list[tuple[str, str]], index: i
         ax.tick_params(axis="y", length=0)
     else:
         ax.yaxis.set_major_locator(NullLocator())
-    framed = len(comparison.frame_paths) > 1
-    ax.set_xlabel("BEM contact-area fraction A/A₀" + (" (finite contact; every row at the "
-                                                       "same loads)" if framed else ""))
+    ax.set_xlabel("BEM contact-area fraction A/A₀")
     return drawn
 
 

@@ -229,12 +229,15 @@ def _atlas(figures, analysis: Analysis) -> None:
         return
     swept = f", one panel per {analysis.comparisons[0].parameter}" \
         if len(analysis.comparisons) > 1 else ""
+    framed = len(analysis.comparisons[0].frame_paths) > 1
+    frames = (" Each row is judged in its frame (in brackets) at the same loads; the axis is "
+              "the finite contact's reference's area fraction." if framed else "")
     figures.add(partial(atlas_figure, analysis.comparisons, scene.tolerances),
                 f"{scene.name}-atlas.png",
                 f"Atlas of `{scene.name}`{swept}: each model and quantity along the BEM's "
                 f"contact-area fraction, green where it holds, red where it fails, grey where "
                 f"undecided within {max(scene.tolerances):g} (thin strip: per surface); dotted: "
-                f"the headline's fractions.", len(analysis.comparisons))
+                f"the headline's fractions.{frames}", len(analysis.comparisons))
 
 
 def front_page(figures, analyses: list[Analysis], rows: dict) -> None:
