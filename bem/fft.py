@@ -34,7 +34,7 @@ try:  # pyFFTW is optional at run time
 except ImportError:  # pragma: no cover - exercised by a subprocess test
     pyfftw = None
 
-__all__ = ["RealFFT2", "PaddedRealFFT2", "have_pyfftw", "default_threads", "fft_threads",
+__all__ = ["RealFFT2", "CosineTransform2", "PaddedRealFFT2", "have_pyfftw", "default_threads", "fft_threads",
            "idle_cpus"]
 
 #: FFT backends: pyFFTW when installed ("auto"), or one of the two by name.
@@ -253,6 +253,73 @@ class RealFFT2:
             self._plan_inverse.execute()
             return self.output_buffer / self.size
         return scipy.fft.irfft2(spectrum, s=self.shape, workers=self.threads)
+
+
+class CosineTransform2:
+    """Planned 2-D cosine transform pair of one real shape: the DFT of the even (mirror)
+    extension of an array, computed on the array itself.
+
+    A 2N x 2M field even about the lines half a pixel beyond the edges of its N x M quadrant
+    (:func:`bem.interface.mirror_extension`) has a real DFT that is the type-II cosine
+    transform of the quadrant (up to a phase the inverse undoes), so a convolution of such
+    fields with an even kernel is a product of type-II cosine transforms: a quarter of the
+    points of the extension's FFT.
+
+    ``execute_forward``: ``spectrum_buffer = DCT-II(input_block)`` along both axes
+    (``X[k] = 2 sum_n x[n] cos(pi k (2n + 1) / 2N)``, FFTW's REDFT10); ``execute_inverse``:
+    ``output_block = DCT-III(spectrum_buffer)`` (REDFT01), which returns ``size = 4 N M``
+    times the input of the forward transform. The attributes are those of :class:`RealFFT2`
+    (``spectrum_buffer`` is real), so a half-space operator can use either.
+    """
+
+    def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,
+                 planner_effort: str = "FFTW_MEASURE") -> None:
+        shape = _check_arguments(shape, backend, threads, planner_effort)
+        self.shape = shape
+        self.spectrum_shape = shape
+        self.size = 4 * shape[0] * shape[1]
+        self.threads = default_threads() if threads is None else int(threads)
+        self.backend = "pyfftw" if (backend != "scipy" and pyfftw is not None) else "scipy"
+        self.real_buffer = _empty(shape, np.float64)
+        self.spectrum_buffer = _empty(shape, np.float64)
+        self.output_buffer = _empty(shape, np.float64)
+        if self.backend == "pyfftw":
+            load_wisdom()
+            self._plan_forward = pyfftw.FFTW(
+                self.real_buffer, self.spectrum_buffer, axes=(0, 1),
+                direction=("FFTW_REDFT10", "FFTW_REDFT10"), flags=(planner_effort,),
+                threads=self.threads)
+            self._plan_inverse = pyfftw.FFTW(
+                self.spectrum_buffer, self.output_buffer, axes=(0, 1),
+                direction=("FFTW_REDFT01", "FFTW_REDFT01"),
+                flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=self.threads)
+            if planner_effort != "FFTW_ESTIMATE":
+                save_wisdom()
+        self.real_buffer.fill(0.0)
+        self.spectrum_buffer.fill(0.0)
+        self.output_buffer.fill(0.0)
+        self.input_block = self.real_buffer
+        self.output_block = self.output_buffer
+        self.input_flat = self.real_buffer.reshape(-1)
+        self.output_flat = self.output_buffer.reshape(-1)
+        self.row_stride = shape[1]
+
+    def execute_forward(self) -> None:
+        """``spectrum_buffer = DCT-II(real_buffer)`` (unnormalised); ``real_buffer`` is kept."""
+        if self.backend == "pyfftw":
+            self._plan_forward.execute()
+        else:
+            self.spectrum_buffer[...] = scipy.fft.dctn(self.real_buffer, type=2,
+                                                       workers=self.threads)
+
+    def execute_inverse(self) -> None:
+        """``output_buffer = DCT-III(spectrum_buffer)``: ``size`` times the inverse of the
+        forward transform; destroys the spectrum."""
+        if self.backend == "pyfftw":
+            self._plan_inverse.execute()
+        else:
+            self.output_buffer[...] = scipy.fft.dctn(self.spectrum_buffer, type=3,
+                                                     workers=self.threads)
 
 
 class PaddedRealFFT2:

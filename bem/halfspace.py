@@ -14,6 +14,12 @@ the displacement ``u = K * p`` is positive into the body (a point force P lowers
   (:class:`bem.fft.PaddedRealFFT2` skips the transforms of the zero rows and of the discarded
   output rows: about 3/4 of the work of a full 2N x 2N transform pair).
   The displacement vanishes in the far field, the reference of the separation.
+* Mirror (``periodic=True, mirror=True``): the grid is one quadrant of the period 2L x 2L of
+  its even (mirror) extension (:func:`bem.interface.mirror_extension`), on the periodic
+  half-space below. An even pressure field has an even displacement, and the product is one of
+  type-II cosine transforms of the quadrant (:class:`bem.fft.CosineTransform2`), the
+  wavevectors ``q = pi (k_x / L_x, k_y / L_y)`` of the extension's modes: the periodic solution
+  of the extension at a quarter of its points.
 * Periodic (``periodic=True``): the grid is one period L x L of a periodic surface and
   ``u_hat(q) = 2 p_hat(q) / (E* |q|)`` for ``q != 0`` with ``q = 2 pi (k_x / L_x, k_y / L_y)``
   the wavevector of the discrete Fourier mode. At ``q = 0`` we set ``u_hat(0) = 0``: the mean
@@ -41,7 +47,7 @@ import scipy.fft
 
 from bem import checks
 
-from bem.fft import PaddedRealFFT2, RealFFT2, fft_threads
+from bem.fft import CosineTransform2, PaddedRealFFT2, RealFFT2, fft_threads
 from bem.reference import love_pixel_displacement
 
 __all__ = ["HalfSpace"]
@@ -69,6 +75,9 @@ class HalfSpace:
     periodic : bool
         Periodic half-space (spectral kernel) instead of the isolated, non-periodic one
         (Love's pixel kernel, DC-FFT).
+    mirror : bool
+        With ``periodic``: the grid is a quadrant of its mirror extension's period (module
+        docstring). Its contact edges, patches and flow do not wrap around (:attr:`wraps`).
     backend : {"auto", "pyfftw", "scipy"}
         FFT backend (:class:`bem.fft.RealFFT2`); both give the same result to rounding.
     threads : int, optional
@@ -103,7 +112,7 @@ class HalfSpace:
 
     def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
                  periodic: bool = False, backend: str = "auto", threads: int | None = None,
-                 planner_effort: str | None = None) -> None:
+                 planner_effort: str | None = None, mirror: bool = False) -> None:
         if not isinstance(shape, (tuple, list)) or len(shape) != 2:
             raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
         shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
@@ -113,6 +122,9 @@ class HalfSpace:
         if not isinstance(periodic, (bool, np.bool_)):
             raise ValueError(f"periodic must be True or False, got {periodic!r}")
         self.periodic = bool(periodic)
+        self.mirror = checks.flag("mirror", mirror)
+        if self.mirror and not self.periodic:
+            raise ValueError("mirror needs periodic=True (the extension's period is solved)")
         ny, nx = shape
         self.convolution_shape = (ny, nx) if self.periodic else (2 * ny, 2 * nx)
         if threads is None:
@@ -120,7 +132,10 @@ class HalfSpace:
         if planner_effort is None:
             large = self.convolution_shape[0] * self.convolution_shape[1] >= 1024 * 1024
             planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
-        if self.periodic:
+        if self.mirror:
+            self._fft = CosineTransform2(self.shape, backend=backend, threads=threads,
+                                         planner_effort=planner_effort)
+        elif self.periodic:
             self._fft = RealFFT2(self.convolution_shape, backend=backend, threads=threads,
                                  planner_effort=planner_effort)
         else:
@@ -133,7 +148,9 @@ class HalfSpace:
         # (32 bytes per grid point non-periodic), so that the product is one real multiply in
         # place over the float view of the complex spectrum (a complex-by-real multiply took
         # 2.3 times as long at 1024^2)
-        self._scaled_spectrum = np.repeat(self._kernel_spectrum() / self._fft.size, 2, axis=1)
+        self._scaled_spectrum = self._kernel_spectrum() / self._fft.size
+        if not self.mirror:   # complex spectrum: each value twice
+            self._scaled_spectrum = np.repeat(self._scaled_spectrum, 2, axis=1)
         self._influence: np.ndarray | None = None
         self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
@@ -144,6 +161,8 @@ class HalfSpace:
         # periodic at 512^2 / 1024^2), hence the factor 0.2.
         size = self.convolution_shape[0] * self.convolution_shape[1]
         self.direct_source_limit = int(0.2 * math.log2(max(size, 2)) * size / (ny * nx))
+        if self.mirror:   # the quadrant's response is not a translation: products only
+            self.direct_source_limit = 0
 
     # -- construction --------------------------------------------------------------------------
 
@@ -151,6 +170,11 @@ class HalfSpace:
         ny, nx = self.shape
         h = self.spacing
         my, mx = self.convolution_shape
+        if self.mirror:   # the extension's modes: q = pi k / (n h)
+            qy = math.pi * np.arange(ny) / (ny * h)
+            qx = math.pi * np.arange(nx) / (nx * h)
+            q = np.hypot(qy[:, None], qx[None, :])
+            return np.divide(2.0 / self.e_star, q, out=np.zeros_like(q), where=q > 0)
         if self.periodic:
             qy = 2.0 * math.pi * np.fft.fftfreq(my, d=h)
             qx = 2.0 * math.pi * np.fft.rfftfreq(mx, d=h)
@@ -188,7 +212,8 @@ class HalfSpace:
     def kernel_spectrum(self) -> np.ndarray:
         """``K_hat`` [length/pressure] in the unnormalised DFT convention of the module
         docstring, shape of the rfft spectrum of the convolution grid (fresh, read-only)."""
-        spectrum = self._scaled_spectrum[:, ::2] * self._fft.size
+        spectrum = (self._scaled_spectrum if self.mirror
+                    else self._scaled_spectrum[:, ::2]) * self._fft.size
         spectrum.setflags(write=False)
         return spectrum
 
@@ -263,7 +288,7 @@ class HalfSpace:
             self._coarse = HalfSpace((self.shape[0] // 2, self.shape[1] // 2),
                                      2.0 * self.spacing, e_star=self.e_star,
                                      periodic=self.periodic, backend=self.backend,
-                                     threads=self.threads)
+                                     threads=self.threads, mirror=self.mirror)
         return self._coarse
 
     # -- real-space influence coefficients ---------------------------------------------------
@@ -279,7 +304,11 @@ class HalfSpace:
         """
         if self._influence is None:
             ny, nx = self.shape
-            if self.periodic:
+            if self.mirror:   # the response to unit pressure on pixel (0, 0) and its images
+                pulse = np.zeros(self.shape)
+                pulse[0, 0] = 1.0
+                influence = self.displacement(pulse)
+            elif self.periodic:
                 inverse = RealFFT2(self.shape, backend="scipy", threads=1)
                 influence = inverse.inverse(self.kernel_spectrum.astype(complex))
             else:
@@ -343,6 +372,12 @@ class HalfSpace:
             before = (slice(0, index), slice(index, 0, -1))
         return after, before
 
+    @property
+    def wraps(self) -> bool:
+        """Whether the grid's opposite edges are neighbours (periodic, not a mirror quadrant):
+        for contact edges, patches and the Reynolds flow."""
+        return self.periodic and not self.mirror
+
     def __repr__(self) -> str:
         return (f"HalfSpace(shape={self.shape}, spacing={self.spacing!r}, e_star={self.e_star!r}, "
-                f"periodic={self.periodic}, backend={self.backend!r})")
+                f"periodic={self.periodic}, mirror={self.mirror}, backend={self.backend!r})")

@@ -16,14 +16,15 @@ effect). :class:`InterfaceModel` solves that problem for a height map in one of 
   periodic half-space. The extension is continuous across the map's edges (no height step, only
   a slope kink along the mirror lines), its height and slope distributions are the map's, and
   its power spectrum is the one :func:`asperity.spectrum.power_spectrum_2d` gives the map with
-  ``window="mirror"`` (Persson's theory is computed from the same spectrum). Its leakage, the
-  periodic Reynolds flow of the extension, is by symmetry exactly the map's non-periodic flow
-  through its own part of the gap (inlet and outlet edges, closed sides), solved on the map's
-  cells (``flow_window`` of :func:`bem.contact_curve`). By symmetry each of
-  the four copies carries the same pressure, so intensive quantities (area fraction, mean
-  pressure, separation, mean gap, h_eff) are the map's, and extensive ones (load, area,
-  contacts, stiffness, conductance) are divided by four. The convolution grid is 2N x 2M, the
-  size the non-periodic solve pads to, so the cost is about that of the window.
+  ``window="mirror"`` (Persson's theory is computed from the same spectrum). By symmetry the
+  pressure and displacement of the extension are even too, so its period is solved on the map
+  itself: the half-space operator of the quadrant is a product of type-II cosine transforms
+  (:class:`bem.HalfSpace` with ``mirror``), the extension's periodic solution per copy at a
+  quarter of its points (equal to the solve of the extension to 1e-11, tested). Loads, areas,
+  stiffness and contacts are the map's; the contact edges and patches do not wrap around, and
+  the leakage, the extension's periodic Reynolds flow, is the map's own non-periodic flow
+  (inlet and outlet edges, closed sides: the mirror lines are isobars across the flow and
+  closed along it).
 
 On the periodic half-space the mean displacement is zero, so the separation d (rigid plane to
 the mean plane of the heights) equals the mean gap: the interface's mean gap u-bar.
@@ -50,7 +51,7 @@ from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.model import BoundaryElementModel, check_points
 
 __all__ = ["EXTENSIONS", "MIRROR_ERROR", "InterfaceModel", "NominalContactModel", "method_error",
-           "mirror_extension", "per_copy"]
+           "mirror_extension"]
 
 #: How a height map becomes one period of the interface: the map itself, or its mirror image.
 EXTENSIONS = ("periodic", "mirror")
@@ -62,9 +63,6 @@ EXTENSIONS = ("periodic", "mirror")
 #: 0.055, stiffness 0.064; benchmarks/bench_interface.py, docs/theory.md eq. T50).
 MIRROR_ERROR = MappingProxyType({"area": 0.07, "separation": 0.085, "mean_gap": 0.085,
                                  "stiffness": 0.10, "conductance": 0.10})
-
-#: Curve fields that scale with the nominal area (divided by four for the mirror extension).
-_EXTENSIVE = ("load", "area", "contacts", "stiffness", "conductance")
 
 
 def mirror_extension(heights: ArrayLike) -> np.ndarray:
@@ -106,19 +104,17 @@ class InterfaceModel(BoundaryElementModel):
 
     def __init__(self, heights: ArrayLike, spacing: float, *, extension: str = "mirror",
                  **options: Any) -> None:
-        if "periodic" in options:
-            raise TypeError("options must not set periodic: the interface is solved on the "
-                            "periodic half-space (extension says how the map becomes a period)")
+        for name in ("periodic", "mirror"):
+            if name in options:
+                raise TypeError(f"options must not set {name}: the interface is solved on the "
+                                f"periodic half-space (extension says how the map becomes a "
+                                f"period)")
         self.extension = checks.choice("extension", extension, EXTENSIONS)
-        super().__init__(heights, spacing, periodic=True, **options)
+        # the mirror extension's period is solved on the map itself, by cosine transforms
+        # (bem.HalfSpace mirror): its solution per copy, at a quarter of its points
+        super().__init__(heights, spacing, periodic=True, mirror=self.extension == "mirror",
+                         **options)
         self.window = self.heights
-        if self.extension == "mirror":
-            extended = mirror_extension(self.window)
-            extended.setflags(write=False)
-            self.heights = extended
-            # the extension's periodic flow is the map's own non-periodic flow (bem.path)
-            self.options["flow_window"] = self.window.shape
-        self.copies = self.heights.size // self.window.size
 
     def __repr__(self) -> str:
         return (f"{type(self).__name__}(heights of shape {self.window.shape}, "
@@ -129,7 +125,7 @@ class InterfaceModel(BoundaryElementModel):
                 quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
         """Contact at total loads W >= 0 [force] on the map's nominal area (any shape)."""
         values = check_points("load", load, non_negative=True)
-        return self._scaled(self._solve(values * self.copies, "loads", quantities))
+        return self._scaled(self._solve(values, "loads", quantities))
 
     def at_separation(self, separation: ArrayLike, *,
                       quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
@@ -138,8 +134,7 @@ class InterfaceModel(BoundaryElementModel):
         return self._scaled(self._solve(values, "separations", quantities))
 
     def _scaled(self, curve: ContactCurve) -> ContactCurve:
-        """The extended period's curve per copy of the map, with the method's error added."""
-        curve = per_copy(curve, self.copies)
+        """The curve with the method and, for the mirror extension, its error bound added."""
         extras = dict(curve.extras)
         extras["extension"] = self.extension
         if self.extension == "mirror":
@@ -147,19 +142,6 @@ class InterfaceModel(BoundaryElementModel):
             extras["window_rms_height"] = rms
             extras.update(method_error(curve, extras, rms))
         return replace(curve, extras=extras)
-
-
-def per_copy(curve: ContactCurve, copies: int) -> ContactCurve:
-    """A curve of an extension of ``copies`` copies of a map, per copy: load, area, contacts,
-    stiffness, conductance, their error estimates and the nominal area divided by ``copies``."""
-    scale = 1.0 / copies
-    fields = {name: (None if getattr(curve, name) is None else getattr(curve, name) * scale)
-              for name in _EXTENSIVE}
-    extras = dict(curve.extras)
-    for name in _EXTENSIVE:
-        if f"{name}_error" in extras:
-            extras[f"{name}_error"] = np.asarray(extras[f"{name}_error"]) * scale
-    return replace(curve, nominal_area=curve.nominal_area * scale, extras=extras, **fields)
 
 
 def method_error(curve: ContactCurve, extras, rms_height, index=None) -> dict:

@@ -147,6 +147,7 @@ def contact_curve(
     area_estimator: str = DEFAULT_AREA_ESTIMATOR,
     error_estimate: bool = False,
     flow_window: tuple[int, int] | None = None,
+    mirror: bool = False,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -203,6 +204,12 @@ def contact_curve(
         (by symmetry its mirror lines are isobars across the flow and closed along it; equal
         to 1e-11 at 256^2, measured) on a quarter of the cells. The half-grid estimate uses
         half the window.
+    mirror : bool
+        With ``periodic``: the heights are a quadrant of the period of their even (mirror)
+        extension, solved on the quadrant by cosine transforms (:class:`bem.HalfSpace`
+        ``mirror``): the periodic solution of :func:`bem.interface.mirror_extension` of the
+        heights, per copy, at a quarter of its points; contact edges, patches and the flow do
+        not wrap around.
 
     Returns
     -------
@@ -245,7 +252,11 @@ def contact_curve(
                 f"separations must exceed the mean height {float(z.mean())!r} for a periodic "
                 f"surface (full contact, where the load is undetermined)")
         order = np.argsort(-targets, kind="stable")
-    operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
+    mirror = checks.flag("mirror", mirror)
+    if mirror and not periodic:
+        raise ValueError("mirror needs periodic=True (the extension's period is solved)")
+    operator = _check_operator(operator, z.shape, spacing, e_star, periodic, mirror)
+    wraps = operator.wraps
     want_stiffness = "stiffness" in quantities or "conductance" in quantities
     want_contacts = "contacts" in quantities
     want_leakage = "leakage" in quantities
@@ -268,6 +279,7 @@ def contact_curve(
         keep = preconditioned and _nestable(z.shape)
         coarse = contact_curve(
             z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
+            mirror=mirror,
             tol=tol, max_iter=max_iter, area_estimator=area_estimator,
             preconditioned=preconditioned, operator=operator.coarse() if keep else None,
             flow_window=None if flow_window is None else (flow_window[0] // 2,
@@ -280,7 +292,7 @@ def contact_curve(
                          coarse_pressures=coarse_pressures)
     # The Reynolds solves of each point run in background threads while the next point's contact
     # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
-    flow = BackgroundLeakage(spacing, periodic=periodic and flow_window is None) \
+    flow = BackgroundLeakage(spacing, periodic=wraps and flow_window is None) \
         if want_leakage else None
     rows, columns = z.shape if flow_window is None else flow_window
     for index in order:
@@ -294,16 +306,16 @@ def contact_curve(
         separation[index] = solution.separation
         load[index] = solution.load
         area[index] = (solution.area if area_estimator == DEFAULT_AREA_ESTIMATOR else contact_area(
-            solution.contact, spacing, periodic=periodic, estimator=area_estimator,
+            solution.contact, spacing, periodic=wraps, estimator=area_estimator,
             pressure=solution.pressure, gap=solution.gap, e_star=e_star))
         pixel_area[index] = solution.pixel_area
-        perimeter[index] = contact_edges(solution.contact, periodic=periodic) * spacing
+        perimeter[index] = contact_edges(solution.contact, periodic=wraps) * spacing
         mean_gap[index] = solution.mean_gap
         residual[index] = solution.residual
         iterations[index] = solution.iterations
         converged[index] = solution.converged
         if want_contacts:
-            contacts[index] = count_contacts(solution.contact, periodic=periodic)
+            contacts[index] = count_contacts(solution.contact, periodic=wraps)
         if want_stiffness:
             stiffness[index] = solution.stiffness
         if want_leakage:

@@ -56,7 +56,7 @@ import warnings
 import numpy as np
 
 from bem import checks
-from bem.area import contact_area
+from bem.area import PERIMETER_COEFFICIENT, contact_area
 from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
 from bem.halfspace import HalfSpace
 from bem.solution import ContactSolution, _frozen
@@ -105,9 +105,9 @@ def _check_real(name: str, value, *, positive: bool = False, non_negative: bool 
                                  exclusive=positive)
 
 
-def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:
+def _check_operator(operator, shape, spacing, e_star, periodic, mirror=False) -> HalfSpace:
     if operator is None:
-        return HalfSpace(shape, spacing, e_star=e_star, periodic=periodic)
+        return HalfSpace(shape, spacing, e_star=e_star, periodic=periodic, mirror=mirror)
     if not isinstance(operator, HalfSpace):
         raise ValueError(f"operator must be a bem.HalfSpace, got {type(operator).__name__}")
     mismatch = []
@@ -119,6 +119,8 @@ def _check_operator(operator, shape, spacing, e_star, periodic) -> HalfSpace:
         mismatch.append(f"e_star {operator.e_star!r} != {e_star!r}")
     if operator.periodic != periodic:
         mismatch.append(f"periodic {operator.periodic} != {periodic}")
+    if operator.mirror != mirror:
+        mismatch.append(f"mirror {operator.mirror} != {mirror}")
     if mismatch:
         raise ValueError("operator does not match the problem: " + "; ".join(mismatch))
     return operator
@@ -359,7 +361,8 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
         contact=_frozen(contact),
         load=load,
         mean_pressure=load / nominal_area,
-        area=contact_area(contact, operator.spacing, periodic=operator.periodic),
+        area=contact_area(contact, operator.spacing, periodic=operator.wraps,
+                          alpha=PERIMETER_COEFFICIENT[operator.periodic]),
         separation=float(d),
         mean_gap=float(gap.mean()),
         converged=bool(converged),

@@ -256,3 +256,37 @@ def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_m
     loads = np.array(scene.loads.values())[refined]
     direct = bem.InterfaceModel(fine, 1 / 64, tol=1e-8).at_load(loads, quantities=("area",))
     np.testing.assert_allclose(curve.area[refined], direct.area, rtol=1e-3)
+
+
+def test_the_mirror_operator_is_the_periodic_operator_of_the_extension_on_its_quadrant():
+    rng = np.random.default_rng(2)
+    pressure = rng.random((12, 10))
+    quadrant = bem.HalfSpace((12, 10), 0.3, e_star=2.0, periodic=True, mirror=True)
+    whole = bem.HalfSpace((24, 20), 0.3, e_star=2.0, periodic=True)
+    np.testing.assert_allclose(quadrant.displacement(pressure),
+                               whole.displacement(mirror_extension(pressure))[:12, :10],
+                               rtol=1e-12, atol=1e-15)
+    assert not quadrant.wraps and whole.wraps
+    assert quadrant.coarse().mirror
+    with pytest.raises(ValueError, match="mirror"):
+        bem.HalfSpace((12, 10), 0.3, mirror=True)
+
+
+def test_a_mirror_path_is_the_extensions_periodic_path_per_copy():
+    """The quadrant's path (cosine transforms) against the solve of the whole extension: the
+    same contact problem, so separation, mean gap, stiffness and h_eff agree to the solvers'
+    tolerance, and the contact pixels (the area) exactly."""
+    z = self_affine_surface(64, hurst=0.8, rms_slope=0.1, rolloff=0.25, window=128, seed=3)
+    loads = np.geomspace(2e-4, 2e-2, 5)
+    quantities = ("area", "stiffness", "leakage")
+    quadrant = bem.contact_curve(z, 1 / 64, loads=loads, periodic=True, mirror=True,
+                                 tol=1e-11, quantities=quantities)
+    whole = bem.contact_curve(mirror_extension(z), 1 / 64, loads=4 * loads, periodic=True,
+                              tol=1e-11, quantities=quantities, flow_window=z.shape)
+    np.testing.assert_allclose(quadrant.separation, whole.separation, rtol=1e-9)
+    np.testing.assert_allclose(quadrant.extras["mean_gap"], whole.extras["mean_gap"], rtol=1e-9)
+    np.testing.assert_allclose(quadrant.stiffness, whole.stiffness / 4, rtol=1e-9)
+    np.testing.assert_allclose(quadrant.leakage, whole.leakage, rtol=1e-8)
+    np.testing.assert_array_equal(quadrant.area, whole.area / 4)
+    with pytest.raises(ValueError, match="mirror"):
+        bem.contact_curve(z, 1 / 64, loads=loads, mirror=True)

@@ -110,8 +110,9 @@ def test_aperture_is_scale_free_and_inside_its_bounds(gaps, scale, contact):
     h = effective_medium_aperture(gaps, contact_fraction=contact)
     np.testing.assert_allclose(effective_medium_aperture(scale * gaps, contact_fraction=contact),
                                scale * h, rtol=1e-9)
+    # the order of the samples changes the sums' rounding only (2e-12 found for 4 gaps)
     np.testing.assert_allclose(effective_medium_aperture(gaps[::-1], contact_fraction=contact),
-                               h, rtol=1e-12)
+                               h, rtol=1e-10)
     weights = np.full(gaps.size, (1.0 - contact) / gaps.size)
     lower = (1.0 - 2.0 * contact) / (2.0 * np.sum(weights / gaps**3))      # (L3), k = 1
     upper = np.sum(weights * gaps**3) / (1.0 - contact)

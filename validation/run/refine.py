@@ -34,7 +34,7 @@ from scipy import signal
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.flow import BackgroundLeakage
 from bem.flow_solver import DIRECT_SOLVE_LIMIT
-from bem.interface import method_error, mirror_extension, per_copy
+from bem.interface import method_error
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
@@ -287,13 +287,10 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
         return cached, False
     heights = refined_heights(s, task.seed, job.factor)
     spacing = s.spacing / job.factor
-    window = heights.shape
-    periodic, copies = task.bem.periodic, 1
-    if job.extension is not None:   # the interface: the periodic half-space (bem.interface)
-        periodic = True
-        if job.extension == "mirror":
-            heights = mirror_extension(heights)
-            copies = heights.size // (window[0] * window[1])
+    # the interface: the periodic half-space, a mirror extension's period solved on the map
+    # itself by cosine transforms (bem.interface), its flow not wrapping around
+    periodic = task.bem.periodic or job.extension is not None
+    mirror = job.extension == "mirror"
     # One path through every point (a second path for the leakage points alone started cold),
     # dealt to concurrent sub-paths (bem.concurrent_path: one per free core), the Reynolds
     # solves of the points that need them after it: beside it they would take a core from the
@@ -302,15 +299,15 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     gaps = {}
 
     def keep(index: int, solution) -> None:
-        if index in positions:   # a mirror extension's flow is its map's own (bem.path)
-            gaps[index] = solution.fluid_gap[:window[0], :window[1]]
+        if index in positions:
+            gaps[index] = solution.fluid_gap
 
-    curve = concurrent_curve(heights, spacing, loads=loads * copies, quantities=quantities,
+    curve = concurrent_curve(heights, spacing, loads=loads, quantities=quantities,
                              e_star=task.e_star, periodic=periodic, tol=job.tol,
-                             max_iter=task.bem.max_iter, callback=keep if leaky else None)
-    curve = per_copy(curve, copies) if copies > 1 else curve
+                             max_iter=task.bem.max_iter, callback=keep if leaky else None,
+                             mirror=mirror)
     if leaky:
-        flow = BackgroundLeakage(spacing, periodic=periodic and copies == 1)
+        flow = BackgroundLeakage(spacing, periodic=periodic and not mirror)
         for index in sorted(gaps):
             flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)
