@@ -265,6 +265,10 @@ class CosineTransform2:
     fields with an even kernel is a product of type-II cosine transforms: a quarter of the
     points of the extension's FFT.
 
+    ``backend="auto"`` is scipy's (pocketfft): FFTW's real-to-real transforms, planned with
+    FFTW_ESTIMATE, took 3.3 ms per pair at 256^2 and 11.3 ms at 512^2, scipy's 1.4 ms and
+    7.1 ms (one thread; FFTW_MEASURE 1.0 ms and 10.1 ms); ``"pyfftw"`` asks for FFTW.
+
     ``execute_forward``: ``spectrum_buffer = DCT-II(input_block)`` along both axes
     (``X[k] = 2 sum_n x[n] cos(pi k (2n + 1) / 2N)``, FFTW's REDFT10); ``execute_inverse``:
     ``output_block = DCT-III(spectrum_buffer)`` (REDFT01), which returns ``size = 4 N M``
@@ -279,7 +283,7 @@ class CosineTransform2:
         self.spectrum_shape = shape
         self.size = 4 * shape[0] * shape[1]
         self.threads = default_threads() if threads is None else int(threads)
-        self.backend = "pyfftw" if (backend != "scipy" and pyfftw is not None) else "scipy"
+        self.backend = "pyfftw" if (backend == "pyfftw" and pyfftw is not None) else "scipy"
         self.real_buffer = _empty(shape, np.float64)
         self.spectrum_buffer = _empty(shape, np.float64)
         self.output_buffer = _empty(shape, np.float64)
