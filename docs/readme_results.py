@@ -60,27 +60,35 @@ def readme_results(folder: str | pathlib.Path, tolerance: float = 0.2) -> str:
     cells = {(r["scene"], r["model"], r["quantity"], float(r["area_fraction"])): r for r in rows}
     realizations = max(int(r["realizations"]) for r in rows)
     quantities = [q for q in _QUANTITIES if any(r["quantity"] == q for r in rows)]
+    framed = any(r.get("frame") for r in rows)
+    frames = (" Each model is judged in its frame: *interface* against the surface solved as an "
+              "unbounded, periodic interface, *finite* against the window pressed as a whole "
+              "(improved GW's uniform term is its bulk deformation); the fractions are each "
+              "frame's reference's." if framed else "")
     lines = [f"Each model's mean error against the exact solution where the BEM's real contact area "
              f"is {' and '.join(f'{100 * f:g} %' for f in README_FRACTIONS)} of the nominal area, "
              f"over {realizations} realizations of WM surfaces, with its 95 % interval; ✔ within "
              f"{tolerance:g}, ✘ beyond, ? undecided (the reference's own error allowed for). "
              f"Area and conductance in %, separation in σ (Persson: its mean gap), leakage as "
-             f"ln(h_eff/h_eff,BEM).", ""]
+             f"ln(h_eff/h_eff,BEM).{frames}", ""]
     for scene in README_SCENES:
         present = [r for r in rows if r["scene"] == scene]
         if not present:
             continue
         D = present[0]["D"]
         fields = [q for q in quantities if any(r["quantity"] == q for r in present)]
-        header = ["model"] + [f"{compared_label(q)} {100 * f:g} %" for q in fields
-                              for f in README_FRACTIONS]
+        header = ["model"] + (["frame"] if framed else []) + [
+            f"{compared_label(q)} {100 * f:g} %" for q in fields for f in README_FRACTIONS]
         lines += [f"**D = {float(D):g}** (`{scene}`):", "",
                   "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
         models = sorted({r["model"] for r in present}, key=model_rank)
         for model in models:
             gap = any(r["model"] == model and r["reference_field"] == "mean_gap" for r in present)
-            row = [model_label(model) + (" (mean gap ū)" if gap else "")] + [_cell(cells.get((scene, model, q, f)))
-                                          for q in fields for f in README_FRACTIONS]
+            frame = next((r.get("frame", "") for r in present if r["model"] == model), "")
+            row = ([model_label(model) + (" (mean gap ū)" if gap else "")]
+                   + ([frame] if framed else [])
+                   + [_cell(cells.get((scene, model, q, f)))
+                      for q in fields for f in README_FRACTIONS])
             lines.append("| " + " | ".join(row) + " |")
         lines.append("")
     return "\n".join(lines)
