@@ -251,7 +251,10 @@ class NominalContactModel(InterfaceModel):
         if interface.stiffness is not None:
             area = interface.nominal_area
             own = interface.stiffness / area                        # K_i per unit area
-            series = own / (1.0 + own * compliance)                  # 1/K = 1/K_i + m L_n/E*
+            # 1/K = 1/K_i + m L_n/E*; full contact (K_i infinite): the square's own 1/compliance
+            with np.errstate(invalid="ignore"):
+                series = np.where(np.isinf(own), 1.0 / compliance,
+                                  own / (1.0 + own * compliance))
             ratio = 1.0 / (1.0 + own * compliance) ** 2              # dK/dK_i
             fields["stiffness"] = series * area
             if interface.conductance is not None:
