@@ -206,6 +206,8 @@ def test_the_check_answers_in_the_interface_frame_and_adds_the_nominal_contact(t
     assert sized.nominal_size == pytest.approx(1e-2)
     scene = parse_scene(__import__("tomllib").loads(scene_text(sized, "check-scan")))
     assert {"improved_gw", "bem_nominal", "bem_interface"} <= set(scene.models)
+    # improved GW's uniform term is the square's, with the reference's m
+    assert scene.m == pytest.approx(UNIFORM_SQUARE_MEAN_DEFLECTION, rel=1e-6)
     from validation.surfaces.units import LENGTH_UNITS
 
     # in the scene's length unit (the answer's: nm for these heights)

@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.wm import surface_statistics
@@ -170,7 +171,10 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     from validation.surfaces.units import LENGTH_UNITS
 
     nominal = None if request.nominal_size is None else request.nominal_size / LENGTH_UNITS[unit]
-    lines += [""] + _table("models", {"use": list(models), "nominal_size": nominal})
+    # improved GW's uniform term with the square's own mean deflection, the m of the
+    # reference's sink (bem.NominalContactModel), so that it is judged on its asperity part
+    m = None if nominal is None else round(UNIFORM_SQUARE_MEAN_DEFLECTION, 7)
+    lines += [""] + _table("models", {"use": list(models), "nominal_size": nominal, "m": m})
     lines += [""] + _table("quantities", {"use": list(QUANTITIES)})
     refined = side <= MAX_REFINED_SIDE and tiles == 1
     lines += [""] + _table("bem", {"max_grid": 2 * side if refined else None})
