@@ -93,7 +93,7 @@ class InterfaceModel(BoundaryElementModel):
         even extension is.
     **options
         Keywords of :func:`bem.contact_curve` (``e_star``, ``tol``, ``max_iter``,
-        ``error_estimate``, ...), except ``periodic``, which this model sets.
+        ``error_estimate``, ...), except ``periodic`` and ``mirror``, which this model sets.
 
     Loads, areas, contacts and stiffness refer to the map's own nominal area ``N M h^2``. With
     ``error_estimate`` and the mirror extension, every ``<quantity>_error`` extra also holds
