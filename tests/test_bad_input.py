@@ -53,11 +53,22 @@ def _identify(case):
     return f"{entry.name}:{name}"
 
 
+def _positive_pair(value) -> bool:
+    """Whether ``value`` is two positive finite numbers (a valid size of rows and columns)."""
+    try:
+        pair = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        return False
+    return pair.shape == (2,) and bool(np.all(np.isfinite(pair) & (pair > 0)))
+
+
 def _must_reject(entry, name, domain, value):
     if value is None and "optional" in domain:
         return
     # any string is valid text, and a valid path (not written to by the catalogue)
     assume(not (isinstance(value, str) and domain.startswith(("text", "path"))))
+    # a physical size may be a pair of positive lengths (rows, columns): [1.0, 1.0] is one
+    assume(not (domain == "object size" and _positive_pair(value)))
     outcome, detail = classify(entry, name, value, invalid=True)
     assert outcome == "clear error", (entry.name, name, value, outcome, detail)
 

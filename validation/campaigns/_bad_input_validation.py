@@ -120,7 +120,7 @@ def rows() -> tuple[EntryPoint, ...]:
         EntryPoint("validation.Topography", validation.Topography,
                    lambda: dict(heights=z(), spacing=SPACING, physical_size=(1.0, 1.0), unit="m",
                                 source="memory"),
-                   scalars=dict(spacing="positive", physical_size="object", unit="choice",
+                   scalars=dict(spacing="positive", physical_size="object size", unit="choice",
                                 source="text"),
                    arrays=dict(heights="")),
         EntryPoint("validation.curve_errors(options)", validation.curve_errors,

@@ -31,9 +31,11 @@ from bem import checks
 from bem.curve import ContactCurve
 from validation.judge.errors import (ABSOLUTE_QUANTITIES, LOG_QUANTITIES,
                                      RELATIVE_QUANTITIES, converged_points, curve_errors,
-                                     field_values, pairwise_errors, reached_points,
+                                     pairwise_errors, reached_points,
                                      sealing_disagreements)
 from validation.common import models
+from validation.judge.bands import NOT_ESTIMATED, _band, _log_band, method_band  # noqa: F401
+from validation.judge.frames import judged_frame, references_of, source_key
 from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
                                         surface_reasons)
 from validation.judge.verdicts import (
@@ -48,7 +50,6 @@ from validation.judge.verdicts import (
     confidence_interval,
     one_surface_reasons,
     one_surface_verdicts,
-    reference_band,
     undecided_reasons,
     validity_range,
     verdict_counts,
@@ -75,8 +76,6 @@ __all__ = [
     "validity_range",
 ]
 
-#: Band source of a reference field without error estimates (its band is NaN).
-NOT_ESTIMATED = "not estimated"
 #: Quantities that get verdicts (the load path itself is not compared). Contact counts are not
 #: among them: the BEM counts connected contact patches, the asperity models asperities.
 COMPARED_QUANTITIES = ("area", "separation", "conductance", "stiffness", "leakage")
@@ -230,45 +229,6 @@ class Comparison:
         return self.value
 
 
-def _band(results, field_name: str, reference_model: str,
-          suffix: str = "_error") -> tuple[np.ndarray, str]:
-    """Reference band of one field per point, and where it came from.
-
-    Per-point estimates ``extras[field + "_error"]`` of every realization, when present: the mean
-    over realizations of |error| in the comparison's measure. Otherwise NaN, "not estimated":
-    an unknown band is never taken as zero (every verdict against it is undecided).
-    """
-    curves = [r.curves[reference_model] for r in results]
-    points = curves[0].load.shape
-    estimates = [c.extras.get(f"{field_name}{suffix}") for c in curves]
-    if all(e is not None for e in estimates):
-        absolute = np.vstack([np.asarray(e, dtype=float) for e in estimates])
-        if field_name in LOG_QUANTITIES:
-            return (_log_band(absolute, np.vstack([field_values(c, field_name) for c in curves])),
-                    f"per-point estimates, {len(curves)} realization(s)")
-        if field_name in ABSOLUTE_QUANTITIES:
-            scale = np.array([[r.sigma] for r in results])
-        else:
-            scale = np.vstack([field_values(c, field_name) for c in curves])
-        return reference_band(absolute, scale), f"per-point estimates, {len(curves)} realization(s)"
-    return np.full(points, np.nan), NOT_ESTIMATED
-
-
-def _log_band(absolute: np.ndarray, reference: np.ndarray) -> np.ndarray:
-    """Reference band in the log-ratio measure (L7): the mean over realizations of e_h / h, the
-    first-order change of ln h; 0 where the reference is sealed with a zero estimate, infinite
-    where it is sealed but its estimate is not (its state is then unknown, so nothing holds).
-    NaN estimates are left out; a point without any is NaN (unknown)."""
-    absolute = np.abs(absolute)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        measure = np.where(reference > 0, absolute / np.where(reference > 0, reference, 1.0),
-                           np.where(absolute == 0, 0.0, np.inf))
-    measure = np.where(np.isnan(absolute), np.nan, measure)
-    known = ~np.isnan(measure)
-    total = np.where(known, measure, 0.0).sum(axis=0)
-    return np.where(known.any(axis=0), total / np.maximum(known.sum(axis=0), 1), np.nan)
-
-
 def _sealing_counts(results, model: str, reference_model: str, field_name: str
                     ) -> tuple[np.ndarray, np.ndarray]:
     """Per point, realizations that disagree about sealing, and those the reference resolves."""
@@ -380,7 +340,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
     if not results:
         raise ValueError("results holds no realizations to compare")
     first = results[0]
-    references = _references(first.curves, reference_model)
+    references = references_of(first.curves, reference_model)
     mapping = _registered_fields(first.curves) if reference_fields is None else reference_fields
     primary = references.get("finite") or next(iter(references.values()))
     primary_frame = next(f for f, name in references.items() if name == primary)
@@ -396,7 +356,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in judged
                                      for q in quantities))
         bands = {name: _band(results, name, reference) for name in fields}
-        sources.update({_source_key(k, frame, primary_frame): v[1] for k, v in bands.items()})
+        sources.update({source_key(k, frame, primary_frame): v[1] for k, v in bands.items()})
         area_fraction = paths[frame].mean(axis=0)
         for model in judged:
             own = mapping.get(model, {})
@@ -415,48 +375,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
                       frame_paths=paths, references=dict(references))
 
 
-def method_band(results, field_name: str, reference_model: str) -> np.ndarray:
-    """The part of the reference band of ``field_name`` that is the reference method's own
-    error (the mirror method's bound, extras ``<field>_method_error``; eq. T50), in the
-    comparison's measure: zero where the reference has none. A finer grid cannot narrow it."""
-    band, _ = _band(results, field_name, reference_model, suffix="_method_error")
-    return np.nan_to_num(band, nan=0.0)
-
-
-def _source_key(field_name: str, frame: str, primary_frame: str) -> str:
-    """The key of ``Comparison.band_source``: the field, with its frame unless primary."""
-    return field_name if frame == primary_frame else f"{field_name} ({frame})"
-
-
 def _dimensionless_load(result, reference: str) -> np.ndarray:
     """The paper's Load = W / (E* L^2) of one realization's reference path."""
     curve = result.curves[reference]
     return curve.load / (curve.e_star * result.task.surface.L**2)
-
-
-def judged_frame(model: str, references: dict[str, str], primary_frame: str) -> str:
-    """The frame a model is judged in: its registry entry's where that frame's reference is
-    among ``references`` (frame -> reference); otherwise ``primary_frame`` (a scene that
-    computes one frame's reference only, ``[bem] frames``, or a model the registry does not
-    know). The comparison's entry records the frame it was judged in."""
-    if model in models.names() and models.frame_of(model) in references:
-        return models.frame_of(model)
-    return primary_frame
-
-
-def _references(curves, reference_model: str | None) -> dict[str, str]:
-    """frame -> reference model among ``curves``: the one named (its frame), else each
-    frame's registered reference present; ValueError when there is none."""
-    if reference_model is not None:
-        if reference_model not in curves:
-            raise ValueError(f"the results hold no {reference_model!r} reference curve "
-                             f"(reference_model must be a model of the results)")
-        frame = models.frame_of(reference_model) if reference_model in models.names() \
-            else "finite"
-        return {frame: reference_model}
-    found = {frame: models.reference_among(curves, frame) for frame in models.FRAMES}
-    found = {frame: name for frame, name in found.items() if name is not None}
-    if not found:
-        raise ValueError(f"the results hold no registered reference curve (registered "
-                         f"references: {', '.join(models.reference_names())})")
-    return found
