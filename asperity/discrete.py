@@ -92,6 +92,12 @@ class DiscreteAsperityModel:
         Newton iterations per (sub-)step, >= 1.
     method : {"auto", "fft", "direct"}
         How interaction sums are evaluated (:class:`asperity.interaction.PointForceInteraction`).
+    local : bool
+        With ``interaction``: the pairwise interaction without its uniform part, every
+        asperity raised back by ``m W / (E* sqrt(A))`` with m = 0.946 (the mean deflection of a
+        uniformly loaded square, the improved GW term): the interactions between neighbouring
+        asperities alone, the first-order interaction of an unbounded interface (zero mean
+        displacement; docs/theory.md 8.10) rather than of the finite window. Default False.
     height_rms : float, optional
         rms of the surface heights [length], used only by ``leakage``: the effective hydraulic
         aperture of the rigid gap ``max(d - z, 0)``, z ~ N(0, s^2), at the model's own
@@ -108,12 +114,14 @@ class DiscreteAsperityModel:
 
     def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
                  m: float | None = None, tol: float = 1e-10, max_iter: int = 50,
-                 method: str = "auto", height_rms: float | None = None) -> None:
+                 method: str = "auto", height_rms: float | None = None,
+                 local: bool = False) -> None:
         tol = checks.real_number("tol", tol, minimum=0.0, exclusive=True, maximum=1.0,
                                  exclusive_maximum=True)
         max_iter = checks.integer("max_iter", max_iter, minimum=1)
         self.problem = assemble(summits, e_star=e_star, interaction=interaction, m=m,
-                                method=method)
+                                method=method, local=local)
+        self.local = bool(local)
         self.summits = summits
         self.e_star = self.problem.e_star
         self.interaction = bool(interaction)
@@ -125,10 +133,10 @@ class DiscreteAsperityModel:
 
     @property
     def name(self) -> str:
-        """``"discrete"`` (pairwise interaction), ``"discrete_uniform"`` (the mean-field term
-        m) or ``"discrete_no_interaction"``."""
+        """``"discrete"`` (pairwise interaction), ``"discrete_local"`` (without its uniform
+        part), ``"discrete_uniform"`` (the mean-field term m) or ``"discrete_no_interaction"``."""
         if self.interaction:
-            return "discrete"
+            return "discrete_local" if self.local else "discrete"
         return "discrete_no_interaction" if self.m is None else "discrete_uniform"
 
     def _solver(self) -> PathSolver:
@@ -226,4 +234,5 @@ class DiscreteAsperityModel:
 
     def __repr__(self) -> str:
         return (f"{type(self).__name__}({self.summits.count} summits, e_star={self.e_star!r}, "
-                f"interaction={self.interaction!r}, m={self.m!r}, tol={self.tol!r})")
+                f"interaction={self.interaction!r}, local={self.local!r}, m={self.m!r}, "
+                f"tol={self.tol!r})")

@@ -25,6 +25,7 @@ import numpy as np
 from bem.checks import InputTypeError, flag, non_negative, positive
 
 from asperity.interaction import PointForceInteraction
+from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from asperity.summits import Summits
 
 __all__ = ["DiscreteProblem", "assemble"]
@@ -119,11 +120,11 @@ class DiscreteProblem:
         """
         if self.operator is None:
             return self.uniform
-        return 0.95 / (self.e_star * math.sqrt(self.summits.area))
+        return max(0.95 / (self.e_star * math.sqrt(self.summits.area)) + self.uniform, 0.0)
 
 
 def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
-             m: float | None = None, method: str = "auto") -> DiscreteProblem:
+             m: float | None = None, method: str = "auto", local: bool = False) -> DiscreteProblem:
     """Build the discrete system of ``summits`` (see :class:`asperity.DiscreteAsperityModel`
     for the parameters). Raises ``ValueError`` naming a bad parameter."""
     if not isinstance(summits, Summits):
@@ -133,6 +134,10 @@ def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
         raise ValueError("summits must contain at least one summit")
     e_star = positive("e_star", e_star)
     interaction = flag("interaction", interaction)
+    local = flag("local", local)
+    if local and (not interaction or m is not None):
+        raise ValueError("local (the pairwise interaction without its uniform part) needs "
+                         "interaction=True and no m")
     if m is not None:
         m = non_negative("m", m)
         if interaction:
@@ -143,4 +148,5 @@ def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
     return DiscreteProblem(
         summits=summits, e_star=e_star, height=summits.height, radius=summits.radius,
         hertz=(4.0 / 3.0) * e_star * np.sqrt(summits.radius), operator=operator,
-        uniform=0.0 if m is None else m / (e_star * math.sqrt(summits.area)))
+        uniform=(-UNIFORM_SQUARE_MEAN_DEFLECTION if local else 0.0 if m is None else m)
+        / (e_star * math.sqrt(summits.area)))

@@ -292,3 +292,26 @@ def test_a_mirror_path_is_the_extensions_periodic_path_per_copy():
     np.testing.assert_array_equal(quadrant.area, whole.area / 4)
     with pytest.raises(ValueError, match="mirror"):
         bem.contact_curve(z, 1 / 64, loads=loads, mirror=True)
+
+
+def test_the_local_interaction_is_the_pairwise_one_without_the_windows_uniform_part():
+    """One summit: no pair, so the local model is the independent summit raised back by the
+    uniform term m W / (E* sqrt(A)); many summits: between the full interaction and none."""
+    import asperity
+    from validation.surfaces.wm import wm_surface
+
+    one = asperity.Summits.from_points([0.5], [0.5], [1e-3], [0.05], area=4.0)
+    loads = np.array([1e-4, 1e-3])
+    alone = asperity.DiscreteAsperityModel(one, e_star=2.0, interaction=False).at_load(loads)
+    local = asperity.DiscreteAsperityModel(one, e_star=2.0, local=True).at_load(loads)
+    np.testing.assert_allclose(local.separation - alone.separation,
+                               UNIFORM_SQUARE_MEAN_DEFLECTION * loads / (2.0 * 2.0), rtol=1e-9)
+    summits = asperity.find_summits(wm_surface(64, D=2.3, rms_slope=0.1, seed=3), 1 / 64)
+    loads = np.geomspace(1e-4, 1e-2, 4)
+    d = {name: asperity.DiscreteAsperityModel(summits, **options).at_load(loads).separation
+         for name, options in (("full", {}), ("local", {"local": True}),
+                               ("none", {"interaction": False}))}
+    assert np.all(d["full"] <= d["local"] + 1e-12) and np.all(d["local"] <= d["none"] + 1e-12)
+    assert models.frame_of("discrete_local") == "interface"
+    with pytest.raises(ValueError, match="local"):
+        asperity.DiscreteAsperityModel(summits, interaction=False, local=True)

@@ -315,10 +315,11 @@ def _improved_gw(inputs: ModelInputs, one_iteration: bool = False):
                                        one_iteration=True)
 
 
-def _discrete(inputs: ModelInputs, interaction: bool = True):
+def _discrete(inputs: ModelInputs, interaction: bool = True, local: bool = False):
     from asperity import DiscreteAsperityModel
 
-    return DiscreteAsperityModel(inputs.summits(), e_star=inputs.e_star, interaction=interaction)
+    return DiscreteAsperityModel(inputs.summits(), e_star=inputs.e_star, interaction=interaction,
+                                 local=local)
 
 
 def _persson(inputs: ModelInputs):
@@ -375,6 +376,11 @@ register("discrete_no_interaction", lambda inputs: _discrete(inputs, interaction
          cached=True)
 register("discrete", _discrete, label="discrete (interaction)",
          style=dict(color="tab:green", linestyle="-"), cached=True, frame="finite")
+# the same pairwise interaction without its uniform part (the window's m p L / E*): local
+# interactions alone, judged in the interface frame (docs/theory.md 8.10); not a default model
+register("discrete_local", lambda inputs: _discrete(inputs, local=True),
+         label="discrete (local interaction)", style=dict(color="tab:green", linestyle="--"),
+         cached=True, frame="interface", default=False)
 register("persson", _persson, label="Persson", style=dict(color="tab:purple", linestyle="-."),
          needs_summits=False, contacts="none", reference_fields={"separation": "mean_gap"},
          cached=True, settings=lambda inputs: {"window": PERSSON_WINDOW})
