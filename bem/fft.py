@@ -142,6 +142,37 @@ def _check_arguments(shape, backend: str, threads: int | None, planner_effort: s
     return shape
 
 
+def _plan_pair(transform, spectrum_dtype, forward, inverse, planner_effort: str) -> None:
+    """Give ``transform`` (its ``shape``, ``spectrum_shape``, ``backend`` and ``threads`` set)
+    its zeroed real, spectrum and output buffers, the pyFFTW plans of the ``forward`` and
+    ``inverse`` directions between them, and the names a convolution reads them by
+    (``input_block``, ``output_block``, ``input_flat``, ``output_flat``, ``row_stride``)."""
+    shape = transform.shape
+    transform.real_buffer = _empty(shape, np.float64)
+    transform.spectrum_buffer = _empty(transform.spectrum_shape, spectrum_dtype)
+    transform.output_buffer = _empty(shape, np.float64)
+    if transform.backend == "pyfftw":
+        load_wisdom()
+        # Plans bind the two buffers; FFTW_MEASURE scribbles on them while planning.
+        transform._plan_forward = pyfftw.FFTW(
+            transform.real_buffer, transform.spectrum_buffer, axes=(0, 1), direction=forward,
+            flags=(planner_effort,), threads=transform.threads)
+        transform._plan_inverse = pyfftw.FFTW(
+            transform.spectrum_buffer, transform.output_buffer, axes=(0, 1), direction=inverse,
+            flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=transform.threads)
+        if planner_effort != "FFTW_ESTIMATE":
+            save_wisdom()
+    transform.real_buffer.fill(0.0)
+    transform.spectrum_buffer.fill(0.0)
+    transform.output_buffer.fill(0.0)
+    # the names shared with PaddedRealFFT2, so a convolution can use either
+    transform.input_block = transform.real_buffer
+    transform.output_block = transform.output_buffer
+    transform.input_flat = transform.real_buffer.reshape(-1)
+    transform.output_flat = transform.output_buffer.reshape(-1)
+    transform.row_stride = shape[1]
+
+
 class RealFFT2:
     """Planned real 2-D FFT pair of one real shape.
 
@@ -185,29 +216,7 @@ class RealFFT2:
         self.size = shape[0] * shape[1]
         self.threads = default_threads() if threads is None else int(threads)
         self.backend = "pyfftw" if (backend != "scipy" and pyfftw is not None) else "scipy"
-        self.real_buffer = _empty(shape, np.float64)
-        self.spectrum_buffer = _empty(self.spectrum_shape, np.complex128)
-        self.output_buffer = _empty(shape, np.float64)
-        if self.backend == "pyfftw":
-            load_wisdom()
-            # Plans bind the two buffers; FFTW_MEASURE scribbles on them while planning.
-            self._plan_forward = pyfftw.FFTW(
-                self.real_buffer, self.spectrum_buffer, axes=(0, 1), direction="FFTW_FORWARD",
-                flags=(planner_effort,), threads=self.threads)
-            self._plan_inverse = pyfftw.FFTW(
-                self.spectrum_buffer, self.output_buffer, axes=(0, 1), direction="FFTW_BACKWARD",
-                flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=self.threads)
-            if planner_effort != "FFTW_ESTIMATE":
-                save_wisdom()
-        self.real_buffer.fill(0.0)
-        self.spectrum_buffer.fill(0.0)
-        self.output_buffer.fill(0.0)
-        # the names shared with PaddedRealFFT2, so a convolution can use either
-        self.input_block = self.real_buffer
-        self.output_block = self.output_buffer
-        self.input_flat = self.real_buffer.reshape(-1)
-        self.output_flat = self.output_buffer.reshape(-1)
-        self.row_stride = shape[1]
+        _plan_pair(self, np.complex128, "FFTW_FORWARD", "FFTW_BACKWARD", planner_effort)
 
     # -- in-place transforms between the owned buffers -------------------------------------
 
@@ -284,29 +293,8 @@ class CosineTransform2:
         self.size = 4 * shape[0] * shape[1]
         self.threads = default_threads() if threads is None else int(threads)
         self.backend = "pyfftw" if (backend == "pyfftw" and pyfftw is not None) else "scipy"
-        self.real_buffer = _empty(shape, np.float64)
-        self.spectrum_buffer = _empty(shape, np.float64)
-        self.output_buffer = _empty(shape, np.float64)
-        if self.backend == "pyfftw":
-            load_wisdom()
-            self._plan_forward = pyfftw.FFTW(
-                self.real_buffer, self.spectrum_buffer, axes=(0, 1),
-                direction=("FFTW_REDFT10", "FFTW_REDFT10"), flags=(planner_effort,),
-                threads=self.threads)
-            self._plan_inverse = pyfftw.FFTW(
-                self.spectrum_buffer, self.output_buffer, axes=(0, 1),
-                direction=("FFTW_REDFT01", "FFTW_REDFT01"),
-                flags=(planner_effort, "FFTW_DESTROY_INPUT"), threads=self.threads)
-            if planner_effort != "FFTW_ESTIMATE":
-                save_wisdom()
-        self.real_buffer.fill(0.0)
-        self.spectrum_buffer.fill(0.0)
-        self.output_buffer.fill(0.0)
-        self.input_block = self.real_buffer
-        self.output_block = self.output_buffer
-        self.input_flat = self.real_buffer.reshape(-1)
-        self.output_flat = self.output_buffer.reshape(-1)
-        self.row_stride = shape[1]
+        _plan_pair(self, np.float64, ("FFTW_REDFT10", "FFTW_REDFT10"),
+                   ("FFTW_REDFT01", "FFTW_REDFT01"), planner_effort)
 
     def execute_forward(self) -> None:
         """``spectrum_buffer = DCT-II(real_buffer)`` (unnormalised); ``real_buffer`` is kept."""

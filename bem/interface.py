@@ -114,31 +114,23 @@ class InterfaceModel(BoundaryElementModel):
         # (bem.HalfSpace mirror): its solution per copy, at a quarter of its points
         super().__init__(heights, spacing, periodic=True, mirror=self.extension == "mirror",
                          **options)
-        self.window = self.heights
 
     def __repr__(self) -> str:
-        return (f"{type(self).__name__}(heights of shape {self.window.shape}, "
+        return (f"{type(self).__name__}(heights of shape {self.heights.shape}, "
                 f"spacing={self.spacing!r}, extension={self.extension!r}, "
                 f"options={self.options!r})")
 
-    def at_load(self, load: ArrayLike, *,
-                quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
-        """Contact at total loads W >= 0 [force] on the map's nominal area (any shape)."""
-        values = check_points("load", load, non_negative=True)
-        return self._scaled(self._solve(values, "loads", quantities))
-
-    def at_separation(self, separation: ArrayLike, *,
-                      quantities: Iterable[str] = CURVE_QUANTITIES) -> ContactCurve:
-        """Contact at separations d [length] (any shape); d is the interface's mean gap."""
-        values = check_points("separation", separation)
-        return self._scaled(self._solve(values, "separations", quantities))
+    def _solve(self, values: np.ndarray, keyword: str, quantities) -> ContactCurve:
+        """The path of :class:`bem.BoundaryElementModel` on the periodic half-space, with the
+        method (and its bound) in the extras; d is the interface's mean gap."""
+        return self._scaled(super()._solve(values, keyword, quantities))
 
     def _scaled(self, curve: ContactCurve) -> ContactCurve:
         """The curve with the method and, for the mirror extension, its error bound added."""
         extras = dict(curve.extras)
         extras["extension"] = self.extension
         if self.extension == "mirror":
-            rms = np.full(curve.load.shape, float(np.std(self.window)))
+            rms = np.full(curve.load.shape, float(np.std(self.heights)))
             extras["window_rms_height"] = rms
             extras.update(method_error(curve, extras, rms))
         return replace(curve, extras=extras)
@@ -198,7 +190,7 @@ class NominalContactModel(InterfaceModel):
     def __init__(self, heights: ArrayLike, spacing: float, *, nominal_size: float,
                  **options: Any) -> None:
         super().__init__(heights, spacing, **options)
-        side = float(np.sqrt(self.window.size)) * self.spacing
+        side = float(np.sqrt(self.heights.size)) * self.spacing
         self.nominal_size = checks.positive("nominal_size", nominal_size)
         if self.nominal_size < side * (1 - 1e-9):
             raise ValueError(f"nominal_size must be at least the map's side (its points per "
@@ -212,9 +204,10 @@ class NominalContactModel(InterfaceModel):
         from scipy.optimize import brentq
 
         values = check_points("separation", separation)
-        first = float(np.max(self.window))      # first contact: no load, no sink
+        first = float(np.max(self.heights))      # first contact: no load, no sink
         loads = np.zeros(values.shape)
-        scale = self.window.size * self.spacing**2 * self.e_star_value * 1e-3   # p = 1e-3 E*
+        e_star = float(self.options.get("e_star", 1.0))
+        scale = self.heights.size * self.spacing**2 * e_star * 1e-3   # p = 1e-3 E*
 
         def excess(load: float, target: float) -> float:
             return float(self.at_load(load, quantities=("area",)).separation) - target
@@ -232,11 +225,6 @@ class NominalContactModel(InterfaceModel):
             loads[index] = brentq(excess, 0.0, high, xtol=1e-14 * high, rtol=1e-13,
                                   args=(target,))
         return self.at_load(loads, quantities=quantities)
-
-    @property
-    def e_star_value(self) -> float:
-        """E* of the options (1 when not given) [pressure]."""
-        return float(self.options.get("e_star", 1.0))
 
     def _scaled(self, curve: ContactCurve) -> ContactCurve:
         from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION

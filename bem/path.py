@@ -117,19 +117,6 @@ class _PathStarts:
             self._pressure, self._load = solution.pressure, solution.load
 
 
-def _check_flow_window(flow_window, shape: tuple[int, int]) -> tuple[int, int] | None:
-    """``flow_window`` checked: None, or (rows, columns) within the grid, each >= 2."""
-    if flow_window is None:
-        return None
-    if isinstance(flow_window, (str, bytes)) or np.ndim(flow_window) != 1 \
-            or len(flow_window) != 2:
-        raise TypeError(f"flow_window must be None or (rows, columns), got {flow_window!r}")
-    rows, columns = (checks.integer("flow_window", value, minimum=2) for value in flow_window)
-    if rows > shape[0] or columns > shape[1]:
-        raise ValueError(f"flow_window must lie within the grid {shape}, got {flow_window!r}")
-    return rows, columns
-
-
 def contact_curve(
     heights,
     spacing: float,
@@ -146,7 +133,6 @@ def contact_curve(
     preconditioned: bool = True,
     area_estimator: str = DEFAULT_AREA_ESTIMATOR,
     error_estimate: bool = False,
-    flow_window: tuple[int, int] | None = None,
     mirror: bool = False,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
@@ -195,15 +181,6 @@ def contact_curve(
         points' nested starts, which the path would otherwise solve again to a looser tolerance
         (16-point path at 512^2: the fine iterations unchanged, 3472 FFT pairs of all sizes
         against 4544 when the estimate came after the path).
-    flow_window : (int, int), optional
-        The leakage is the Reynolds flow through ``gap[:rows, :columns]`` with the
-        non-periodic boundary conditions (pressures on the inlet and outlet edges, closed
-        sides), instead of through the whole gap. For heights that are the even (mirror)
-        extension of a map (:func:`bem.interface.mirror_extension`) with ``periodic=True``,
-        ``flow_window`` = the map's shape gives exactly the periodic flow of the extension
-        (by symmetry its mirror lines are isobars across the flow and closed along it; equal
-        to 1e-11 at 256^2, measured) on a quarter of the cells. The half-grid estimate uses
-        half the window.
     mirror : bool
         With ``periodic``: the heights are a quadrant of the period of their even (mirror)
         extension, solved on the quadrant by cosine transforms (:class:`bem.HalfSpace`
@@ -232,7 +209,6 @@ def contact_curve(
     z, spacing, e_star, tol, max_iter, periodic = _check_problem(
         heights, spacing, e_star, tol, max_iter, periodic)
     quantities = check_quantities(quantities)
-    flow_window = _check_flow_window(flow_window, z.shape)
     area_estimator = checks.choice("area_estimator", area_estimator, AREA_ESTIMATORS)
     error_estimate = checks.flag("error_estimate", error_estimate)
     preconditioned = checks.flag("preconditioned", preconditioned)
@@ -279,11 +255,8 @@ def contact_curve(
         keep = preconditioned and _nestable(z.shape)
         coarse = contact_curve(
             z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
-            mirror=mirror,
-            tol=tol, max_iter=max_iter, area_estimator=area_estimator,
+            mirror=mirror, tol=tol, max_iter=max_iter, area_estimator=area_estimator,
             preconditioned=preconditioned, operator=operator.coarse() if keep else None,
-            flow_window=None if flow_window is None else (flow_window[0] // 2,
-                                                          flow_window[1] // 2),
             callback=(lambda i, solution: coarse_pressures.__setitem__(i, solution.pressure))
             if keep else None,
             **({"loads": targets} if loads is not None else {"separations": targets}))
@@ -292,9 +265,7 @@ def contact_curve(
                          coarse_pressures=coarse_pressures)
     # The Reynolds solves of each point run in background threads while the next point's contact
     # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
-    flow = BackgroundLeakage(spacing, periodic=wraps and flow_window is None) \
-        if want_leakage else None
-    rows, columns = z.shape if flow_window is None else flow_window
+    flow = BackgroundLeakage(spacing, periodic=wraps) if want_leakage else None
     for index in order:
         target = float(targets[index])
         problem = {"load": target if loads is not None else None,
@@ -319,7 +290,7 @@ def contact_curve(
         if want_stiffness:
             stiffness[index] = solution.stiffness
         if want_leakage:
-            flow.submit(int(index), solution.fluid_gap[:rows, :columns])
+            flow.submit(int(index), solution.fluid_gap)
         if callback is not None:
             callback(int(index), solution)
     if want_leakage:

@@ -281,7 +281,7 @@ def test_leakage_verdicts_follow_the_log_error_and_the_sealing_rule():
 
 
 def test_leakage_band_is_the_relative_estimate_and_a_sealed_reference_is_exact_only_if_sure():
-    from validation.judge.compare import _log_band
+    from validation.judge.bands import _log_band
 
     band = _log_band(np.array([[0.02, 0.0, 0.0], [0.04, 0.0, 0.1]]),
                      np.array([[1.0, 0.0, 0.0], [1.0, 0.0, 0.0]]))

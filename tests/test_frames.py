@@ -228,8 +228,6 @@ def test_the_leakage_of_the_mirror_extension_is_the_maps_own_non_periodic_flow()
                               tol=1e-10, quantities=("leakage",))
     assert np.all(whole.leakage > 0)
     np.testing.assert_allclose(interface.leakage, whole.leakage, rtol=1e-8)
-    with pytest.raises(ValueError, match="flow_window"):
-        bem.contact_curve(z, 1 / 64, loads=loads, flow_window=(128, 64))
 
 
 def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_method_bound(
@@ -257,6 +255,7 @@ def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_m
     fine = refined_heights(scene.surface.at(2.3), 7, 2)
     loads = np.array(scene.loads.values())[refined]
     direct = bem.InterfaceModel(fine, 1 / 64, tol=1e-8).at_load(loads, quantities=("area",))
+    # the finer solve ran at the looser tolerance its band allows (T40), not at 1e-8
     np.testing.assert_allclose(curve.area[refined], direct.area, rtol=1e-3)
 
 
@@ -284,7 +283,7 @@ def test_a_mirror_path_is_the_extensions_periodic_path_per_copy():
     quadrant = bem.contact_curve(z, 1 / 64, loads=loads, periodic=True, mirror=True,
                                  tol=1e-11, quantities=quantities)
     whole = bem.contact_curve(mirror_extension(z), 1 / 64, loads=4 * loads, periodic=True,
-                              tol=1e-11, quantities=quantities, flow_window=z.shape)
+                              tol=1e-11, quantities=quantities)
     np.testing.assert_allclose(quadrant.separation, whole.separation, rtol=1e-9)
     np.testing.assert_allclose(quadrant.extras["mean_gap"], whole.extras["mean_gap"], rtol=1e-9)
     np.testing.assert_allclose(quadrant.stiffness, whole.stiffness / 4, rtol=1e-9)

@@ -188,8 +188,10 @@ def test_leakage_is_asked_for_only_by_scenes_that_list_it(tmp_path, monkeypatch)
     # the cache key holds the leakage flag: the cached path without leakage is not reused
     asked.clear()
     (with_leakage,) = run_scenes([leaky], cache_dir=str(tmp_path), progress=False)
-    assert len(asked) == 2 and all("leakage" in q for q in asked)
+    # two realizations, each with the window's and the interface's reference (GW's frame)
+    assert len(asked) == 4 and all("leakage" in q for q in asked)
     assert sum(e.startswith("bem-leakage ") for e in computed([with_leakage])) == 2
+    assert sum(e.startswith("bem_interface-leakage ") for e in computed([with_leakage])) == 2
     gw = with_leakage.realizations[2.3][0].curves["gw"]
     assert gw.leakage is not None and np.all(gw.leakage >= 0)
     # ... and a second run with leakage reads it back

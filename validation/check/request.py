@@ -30,6 +30,7 @@ import numpy as np
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
+from validation.surfaces.units import LENGTH_UNITS
 from validation.surfaces.wm import surface_statistics
 
 __all__ = ["CheckRequest", "DEFAULT_PRESSURES", "INTERFACE_MODELS", "MAX_REFINED_SIDE",
@@ -168,8 +169,6 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     lines += [""] + _table("loads", {"quantity": "load", "min": low, "max": high, "count": count,
                                      "spacing": "log" if count > 1 else None})
     models = INTERFACE_MODELS + (NOMINAL_MODELS if request.nominal_size is not None else ())
-    from validation.surfaces.units import LENGTH_UNITS
-
     nominal = None if request.nominal_size is None else request.nominal_size / LENGTH_UNITS[unit]
     # improved GW's uniform term with the square's own mean deflection, the m of the
     # reference's sink (bem.NominalContactModel), so that it is judged on its asperity part

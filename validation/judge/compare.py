@@ -34,7 +34,7 @@ from validation.judge.errors import (ABSOLUTE_QUANTITIES, LOG_QUANTITIES,
                                      pairwise_errors, reached_points,
                                      sealing_disagreements)
 from validation.common import models
-from validation.judge.bands import NOT_ESTIMATED, _band, _log_band, method_band  # noqa: F401
+from validation.judge.bands import NOT_ESTIMATED, _band
 from validation.judge.frames import judged_frame, references_of, source_key
 from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
                                         surface_reasons)

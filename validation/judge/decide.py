@@ -25,7 +25,8 @@ from typing import Callable, Iterable
 import numpy as np
 
 from validation.common import models
-from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations, method_band
+from validation.judge.bands import method_band
+from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
 from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, interface_extension, merge_job,
                                    solver_tolerance, unavailable)
