@@ -269,7 +269,7 @@ def test_a_reader_message_names_the_checks_options(tmp_path, capsys):
 
 
 def test_the_report_says_how_much_of_the_scan_was_filled(tmp_path):
-    from validation.check.command import _filled_text
+    from validation.check.result import _filled_text
     from validation.check.request import CheckRequest
 
     holes = np.random.default_rng(1).standard_normal((64, 64))
@@ -277,7 +277,7 @@ def test_the_report_says_how_much_of_the_scan_was_filled(tmp_path):
     np.save(tmp_path / "holes.npy", holes)
     options = dict(physical_size="1 um", file_unit="nm")
     few = _filled_text(CheckRequest(tmp_path / "holes.npy", fill="mean", **options))
-    assert few == "; 4 of 4096 points (0.0977 %) missing in the file and filled (`--fill mean`)"
+    assert few == "; 4 of 4096 points (0.0977 %) missing in the file and filled (fill = mean)"
     holes[:32] = np.nan
     np.save(tmp_path / "holes.npy", holes)
     many = _filled_text(CheckRequest(tmp_path / "holes.npy", fill="interpolate", **options))

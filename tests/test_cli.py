@@ -157,3 +157,26 @@ def test_the_size_scene_runs_in_the_full_and_published_reports_only(tmp_path, mo
     assert ("leakage" in paper.quantities) == (not quick)
     # the quick report leaves the finer reference to the full one
     assert (paper.bem.max_grid is None) == quick
+
+
+def test_the_console_script_is_the_command_line():
+    import importlib
+    import pathlib
+    import shutil
+    import subprocess
+    import tomllib
+
+    import validation.cli
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    target = tomllib.loads((root / "pyproject.toml").read_text(encoding="utf-8"))[
+        "project"]["scripts"]["asperity-validation"]
+    module, _, name = target.partition(":")
+    assert getattr(importlib.import_module(module), name) is validation.cli.main
+    script = shutil.which("asperity-validation")
+    if script is None:
+        pytest.skip("the package is not installed with its scripts here")
+    done = subprocess.run([script, "list"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0 and "paper-wm-d205" in done.stdout
+    usage = subprocess.run([script, "--help"], capture_output=True, text=True, timeout=120)
+    assert usage.stdout.startswith("usage: asperity-validation")

@@ -15,6 +15,7 @@ below it (``tests/test_import_layers.py``):
 * :mod:`~validation.judge` -- errors against the reference, verdicts, findings, and where
   verdicts stay open, more work asked of the run (:func:`~validation.judge.decide.run_scenes`);
 * :mod:`~validation.report` -- Markdown, figures and CSV tables;
+* :mod:`~validation.check` -- one measured scan checked: :func:`check_scan` and its result;
 * the top: :mod:`validation.cli`, :mod:`~validation.campaigns` and this package's public names.
 """
 
@@ -27,12 +28,14 @@ from validation.scenes.scene import Scene, SceneError
 from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
 from validation.judge.compare import compare_realizations, curve_errors, validity_range
 from validation.judge.decide import run_scenes
+from validation.check.library import check_scan
+from validation.check.result import CheckResult
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics",
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
            "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__",
            "self_affine_surface", "radial_power_spectrum", "read_topography", "Topography",
-           "short_wavelength_cutoff"]
+           "short_wavelength_cutoff", "check_scan", "CheckResult"]
 
 
 def write_report(*args, **kwargs):

@@ -23,6 +23,7 @@ from __future__ import annotations
 import argparse
 import functools
 import os
+import pathlib
 import shlex
 import signal
 import sys
@@ -137,12 +138,22 @@ def _report(args: argparse.Namespace) -> int:
     for message in (m for scene in scenes for m in scene_warnings(scene)):
         print(f"warning: {message}", file=sys.stderr)
     command = "python -m validation " + shlex.join(args.argv)
+    scene_file_text = (pathlib.Path(names[0]).read_text(encoding="utf-8")
+                       if len(names) == 1 and pathlib.Path(names[0]).is_file() else "")
 
     def work(executor, cache_dir: str | None) -> tuple:
+        from validation.check.library import is_check_scene, request_of_scene, run_request
         from validation.report.write import write_report
         from validation.judge.decide import run_scenes
 
         start = time.perf_counter()
+        if len(scenes) == 1 and is_check_scene(scenes[0]) and not quick:
+            # one scan as one surface (a check's check.toml): the check's report
+            result = run_request(request_of_scene(scenes[0]), scenes, scene_file_text,
+                                 executor=executor, cache_dir=cache_dir, progress=not args.quiet)
+            path = result.write_report(args.out, command=command, executor=executor,
+                                       cache_dir=cache_dir)
+            return path, result.seconds, time.perf_counter() - start - result.seconds
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir,
                              progress=not args.quiet)
         seconds = time.perf_counter() - start
@@ -252,7 +263,10 @@ def _run_options(parser: argparse.ArgumentParser, jobs: int | None = None,
 
 def build_parser() -> argparse.ArgumentParser:
     """The command line's parser (its help is the program's documentation of its options)."""
-    parser = argparse.ArgumentParser(prog="python -m validation", description=__doc__,
+    # the console script (pyproject's [project.scripts]) or python -m validation
+    script = os.path.basename(sys.argv[0]) if sys.argv and sys.argv[0] else ""
+    prog = "asperity-validation" if script == "asperity-validation" else "python -m validation"
+    parser = argparse.ArgumentParser(prog=prog, description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     report = sub.add_parser("report", help="run scenes and write the validity report",

@@ -3,12 +3,15 @@ quantity (matplotlib imported here only)."""
 
 from __future__ import annotations
 
-import pathlib
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from validation.common.labels import model_label
 from validation.common import models
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 __all__ = ["physical_figure"]
 
@@ -31,19 +34,16 @@ def _panel(ax, table) -> None:
     ax.grid(True, which="both", alpha=0.3)
 
 
-def physical_figure(tables, path: str | pathlib.Path) -> pathlib.Path:
-    """One panel per table of :func:`validation.check.physical.physical_tables`, written as a
-    PNG to ``path``."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def physical_figure(tables) -> Figure:
+    """One panel per table of :func:`validation.check.physical.physical_tables`: a matplotlib
+    Figure not attached to pyplot (no display needed; a notebook shows it)."""
+    from matplotlib.figure import Figure
 
     count = len(tables)
     columns = 2 if count > 1 else 1
     rows = -(-count // columns)
-    figure, axes = plt.subplots(rows, columns, figsize=(5.2 * columns, 3.6 * rows),
-                                squeeze=False)
+    figure = Figure(figsize=(5.2 * columns, 3.6 * rows))
+    axes = figure.subplots(rows, columns, squeeze=False)
     for ax, table in zip(axes.flat, tables):
         _panel(ax, table)
     for ax in list(axes.flat)[count:]:
@@ -51,7 +51,4 @@ def physical_figure(tables, path: str | pathlib.Path) -> pathlib.Path:
     handles, labels = axes.flat[0].get_legend_handles_labels()
     figure.legend(handles, labels, loc="lower center", ncol=4, fontsize=7, frameon=False)
     figure.tight_layout(rect=(0, 0.08, 1, 1))
-    path = pathlib.Path(path)
-    figure.savefig(path, dpi=110)
-    plt.close(figure)
-    return path
+    return figure

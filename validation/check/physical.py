@@ -61,6 +61,48 @@ class PhysicalTable:
     tolerance_text: str = ""        # the tolerance in the field's measure, for the heading
     frame: str = "interface"        # of the reference and of the models judged against it
 
+    def rows(self) -> list[dict]:
+        """The table as rows of ``physical.csv`` (the reference as ``bem`` with its band)."""
+        out = []
+        for k in range(self.load.size):
+            common = dict(field=self.field, frame=self.frame, unit=self.unit or "1", point=k,
+                          load_p_over_e_star=float(self.load[k]),
+                          pressure_Pa=None if self.pressure is None else float(self.pressure[k]))
+            out.append(common | dict(model="bem", value=float(self.reference[k]),
+                                     reference_band=float(self.band[k]), verdict=None,
+                                     tolerance=None))
+            out += [common | dict(model=model, value=float(values[k]), reference_band=None,
+                                  verdict=str(self.verdicts[model][k]), tolerance=self.tolerance)
+                    for model, values in self.models.items()]
+        return out
+
+    def markdown(self) -> str:
+        """The table in Markdown (:func:`table_lines`)."""
+        return "\n".join(table_lines(self))
+
+    def _repr_markdown_(self) -> str:
+        return self.markdown()
+
+    def __str__(self) -> str:
+        return self.markdown()
+
+    def to_frame(self):
+        """A pandas DataFrame, a row per pressure: ``p_over_e_star``, ``pressure_Pa`` (with
+        E*), ``reference``, ``band``, then each model's value and ``<model> verdict``. Needs
+        pandas (not a dependency of this package)."""
+        try:
+            import pandas
+        except ImportError:
+            raise ImportError("PhysicalTable.to_frame needs pandas: pip install pandas") from None
+        columns = {"p_over_e_star": self.load}
+        if self.pressure is not None:
+            columns["pressure_Pa"] = self.pressure
+        columns |= {"reference": self.reference, "band": self.band}
+        for model, values in self.models.items():
+            columns[model] = values
+            columns[f"{model} verdict"] = np.asarray(self.verdicts[model]).astype(str)
+        return pandas.DataFrame(columns)
+
 
 def _scale(kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
     """Factor from the curve's field to the physical value, and the unit written."""
@@ -175,19 +217,21 @@ def table_lines(table: PhysicalTable) -> list[str]:
 
 def write_csv(tables: list[PhysicalTable], path: str | pathlib.Path) -> pathlib.Path:
     """``physical.csv``: one row per field, pressure and model (the reference as ``bem`` with
-    its band), values in the unit of the ``unit`` column."""
+    its band), values in the unit of the ``unit`` column (:meth:`PhysicalTable.rows`)."""
     path = pathlib.Path(path)
+    names = ["field", "frame", "unit", "point", "load_p_over_e_star", "pressure_Pa", "model",
+             "value", "reference_band", "verdict", "tolerance"]
+
+    def text(value) -> str:
+        if value is None:
+            return ""
+        return f"{value:.10g}" if isinstance(value, float) else str(value)
+
     with path.open("w", newline="", encoding="utf-8") as handle:
         out = csv.writer(handle)
-        out.writerow(["field", "frame", "unit", "point", "load_p_over_e_star", "pressure_Pa",
-                      "model", "value", "reference_band", "verdict", "tolerance"])
+        out.writerow(names)
         for t in tables:
-            for k in range(t.load.size):
-                pressure = "" if t.pressure is None else f"{t.pressure[k]:.10g}"
-                common = [t.field, t.frame, t.unit or "1", k, f"{t.load[k]:.10g}", pressure]
-                out.writerow(common + ["bem", f"{t.reference[k]:.10g}", f"{t.band[k]:.10g}",
-                                       "", ""])
-                for model, values in t.models.items():
-                    out.writerow(common + [model, f"{values[k]:.10g}", "",
-                                           str(t.verdicts[model][k]), f"{t.tolerance:g}"])
+            for row in t.rows():
+                row["tolerance"] = None if row["tolerance"] is None else f"{row['tolerance']:g}"
+                out.writerow([text(row[name]) for name in names])
     return path

@@ -80,6 +80,12 @@ class CheckRequest:
     nominal_size : float or None
         Side [m] of the user's square nominal contact (a seal's width), at least the scan's:
         adds the finite frame of that square; None: the interface frame alone.
+    models : tuple of str or None
+        The models to compare (registry names; each frame's reference is added); None: those
+        of :data:`INTERFACE_MODELS`, and of :data:`NOMINAL_MODELS` with a nominal size.
+    scratch : bool
+        True when ``path`` is a copy the library call wrote of a height array (a report written
+        from it keeps its own copy).
     """
 
     path: pathlib.Path
@@ -92,6 +98,13 @@ class CheckRequest:
     tiles: int = 1
     resample: str | None = None
     nominal_size: float | None = None
+    models: tuple[str, ...] | None = None
+    scratch: bool = False
+
+    @property
+    def name(self) -> str:
+        """The scan's file name (``scan.npy`` for an array: its name in the report's folder)."""
+        return "scan.npy" if self.scratch else self.path.name
 
     def read(self, unit: str = "m") -> Topography:
         """The scan as the scene will read it (plane removed), lengths in ``unit``."""
@@ -151,11 +164,11 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     side = max(rows, columns) // math.isqrt(tiles)
     e_star = ("E* not given: pressures in units of E*" if request.e_star is None
               else f"E* = {request.e_star:.6g} Pa")
-    description = (f"The whole scan {request.path.name} ({rows} x {columns} pixels, spacing "
+    description = (f"The whole scan {request.name} ({rows} x {columns} pixels, spacing "
                    f"{scan.spacing:.4g} {unit}) as one surface"
                    + (f", cut into {tiles} tiles" if tiles > 1 else "")
                    + f"; {e_star}; Load = p / E*.")
-    lines = _table(None, {"name": name, "title": f"Your surface: {request.path.name}"
+    lines = _table(None, {"name": name, "title": f"Your surface: {request.name}"
                           + (f", {tiles} tiles" if tiles > 1 else ""),
                           "description": description})
     lines += [""] + _table("surface", {
@@ -164,11 +177,13 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
         "short_cutoff": request.short_cutoff, "resample": request.resample,
         "physical_size": request.physical_size,
         "file_unit": request.file_unit})
-    lines += [""] + _table("material", {"e_star": 1.0})
-    lines += [f"# pressures in units of E*; {e_star}"]
+    lines += [""] + _table("material", {"e_star": 1.0, "physical_e_star": request.e_star})
+    lines += ["# the scene runs in units of E* (loads are p / E*); physical_e_star [Pa] is the E* "
+              "of the report's physical units"]
     lines += [""] + _table("loads", {"quantity": "load", "min": low, "max": high, "count": count,
                                      "spacing": "log" if count > 1 else None})
-    models = INTERFACE_MODELS + (NOMINAL_MODELS if request.nominal_size is not None else ())
+    models = request.models or (INTERFACE_MODELS + (NOMINAL_MODELS if request.nominal_size
+                                                    is not None else ()))
     nominal = None if request.nominal_size is None else request.nominal_size / LENGTH_UNITS[unit]
     # improved GW's uniform term with the square's own mean deflection, the m of the
     # reference's sink (bem.NominalContactModel), so that it is judged on its asperity part

@@ -367,9 +367,13 @@ def _scene_page(figures: _Figures, analysis: Analysis) -> None:
 
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
-                 executor=None, cache_dir: str | pathlib.Path | None = None) -> pathlib.Path:
+                 executor=None, cache_dir: str | pathlib.Path | None = None,
+                 lead: list[str] | None = None) -> pathlib.Path:
     """Write the CSV tables, then the scene pages and ``report.md`` with their PNG figures,
     into ``folder``.
+
+    ``lead`` (Markdown lines) are the first sections of ``report.md``, after its header: a
+    one-scan check's answer (:class:`validation.check.result.CheckResult`).
 
     ``command`` (the command line that produced the results), the package version and the run
     time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures,
@@ -389,7 +393,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     analyses = [analyse(result) for result in results]
     rows = table_rows(analyses)
     written = write_tables(folder, analyses, rows)
-    figures = _Figures(folder, header(seconds, mode, command))
+    figures = _Figures(folder, header(seconds, mode, command) + list(lead or []))
     front_page(figures, analyses, rows)
     pages = {}
     for analysis in analyses:

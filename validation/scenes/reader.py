@@ -27,7 +27,8 @@ __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 #: Scene fields read from another table than their name, as "table.key".
 _SCENE_KEYS = {"realizations": "realizations.count", "seed": "realizations.seed",
                "max_realizations": "realizations.max",
-               "e_star": "material.e_star", "models": "models.use", "m": "models.m",
+               "e_star": "material.e_star",
+               "physical_e_star": "material.physical_e_star", "models": "models.use", "m": "models.m",
                "nominal_size": "models.nominal_size",
                "quantities": "quantities.use", "tolerances": "tolerances.levels",
                "sampling": "sampling.factors"}
@@ -178,7 +179,8 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         top.fail("realizations", "does not belong in a scene of a measured map: its "
                  "realizations are its tiles (surface.tiles)")
     tables = dict(realizations=dict(count="integer", seed="integer", max="integer"),
-                  material=dict(e_star="number"), models=dict(use="strings", m="number", nominal_size="number"),
+                  material=dict(e_star="number", physical_e_star="number"),
+                  models=dict(use="strings", m="number", nominal_size="number"),
                   quantities=dict(use="strings"), sampling=dict(factors="numbers"))
     for table, kinds in tables.items():
         reader = top.sub(table)

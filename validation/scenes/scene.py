@@ -21,7 +21,7 @@ file's tables and keys map onto them::
                      short_cutoff tiles, and
                      every other keyword of read_topography (fill channel reader ...)
     [realizations]  count seed max      -> Scene.realizations, Scene.seed, Scene.max_realizations
-    [material]  e_star                  -> Scene.e_star
+    [material]  e_star physical_e_star  -> Scene.e_star, Scene.physical_e_star
     [loads]  quantity min max count spacing                -> LoadPath
     [models]  use m nominal_size        -> Scene.models (registered names), Scene.m,
                                            Scene.nominal_size
@@ -206,6 +206,9 @@ class Scene:
     # budget of the sequential plan (validation.run.sequential); None: the planned ones only
     max_realizations: int | None = None
     e_star: float = 1.0
+    # E* [Pa] of a scene that runs in units of E* (e_star = 1) and reports in physical units: the
+    # pressures and stiffness of a one-scan report (python -m validation check); None: none
+    physical_e_star: float | None = None
     loads: LoadPath = field(default_factory=LoadPath)
     models: tuple[str, ...] = MODELS
     m: float = 1.0
@@ -229,6 +232,8 @@ class Scene:
         check.integer(self, "realizations", 1)
         check.integer(self, "seed", 0)
         check.number(self, "e_star", above=0.0)
+        if self.physical_e_star is not None:
+            check.number(self, "physical_e_star", above=0.0)
         check.number(self, "m", at_least=0.0)
         if self.nominal_size is not None:
             check.number(self, "nominal_size", above=0.0)

@@ -1,0 +1,127 @@
+"""The check as a library call: validation.check_scan and its CheckResult give the command's
+numbers, read in a notebook without writing anything, pickle, and write the same report that
+``python -m validation report check.toml`` writes again."""
+
+from __future__ import annotations
+
+import csv
+import pickle
+
+import numpy as np
+import pytest
+
+import validation
+from validation import check_scan
+from validation.cli import main
+
+SPACING = 2e-9   # m
+
+
+@pytest.fixture(scope="module")
+def heights():
+    return validation.self_affine_surface(64, hurst=0.8, rms_slope=0.3, L=64.0, window=128,
+                                          seed=5) * SPACING
+
+
+@pytest.fixture(scope="module")
+def cache(tmp_path_factory):
+    return tmp_path_factory.mktemp("cache")
+
+
+@pytest.fixture(scope="module")
+def result(heights, cache):
+    return check_scan(heights, spacing=SPACING, e_star="115GPa",
+                      pressures=("20MPa", "2GPa", 3), cache=cache)
+
+
+def _rows(path):
+    with open(path, newline="", encoding="utf-8") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_the_library_call_gives_the_commands_numbers(result, heights, cache, tmp_path):
+    np.save(tmp_path / "scan.npy", heights)
+    out = tmp_path / "command"
+    assert main(["check", str(tmp_path / "scan.npy"), "--physical-size",
+                 f"{64 * SPACING}m", "--file-unit", "m", "--e-star", "115GPa", "--pressure",
+                 "20MPa:2GPa:3", "--out", str(out), "--cache", str(cache), "--quiet"]) == 0
+    written = _rows(out / "physical.csv")
+    assert len(written) == sum(len(t.rows()) for t in result.tables) > 0
+    for row, expected in zip(written, (r for t in result.tables for r in t.rows())):
+        assert row["model"] == expected["model"] and row["field"] == expected["field"]
+        assert float(row["value"]) == pytest.approx(expected["value"], rel=1e-9)
+        assert row["verdict"] == (expected["verdict"] or "")
+
+
+def test_a_table_reads_one_field_and_names_the_others_when_asked_for_one_it_lacks(result):
+    area = result.table("area")
+    assert area.field == "area" and area.pressure is not None
+    assert area.pressure == pytest.approx([2e7, 2e8, 2e9])
+    assert str(area) == area._repr_markdown_() == area.markdown()
+    assert area.markdown() in "\n".join(result.sections)   # the report shows the same table
+    assert set(area.models) >= {"gw", "persson"} and set(area.verdicts) == set(area.models)
+    with pytest.raises(ValueError, match=r"field must be one the check compared \('area'"):
+        result.table("volume")
+    assert "At a glance" in result.glance() and result.glance() in result.markdown()
+
+
+def test_the_result_pickles_and_converts_to_data_frames(result):
+    again = pickle.loads(pickle.dumps(result))
+    assert again.fields == result.fields
+    for a, b in zip(again.tables, result.tables):
+        np.testing.assert_array_equal(a.reference, b.reference)
+    pandas = pytest.importorskip("pandas")
+    frame = result.to_frame()
+    assert isinstance(frame, pandas.DataFrame)
+    assert len(frame) == sum(len(t.rows()) for t in result.tables)
+    wide = result.table("area").to_frame()
+    np.testing.assert_array_equal(wide["reference"], result.table("area").reference)
+    assert list(wide["gw verdict"]) == list(result.table("area").verdicts["gw"])
+
+
+def test_the_figure_has_one_panel_per_table(result):
+    figure = result.plot()
+    assert sum(ax.get_visible() for ax in figure.axes) == len(result.tables)
+
+
+def test_the_written_report_is_written_again_from_its_scene(result, cache, tmp_path):
+    first = result.write_report(tmp_path / "one")
+    assert (tmp_path / "one" / "scan.npy").is_file()
+    assert main(["report", str(tmp_path / "one" / "check.toml"), "--out", str(tmp_path / "two"),
+                 "--cache", str(cache), "--quiet"]) == 0
+    assert _rows(tmp_path / "one" / "physical.csv") == _rows(tmp_path / "two" / "physical.csv")
+    text = [(tmp_path / name / "report.md").read_text(encoding="utf-8") for name in ("one", "two")]
+    start = [t.index("## Your surface") for t in text]
+    assert text[0][start[0]:] == text[1][start[1]:]   # all but the header (command, time)
+    assert "E* = 115 GPa" in text[1] and first.name == "report.md"
+
+
+def test_a_topography_is_checked_as_its_heights(result, heights, cache):
+    scan = validation.Topography(heights / 1e-9, SPACING / 1e-9, (64 * SPACING / 1e-9,) * 2, "nm",
+                                 "an array")
+    again = check_scan(scan, e_star=115e9, pressures=(2e7, 2e9, 3), cache=cache)
+    np.testing.assert_allclose(again.table("area").reference, result.table("area").reference,
+                               rtol=1e-9)
+
+
+@pytest.mark.parametrize("options, error, words", [
+    (dict(), ValueError, "needs its spacing"),
+    (dict(spacing=SPACING, e_star="115"), ValueError, "e_star needs a unit"),
+    (dict(spacing=SPACING, pressures=(1e6,)), TypeError, "pressures must be"),
+    (dict(spacing=SPACING, pressures="1MPa:100MPa"), ValueError, "needs e_star"),
+    (dict(spacing=SPACING, models=["nope"]), ValueError, "models must name"),
+    (dict(spacing=-1.0), ValueError, "spacing must be a finite real number > 0"),
+    (dict(spacing=SPACING, tiles=3), ValueError, "tiles must be a square number"),
+])
+def test_bad_arguments_are_refused_naming_the_keyword(heights, options, error, words):
+    with pytest.raises(error, match=words):
+        check_scan(heights, cache=False, **options)
+
+
+def test_what_is_not_a_scan_is_refused():
+    with pytest.raises(TypeError, match="scan must be a file path, a Topography or a 2-D"):
+        check_scan(42, cache=False)
+    with pytest.raises(ValueError, match="2-D map of heights"):
+        check_scan(np.zeros(8), spacing=1e-9, cache=False)
+    with pytest.raises(ValueError, match="names no file"):
+        check_scan("no-such-scan.di", cache=False)

@@ -1,0 +1,331 @@
+"""The check as a library call: :func:`check_scan` answers, on one measured scan, which theory
+to trust, and returns a :class:`validation.check.result.CheckResult`.
+
+``python -m validation check`` is a thin wrapper of the same steps (:mod:`.command`): the
+arguments become a :class:`validation.check.request.CheckRequest` (numbers in SI units or
+strings with units, parsed as on the command line), the request becomes a scene
+(:func:`validation.check.request.scene_text`), and the scene runs as any report's does: first
+the scan as sampled (its half-grid band), then with the finer reference where the band keeps a
+verdict open. A scene written by a check (``check.toml``) is recognised by
+:func:`is_check_scene`, so ``python -m validation report check.toml`` gives the same report.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import os
+import pathlib
+import re
+import tempfile
+import time
+import tomllib
+from dataclasses import replace
+
+import numpy as np
+
+from validation.check.request import CheckRequest, scene_text
+from validation.check.result import CheckResult
+from validation.check.units import parse_length, parse_pressure, parse_pressure_range
+from validation.common import models as registry
+from validation.scenes.reader import parse_scene
+from validation.surfaces.topography import Topography
+from validation.surfaces.units import LENGTH_UNITS
+
+__all__ = ["check_scan", "check_scenes", "is_check_scene", "make_request", "request_of_scene",
+           "run_request"]
+
+#: The command line's option for each keyword of :func:`check_scan` (messages name the one
+#: the user wrote).
+OPTIONS = {"e_star": "--e-star", "pressures": "--pressure", "short_cutoff": "--short-cutoff",
+           "fill": "--fill", "resample": "--resample", "physical_size": "--physical-size",
+           "file_unit": "--file-unit", "tiles": "--tiles", "nominal_size": "--nominal-size",
+           "models": "--models", "scan": "SCAN"}
+
+
+def _keywords(message: str) -> str:
+    """A message of the command line's parsers with its options named as keywords."""
+    for keyword, option in OPTIONS.items():
+        if option.startswith("--"):
+            message = re.sub(rf"{re.escape(option)}(?![\w-])", keyword, message)
+    return message
+
+
+def _scratch_scan(heights: np.ndarray, cache_dir: str | None) -> pathlib.Path:
+    """A height array [m] kept as ``.npy`` under a name from its content (the same array is
+    the same file, so the cache knows it)."""
+    heights = np.ascontiguousarray(heights, dtype=float)
+    digest = hashlib.sha256(heights.tobytes() + str(heights.shape).encode()).hexdigest()[:20]
+    folder = pathlib.Path(cache_dir) / "scans" if cache_dir else \
+        pathlib.Path(tempfile.gettempdir()) / "asperity-validation-scans"
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"scan-{digest}.npy"
+    if not path.exists():
+        np.save(path, heights)
+    return path
+
+
+def _scan_source(scan, spacing, file_unit, physical_size, cache_dir):
+    """(path, physical_size, file_unit, scratch) of a path, a Topography or a height array."""
+    if isinstance(scan, (str, os.PathLike)):
+        if spacing is not None:
+            raise ValueError("spacing is for a height array; a file states its size (or give "
+                             "physical_size)")
+        return pathlib.Path(scan), physical_size, file_unit, False
+    if isinstance(scan, Topography):
+        metres = LENGTH_UNITS[scan.unit]
+        size = f"{scan.physical_size[0] * metres:.17g} m"
+        return _scratch_scan(scan.heights * metres, cache_dir), size, "m", True
+    if isinstance(scan, np.ndarray):
+        heights = np.asarray(scan)
+        if heights.ndim != 2 or not np.issubdtype(heights.dtype, np.number):
+            raise ValueError(f"scan as an array must be a 2-D map of heights, got shape "
+                             f"{heights.shape} of {heights.dtype}")
+        if spacing is None:
+            raise ValueError("a height array needs its spacing: spacing=1e-9 (metres) or "
+                             "spacing='1nm'")
+        pixel, has_unit = parse_length("spacing", spacing)
+        if not pixel > 0:
+            raise ValueError(f"spacing must be a positive length, got {spacing!r}")
+        scale = LENGTH_UNITS[file_unit] if file_unit else 1.0
+        if file_unit and file_unit not in LENGTH_UNITS:
+            raise ValueError(f"file_unit must be one of {', '.join(LENGTH_UNITS)}, got "
+                             f"{file_unit!r}")
+        size = f"{pixel * heights.shape[1]:.17g} m"
+        return _scratch_scan(heights * scale, cache_dir), size, "m", True
+    raise TypeError(f"scan must be a file path, a Topography or a 2-D height array, got "
+                    f"{type(scan).__name__}")
+
+
+def _pressure_text(pressures) -> str | None:
+    """``pressures`` as the command line writes them: ``"LOW:HIGH[:COUNT]"`` (numbers in a
+    tuple are pascals, SI; a count is the third entry)."""
+    if pressures is None or isinstance(pressures, str):
+        return pressures
+    if isinstance(pressures, (tuple, list)) and len(pressures) in (2, 3):
+        ends = [f"{p:.17g}Pa" if isinstance(p, (int, float)) and not isinstance(p, bool)
+                else str(p) for p in pressures[:2]]
+        return ":".join(ends + [str(c) for c in pressures[2:]])
+    raise TypeError(f"pressures must be (low, high) or (low, high, count), or 'LOW:HIGH:COUNT', "
+                    f"got {pressures!r}")
+
+
+def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=None,
+                 resample=None, physical_size=None, file_unit=None, spacing=None,
+                 tiles: int = 1, nominal_size=None, models=None,
+                 cache_dir: str | None = None) -> CheckRequest:
+    """The :class:`CheckRequest` of :func:`check_scan`'s arguments (units parsed, the scan
+    read once to check it).
+
+    Raises
+    ------
+    ValueError, TypeError
+        Naming the argument and what it allows (the command line's option names are used
+        by the command, :mod:`.command`).
+    """
+    path, physical_size, file_unit, scratch = _scan_source(scan, spacing, file_unit,
+                                                           physical_size, cache_dir)
+    if not scratch and not path.is_file():
+        raise ValueError(f"scan {str(path)!r} names no file")
+    if e_star is not None:
+        pascals, has_unit = parse_pressure("--e-star", e_star)
+        if not has_unit and isinstance(e_star, str):
+            raise ValueError(f"--e-star needs a unit, e.g. 115GPa, got {e_star!r}")
+        e_star = pascals
+    pressure_range = None if pressures is None else parse_pressure_range(_pressure_text(pressures))
+    if pressure_range is not None:
+        pressure_range.dimensionless(e_star)   # pressures in Pa need E*: said now
+    if physical_size is not None:
+        _, has_unit = parse_length("--physical-size", physical_size)
+        if not has_unit and isinstance(physical_size, str):
+            raise ValueError(f"--physical-size needs a unit, e.g. '10um', got {physical_size!r}")
+        if not isinstance(physical_size, str):
+            physical_size = f"{float(physical_size):.17g} m"
+    if isinstance(tiles, bool) or not isinstance(tiles, (int, np.integer)) or tiles < 1 \
+            or round(tiles ** 0.5) ** 2 != tiles:
+        raise ValueError(f"--tiles must be a square number >= 1 (1, 4, 9, ...), got {tiles!r}")
+    if models is not None:
+        if isinstance(models, str):
+            models = (models,)
+        unknown = [m for m in models if m not in registry.names()]
+        if unknown or not models:
+            raise ValueError(f"--models must name registered models ({', '.join(registry.names())})"
+                             f", got {list(models)!r}")
+        models = tuple(models)
+    request = CheckRequest(path, e_star, pressure_range, None, fill, physical_size, file_unit,
+                           int(tiles), resample, None, models, scratch)
+    if short_cutoff is not None:
+        request = replace(request, short_cutoff=_cutoff(short_cutoff, request))
+    if nominal_size is not None:
+        request = replace(request, nominal_size=_nominal_size(nominal_size, request))
+    return request
+
+
+def _cutoff(value, request: CheckRequest) -> str:
+    """The short cutoff as the scene key writes it: a length (``20nm``, metres as a number) or
+    pixels (``8px``) of the scan."""
+    text = str(value) if not isinstance(value, str) else value
+    match = re.fullmatch(r"\s*([0-9.]+(?:[eE][-+]?\d+)?)\s*px\s*", text)
+    if match is None:
+        metres, has_unit = parse_length("--short-cutoff", value)
+        if not has_unit and isinstance(value, str):
+            raise ValueError(f"--short-cutoff needs a unit (20nm, 0.5um) or pixels (8px), "
+                             f"got {value!r}")
+        return f"{metres:.6g} m"
+    return f"{float(match.group(1)) * request.read('m').spacing:.6g} m"
+
+
+def _nominal_size(value, request: CheckRequest) -> float:
+    """The nominal contact's side in metres: a length, at least the scan's side."""
+    metres, has_unit = parse_length("--nominal-size", value)
+    if not has_unit and isinstance(value, str):
+        raise ValueError(f"--nominal-size needs a unit, e.g. 10mm, got {value!r}")
+    if not metres > 0:
+        raise ValueError(f"--nominal-size must be a positive length, got {value!r}")
+    scan = request.read("m")
+    side = math.sqrt(scan.heights.size) * scan.spacing
+    if metres < side * (1 - 1e-9):
+        raise ValueError(f"--nominal-size must be at least the scan's side ({side:.4g} m): the "
+                         f"scan is a sample of the interface inside the nominal contact; got "
+                         f"{value!r}")
+    return metres
+
+
+def check_scenes(request: CheckRequest, source: str = "check.toml"):
+    """The scenes of a request (the whole scan, then its tiles when asked) and the text of the
+    first (``check.toml``)."""
+    stem = re.sub(r"[^A-Za-z0-9_-]+", "-", request.path.stem).strip("-") or "scan"
+    if request.scratch:
+        stem = "array"
+    scenes, first_text = [], None
+    for tiles in dict.fromkeys((1, request.tiles)):
+        name = f"check-{stem}" + (f"-tiles{tiles}" if tiles > 1 else "")
+        text = scene_text(request, name, tiles=tiles)
+        scenes.append(parse_scene(tomllib.loads(text),
+                                  source=source if tiles == 1 else f"{name}.toml"))
+        first_text = first_text or text
+    return scenes, first_text
+
+
+def is_check_scene(scene) -> bool:
+    """Whether a scene is one scan as one surface (a measured map's scene with one tile): the
+    scene a check writes, reported with the check's sections."""
+    return (scene.kind == "surface" and scene.surface is not None
+            and scene.surface.family == "file" and scene.surface.tiles == 1)
+
+
+def request_of_scene(scene) -> CheckRequest:
+    """The request a one-scan scene answers (:func:`is_check_scene`): its file, how to read it,
+    its physical E* and nominal size."""
+    s = scene.surface
+    options = dict(s.read_options)
+    nominal = None if scene.nominal_size is None else scene.nominal_size * LENGTH_UNITS[s.unit]
+    cutoff = s.short_cutoff
+    if cutoff is not None and not isinstance(cutoff, str):
+        cutoff = f"{cutoff * LENGTH_UNITS[s.unit]:.6g} m"
+    size = s.physical_size
+    if isinstance(size, (int, float)):
+        size = f"{size * LENGTH_UNITS[s.unit]:.17g} m"
+    return CheckRequest(pathlib.Path(s.path), scene.physical_e_star, None, cutoff,
+                        options.get("fill"), size, s.file_unit, 1,
+                        None if s.resample == "none" else s.resample, nominal, scene.models)
+
+
+def run_request(request: CheckRequest, scenes, scene_text_: str, *, executor=None,
+                cache_dir: str | None = None, progress: bool = False) -> CheckResult:
+    """Run a check's scenes (the scan as sampled first, then with the finer reference where
+    the band decides; the path itself comes from the cache) and return its result."""
+    from validation.judge.decide import run_scenes
+
+    start = time.perf_counter()
+    scene = scenes[0]
+    sampled = replace(scene, bem=replace(scene.bem, max_grid=None))
+    first = run_scenes([sampled], executor=executor, cache_dir=cache_dir, progress=progress)[0]
+    runs = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=progress)
+    return CheckResult.of(request, runs, first, scene_text=scene_text_,
+                          seconds=time.perf_counter() - start)
+
+
+@contextlib.contextmanager
+def _wisdom(cache_dir: str | None):
+    """FFTW wisdom kept with the cache for the run (bem.wisdom), as the command does."""
+    from bem.wisdom import WISDOM_VARIABLE
+
+    before = os.environ.get(WISDOM_VARIABLE)
+    os.environ[WISDOM_VARIABLE] = cache_dir or ""
+    try:
+        yield
+    finally:
+        if before is None:
+            os.environ.pop(WISDOM_VARIABLE, None)
+        else:
+            os.environ[WISDOM_VARIABLE] = before
+
+
+def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=None,
+               resample=None, physical_size=None, file_unit=None, spacing=None, tiles: int = 1,
+               nominal_size=None, models=None, cache: str | os.PathLike | bool | None = None,
+               progress: bool = False) -> CheckResult:
+    """Which theory to trust on one measured scan: every model against the boundary-element
+    reference of that very surface, at nominal pressures in physical units.
+
+    Parameters
+    ----------
+    scan : path, Topography or numpy.ndarray
+        A height file (any format :func:`validation.read_topography` reads), a
+        :class:`validation.Topography`, or a 2-D array of heights [m] (``file_unit`` for
+        another unit) with its ``spacing``.
+    e_star : float [Pa] or str, optional
+        Effective modulus E*, e.g. ``115e9`` or ``"115GPa"``; None: pressures and stiffness
+        in units of E*.
+    pressures : (low, high[, count]) or str, optional
+        Nominal pressures, logarithmic: ``("1MPa", "100MPa", 12)`` or ``(1e6, 1e8, 12)``
+        [Pa; both need ``e_star``], or as the command line writes them, ``"1MPa:100MPa:12"``,
+        or in units of E* without a unit, ``"1e-5:1e-3"``; None: twelve pressures from light
+        to heavy contact.
+    short_cutoff : float [m] or str, optional
+        Low-pass the scan at this wavelength: ``"20nm"``, ``"8px"``, ``2e-8``.
+    fill, resample : str, optional
+        ``"mean"``/``"interpolate"`` for missing points; ``"finer"``/``"coarser"`` for pixels
+        that are not square.
+    physical_size, file_unit : str, optional
+        The scan's width and its heights' unit when the file states neither (``"10um"``,
+        ``"nm"``); ``file_unit`` is the unit of an array's heights.
+    spacing : float [m] or str, optional
+        The pixel size of a height array (``1e-9`` or ``"1nm"``).
+    tiles : int
+        1: the whole scan; k²: also the scan cut into k x k tiles.
+    nominal_size : float [m] or str, optional
+        Side of your square nominal contact (``"10mm"``): adds the finite frame.
+    models : sequence of str, optional
+        Registered model names (each frame's reference is added).
+    cache : path, True/None or False
+        The run cache folder; None or True: the command's default folder; False: none.
+    progress : bool
+        Show progress bars.
+
+    Returns
+    -------
+    CheckResult
+
+    Raises
+    ------
+    ValueError, TypeError
+        Naming the argument and what it allows.
+    """
+    from validation.run.cache import default_cache_dir
+
+    cache_dir = None if cache is False else str(default_cache_dir() if cache in (None, True)
+                                                else cache)
+    try:
+        request = make_request(scan, e_star=e_star, pressures=pressures,
+                               short_cutoff=short_cutoff, fill=fill, resample=resample,
+                               physical_size=physical_size, file_unit=file_unit, spacing=spacing,
+                               tiles=tiles, nominal_size=nominal_size, models=models,
+                               cache_dir=cache_dir)
+        scenes, text = check_scenes(request)
+    except (ValueError, TypeError) as error:
+        raise type(error)(_keywords(str(error))) from None
+    with _wisdom(cache_dir):
+        return run_request(request, scenes, text, cache_dir=cache_dir, progress=progress)
