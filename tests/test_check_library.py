@@ -94,6 +94,10 @@ def test_the_written_report_is_written_again_from_its_scene(result, cache, tmp_p
     start = [t.index("## Your surface") for t in text]
     assert text[0][start[0]:] == text[1][start[1]:]   # all but the header (command, time)
     assert "E* = 115 GPa" in text[1] and first.name == "report.md"
+    assert "Sq (rms height) = " in text[0] and "σ (rms of the summit heights)" in text[0]
+    # the check's answer stands for the summary; the paper's findings speak of populations
+    assert "## Summary" not in text[0] and "## Findings" not in text[0]
+    assert text[0].count("## At a glance") + text[0].count("**At a glance**") == 1
 
 
 def test_a_topography_is_checked_as_its_heights(result, heights, cache):

@@ -311,9 +311,30 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+#: Options whose value may be written with a leading minus (a wrong value the option's own check
+#: then names, rather than argparse's "expected one argument").
+VALUE_OPTIONS = ("--e-star", "--pressure", "--short-cutoff", "--physical-size", "--nominal-size",
+                 "--file-unit", "--tiles", "--jobs")
+
+
+def _joined_values(argv: list[str]) -> list[str]:
+    """``--option -value`` as ``--option=-value`` for :data:`VALUE_OPTIONS`."""
+    out, k = [], 0
+    while k < len(argv):
+        if argv[k] in VALUE_OPTIONS and k + 1 < len(argv) and argv[k + 1].startswith("-") \
+                and not argv[k + 1].startswith("--"):
+            out.append(f"{argv[k]}={argv[k + 1]}")
+            k += 2
+            continue
+        out.append(argv[k])
+        k += 1
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
-    args.argv = list(sys.argv[1:] if argv is None else argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser().parse_args(_joined_values(argv))
+    args.argv = argv
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGINT, _interrupt_once) if main_thread else None
     try:

@@ -42,9 +42,11 @@ def _column(table, framed: bool) -> str:
     return _COLUMNS[table.field] + (f" ({FRAME_LABELS[table.frame]})" if framed else "")
 
 
-def _sentence(table, framed: bool = False) -> str:
+def _sentence(table, framed: bool = False, unjudged: str | None = None) -> str:
     column = _column(table, framed)
     name = column[0].upper() + column[1:]
+    if unjudged:
+        return f"{name}: {unjudged}."
     if not table.verdicts:
         return f"{name}: no theory is compared."
     order = np.argsort(table.load, kind="stable")
@@ -62,10 +64,13 @@ def _sentence(table, framed: bool = False) -> str:
     return f"{name}: {model_label(best)} holds at {held} of {total} pressures ({where})."
 
 
-def glance_lines(tables) -> list[str]:
+def glance_lines(tables, unjudged: dict[str, str] | None = None) -> list[str]:
     """The check's first table: each theory's verdict strip per field, and one sentence per
     field (module docstring). ``tables`` are :class:`validation.check.physical.PhysicalTable` s
-    of one surface (same pressures)."""
+    of one surface (same pressures); ``unjudged`` maps the fields the reference cannot judge
+    at the scan's resolution to what to do (:func:`validation.check.resolution.unjudged`):
+    their sentence says so and names no theory."""
+    unjudged = unjudged or {}
     if not tables:
         return []
     first = tables[0]
@@ -84,5 +89,5 @@ def glance_lines(tables) -> list[str]:
                  else "–" for t in tables]
         lines.append(f"| {model_label(model)} | " + " | ".join(cells) + " |")
     lines.append("")
-    lines += [f"- {_sentence(t, framed)}" for t in tables]
+    lines += [f"- {_sentence(t, framed, unjudged.get(t.field))}" for t in tables]
     return lines + [""]

@@ -30,6 +30,7 @@ from validation.check.result import CheckResult
 from validation.check.units import parse_length, parse_pressure, parse_pressure_range
 from validation.common import models as registry
 from validation.scenes.reader import parse_scene
+from validation.surfaces.spec import MIN_TILE
 from validation.surfaces.topography import Topography
 from validation.surfaces.units import LENGTH_UNITS
 
@@ -155,6 +156,13 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
         models = tuple(models)
     request = CheckRequest(path, e_star, pressure_range, None, fill, physical_size, file_unit,
                            int(tiles), resample, None, models, scratch)
+    if tiles > 1:
+        rows, columns = request.read("m").heights.shape
+        side = min(rows, columns) // math.isqrt(tiles)
+        if side < MIN_TILE:
+            raise ValueError(f"--tiles {tiles} cuts the {rows} x {columns}-pixel scan into tiles "
+                             f"of {side} pixels per side; at least {MIN_TILE} are needed: use "
+                             f"at most {(min(rows, columns) // MIN_TILE) ** 2} tiles")
     if short_cutoff is not None:
         request = replace(request, short_cutoff=_cutoff(short_cutoff, request))
     if nominal_size is not None:

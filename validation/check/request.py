@@ -119,15 +119,31 @@ class CheckRequest:
         """The length unit of the answer (nm, um, mm) from the scan's rms height."""
         return length_unit_for(float(np.std(scan_in_metres.heights)))
 
+    def _is_plane(self, scan: Topography) -> bool:
+        """Whether the scan is a plane to rounding (what its mean plane leaves is below 1e-9
+        of its own rms height, e.g. a tilted plane of integers)."""
+        options = {key: value for key, value in (("fill", self.fill), ("resample", self.resample))
+                   if value is not None}
+        raw = read_topography(self.path, physical_size=self.physical_size,
+                              file_unit=self.file_unit, height_unit=scan.unit, detrend=None,
+                              **options)
+        return float(np.std(scan.heights)) <= 1e-9 * float(np.std(raw.heights))
+
     def loads(self, scan: Topography) -> tuple[float, float, int]:
-        """(lowest, highest p / E*, count) of the scene's load path."""
+        """(lowest, highest p / E*, count) of the scene's load path.
+
+        Raises
+        ------
+        ValueError
+            For a scan that is a plane (nothing rough is left to press).
+        """
+        slope = surface_statistics(scan.heights, scan.spacing).rms_gradient
+        if not slope > 0 or self._is_plane(scan):
+            raise ValueError(f"{self.name}: the scan is flat after removing its mean plane "
+                             f"(rms slope 0): there is no rough contact to check")
         if self.pressures is not None:
             low, high = self.pressures.dimensionless(self.e_star)
             return low, high, self.pressures.count
-        slope = surface_statistics(scan.heights, scan.spacing).rms_gradient
-        if not slope > 0:
-            raise ValueError(f"{self.path}: the scan is flat after removing its mean plane "
-                             f"(rms slope 0): there is no rough contact to check")
         return DEFAULT_PRESSURES[0] * slope, min(DEFAULT_PRESSURES[1] * slope, 0.5), DEFAULT_COUNT
 
 

@@ -27,7 +27,7 @@ import numpy as np
 from validation.surfaces.units import length_in
 
 __all__ = ["CONVERGED", "Resolution", "cutoff_text", "resolution", "resolution_lines",
-           "SUGGESTED_CUTOFF"]
+           "SUGGESTED_CUTOFF", "suggested_cutoff", "unjudged"]
 
 #: Largest median half-grid band (in the error measure of the quantity) for which the
 #: quantity is called converged at the scan's resolution: the smallest default tolerance.
@@ -66,11 +66,19 @@ def _bands(comparison) -> dict[str, np.ndarray]:
     return out
 
 
-def resolution(sampled, final, refined: np.ndarray | None = None) -> list[Resolution]:
+def resolution(sampled, final, refined: np.ndarray | None = None,
+               method: dict[str, np.ndarray] | None = None) -> list[Resolution]:
     """Per compared reference field: the half-grid band of ``sampled`` (the comparison before
     any finer solve) and the band of ``final`` (after it); ``refined`` (optional) marks the
-    load points solved again on the interpolated scan."""
+    load points solved again on the interpolated scan. ``method`` (optional, per field) is
+    the part of the bands that is the reference method's own error (the interface's mirror
+    bound, eq. T50), which no grid narrows: it is taken out of both, so that what is left
+    measures the resolution."""
     before, after = _bands(sampled), _bands(final)
+    for field, part in (method or {}).items():
+        for bands in (before, after):
+            if field in bands:
+                bands[field] = np.maximum(bands[field] - part, 0.0)
     count = 0 if refined is None else int(np.count_nonzero(refined))
     out = []
     for field in _MEASURE:
@@ -92,7 +100,10 @@ def resolution_lines(rows: list[Resolution], *, spacing: float, unit: str,
              "The reference's band comes from the scan solved on every second pixel (how much "
              "the answer moves when the finest wavelengths are taken away) and, where that band "
              "alone kept a verdict open, from the scan interpolated to twice its grid (which "
-             "adds no roughness: the solver's own error on the surface as sampled).\n",
+             "adds no roughness: the solver's own error on the surface as sampled). The "
+             "interface reference's own method error (its mirror bound, which no grid narrows "
+             "and which the verdicts' band includes) is left out of this table: what is left "
+             "measures the resolution.\n",
              "| quantity | error measure | half-grid band, median (max) | band of the verdicts, "
              "median | converged at this resolution |", "|---|---|---|---|---|"]
     for r in rows:
@@ -103,15 +114,16 @@ def resolution_lines(rows: list[Resolution], *, spacing: float, unit: str,
     area = next((r for r in rows if r.field == "area"), None)
     applied = (None if short_cutoff is None
                else length_in("short_cutoff", short_cutoff, unit) / spacing)   # in pixels
-    suggested = SUGGESTED_CUTOFF if applied is None else 2.0 * applied
+    suggested = suggested_cutoff(spacing, unit, short_cutoff)
     if area is not None and not area.converged:
         lines.append(
             f"**The contact area is not converged at this resolution.** Solved on every second "
             f"pixel, the reference's area changes by a median {100 * area.half_grid_median:.0f} % "
             f"(up to {100 * area.half_grid_max:.0f} %): the area is set by roughness at the "
-            f"scale of the pixel ({spacing:.3g} {unit}), so the areas in the tables above are "
-            f"those of the scan as sampled, and a finer scan of the same surface would give a "
-            f"smaller one. "
+            + (f"scale of the cutoff ({applied * spacing:.3g} {unit})" if applied else
+               f"scale of the pixel ({spacing:.3g} {unit})")
+            + ", so the areas in the tables above are those of the scan as sampled, and a "
+              "finer scan of the same surface would give a smaller one. "
             + (f"The scan was low-pass filtered at {cutoff_text(short_cutoff, spacing, unit)}; a "
                f"longer cutoff converges the area further, e.g. `--short-cutoff "
                f"{suggested:.3g}px` (= {suggested * spacing:.3g} {unit}). " if applied else
@@ -128,6 +140,29 @@ def resolution_lines(rows: list[Resolution], *, spacing: float, unit: str,
                if short_cutoff else "")
             + ".\n")
     return lines
+
+
+def suggested_cutoff(spacing: float, unit: str, short_cutoff: str | None) -> float:
+    """The cutoff [pixels] to suggest where the area is not converged: :data:`SUGGESTED_CUTOFF`
+    pixels, or twice the cutoff already applied."""
+    if short_cutoff is None:
+        return float(SUGGESTED_CUTOFF)
+    return 2.0 * length_in("short_cutoff", short_cutoff, unit) / spacing
+
+
+def unjudged(rows: list[Resolution], *, spacing: float, unit: str,
+             short_cutoff: str | None) -> dict[str, str]:
+    """The fields the reference cannot judge at this resolution (the area, when its half-grid
+    band is not converged), each with what to do: for the answer at a glance."""
+    area = next((r for r in rows if r.field == "area"), None)
+    if area is None or area.converged:
+        return {}
+    pixels = suggested_cutoff(spacing, unit, short_cutoff)
+    option = (f"short-wavelength cutoff of {pixels:.3g} px = {pixels * spacing:.3g} {unit} "
+              f"(`--short-cutoff {pixels:.3g}px`, `short_cutoff=\"{pixels:.3g}px\"`)")
+    return {"area": f"not judged at this resolution: on every second pixel the reference's area "
+                    f"changes by a median {100 * area.half_grid_median:.0f} % (below); apply a "
+                    + ("longer " if short_cutoff else "") + f"{option} and check again"}
 
 
 def cutoff_text(short_cutoff: str, spacing: float, unit: str) -> str:

@@ -23,7 +23,7 @@ from validation.check.frames import frame_lines
 from validation.check.glance import glance_lines
 from validation.check.physical import PhysicalTable, physical_tables, table_lines, write_csv
 from validation.check.request import CheckRequest
-from validation.check.resolution import cutoff_text, resolution, resolution_lines
+from validation.check.resolution import cutoff_text, resolution, resolution_lines, unjudged
 from validation.check.units import format_pressure
 
 if TYPE_CHECKING:  # the runner's results, imported where they are made
@@ -67,12 +67,14 @@ def _quoted(text: str) -> str:
 
 
 def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneResult,
-                   tables: list[PhysicalTable]) -> list[str]:
+                   tables: list[PhysicalTable]) -> tuple[list[str], list[str]]:
     """The lines that head a check's report: the surface, the answer at a glance, every
     model in physical units, the frames, and whether the reference is converged on the scan
-    (``sampled``: the same scene before any finer reference solve)."""
+    (``sampled``: the same scene before any finer reference solve); and the answer at a
+    glance alone."""
     from validation.common import models
     from validation.judge.analysis import analyse
+    from validation.judge.bands import method_band
 
     scene = result.scene
     comparison = analyse(result).comparisons[0]
@@ -81,15 +83,17 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
     s = scene.surface
     unit = s.unit
     # the interface's reference: the check's answer, and the one its finer grid refines
-    reference = realization.curves[models.reference_among(realization.curves, "interface")
-                                   or models.reference_among(realization.curves)]
+    reference_name = (models.reference_among(realization.curves, "interface")
+                      or models.reference_among(realization.curves))
+    reference = realization.curves[reference_name]
     refined = np.asarray(reference.extras.get("grid", np.full(reference.load.shape, s.n))) > s.n
     rows, columns = s.grid
     e_star = ("E* not given: pressures and stiffness are in units of E*" if request.e_star is None
               else f"E* = {format_pressure(request.e_star)}")
     lines = [f"## Your surface: {request.name}\n",
              f"The whole scan as one surface: {rows} x {columns} pixels of {s.spacing:.4g} {unit}, "
-             f"plane removed, σ (summit heights) = {realization.sigma:.4g} {unit}, {e_star}"
+             f"plane removed, Sq (rms height) = {float(np.std(request.read(unit).heights)):.4g} "
+             f"{unit}, σ (rms of the summit heights) = {realization.sigma:.4g} {unit}, {e_star}"
              + (f", low-pass filtered at {cutoff_text(request.short_cutoff, s.spacing, unit)}"
                 if request.short_cutoff else ", no short-wavelength cutoff")
              + _filled_text(request)
@@ -97,7 +101,13 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
                "a theory **holds** where |error| + band ≤ tolerance, **fails** where |error| − "
                "band > tolerance, and stays undecided only where the reference's band straddles "
                "the tolerance.\n"]
-    lines += glance_lines(tables)
+    realizations = result.realizations[0.0]
+    method = {field: method_band(realizations, field, reference_name)
+              for field in ("area", "separation", "mean_gap", "conductance", "leakage")}
+    rows_ = resolution(half_grid, comparison, refined, method)
+    glance = glance_lines(tables, unjudged(rows_, spacing=s.spacing, unit=unit,
+                                           short_cutoff=request.short_cutoff))
+    lines += glance
     lines += ["Every model's value at each pressure, beside the reference with its band "
               "(`physical.csv` has them all):\n",
               "![Each theory against the reference in physical units](check-physical.png)\n"]
@@ -105,9 +115,9 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
         lines += table_lines(table)
     lines += frame_lines(tables, sigma=realization.sigma, unit=unit, e_star=request.e_star,
                          nominal_size=scene.nominal_size)
-    lines += resolution_lines(resolution(half_grid, comparison, refined), spacing=s.spacing,
-                              unit=unit, short_cutoff=request.short_cutoff)
-    return lines
+    lines += resolution_lines(rows_, spacing=s.spacing, unit=unit,
+                              short_cutoff=request.short_cutoff)
+    return lines, glance
 
 
 @dataclass(frozen=True)
@@ -123,6 +133,8 @@ class CheckResult:
         model's value and verdict at the scene's largest tolerance.
     sections : tuple of str
         The Markdown lines that head the check's report.
+    answer : tuple of str
+        The answer at a glance (Markdown lines, among ``sections``).
     scene_text : str
         The scene that answers the request (``check.toml``).
     seconds : float
@@ -136,6 +148,7 @@ class CheckResult:
     request: CheckRequest
     tables: tuple[PhysicalTable, ...]
     sections: tuple[str, ...]
+    answer: tuple[str, ...]
     scene_text: str
     seconds: float
     runs: tuple
@@ -151,9 +164,9 @@ class CheckResult:
         comparison = analyse(result).comparisons[0]
         tables = physical_tables(result.realizations[0.0][0], comparison, e_star=request.e_star,
                                  unit=result.scene.surface.unit)
-        sections = check_sections(request, result, sampled, tables)
-        return cls(request, tuple(tables), tuple(sections), scene_text, float(seconds),
-                   tuple(runs), sampled)
+        sections, answer = check_sections(request, result, sampled, tables)
+        return cls(request, tuple(tables), tuple(sections), tuple(answer), scene_text,
+                   float(seconds), tuple(runs), sampled)
 
     @property
     def fields(self) -> tuple[str, ...]:
@@ -180,7 +193,7 @@ class CheckResult:
 
     def glance(self) -> Markdown:
         """Each theory's verdicts across the pressures and one sentence per field."""
-        return Markdown("\n".join(glance_lines(list(self.tables))))
+        return Markdown("\n".join(self.answer))
 
     def markdown(self) -> Markdown:
         """The check's sections as they head its report."""

@@ -111,6 +111,10 @@ class PressureRange:
         return low, high
 
 
+#: Most nominal pressures a check solves.
+MAX_PRESSURES = 100
+
+
 def parse_pressure_range(text: str, *, default_count: int = 12) -> PressureRange:
     """``LOW:HIGH[:COUNT]``, e.g. ``1MPa:100MPa`` or ``1e-5:1e-3:16`` (units of E*).
 
@@ -133,6 +137,10 @@ def parse_pressure_range(text: str, *, default_count: int = 12) -> PressureRange
         if not parts[2].strip().isdigit() or int(parts[2]) < 1:
             raise ValueError(f"--pressure: COUNT must be a whole number >= 1, got {parts[2]!r}")
         count = int(parts[2])
+        if count > MAX_PRESSURES:
+            raise ValueError(f"--pressure: COUNT must be at most {MAX_PRESSURES} (each pressure "
+                             f"is a whole boundary-element solve, and a smooth curve needs far "
+                             f"fewer), got {count}")
     if not high > low and not (count == 1 and high == low):
         raise ValueError(f"--pressure: HIGH must be greater than LOW, got {text!r}")
     if count == 1 and high != low:

@@ -240,16 +240,19 @@ def _atlas(figures, analysis: Analysis) -> None:
                 f"the headline's fractions.{frames}", len(analysis.comparisons))
 
 
-def front_page(figures, analyses: list[Analysis], rows: dict) -> None:
+def front_page(figures, analyses: list[Analysis], rows: dict, *, one_scan: bool = False) -> None:
     """``report.md`` after its header, appended to ``figures.lines`` (``figures``: the report's
-    figure list, :class:`validation.report.write._Figures`, which queues the atlas figures): the summary, each scene's headline table and atlas, the
-    precision of the headline, the findings at a glance, the scene pages, the conventions."""
+    figure list, :class:`validation.report.write._Figures`, which queues the atlas figures):
+    the summary, each scene's headline table and atlas, the precision of the headline, the
+    findings at a glance, the scene pages, the conventions. ``one_scan``: a check's report,
+    whose own sections (before these) give its answer: no summary and no paper's findings,
+    which speak of populations of surfaces."""
     from validation.report import summary
     from validation.report.tables import records
 
     lines = figures.lines
-    sentences = summary.summary_sentences(records(rows, "headline.csv"),
-                                          records(rows, "findings.csv"))
+    sentences = [] if one_scan else summary.summary_sentences(records(rows, "headline.csv"),
+                                                              records(rows, "findings.csv"))
     if sentences:
         lines += ["## Summary\n"] + [f"- {sentence}" for sentence in sentences]
         lines += ["", summary.RULE + "\n"]
@@ -264,7 +267,7 @@ def front_page(figures, analyses: list[Analysis], rows: dict) -> None:
                   or ["No headline fraction is crossed by every realization's load path.\n"])
         _atlas(figures, analysis)
     lines += precision_section(analyses)
-    lines += findings_overview(analyses)
+    lines += [] if one_scan else findings_overview(analyses)
     lines += scenes_section(analyses)
     lines += conventions(populations=not judged or any(
         len(results) > 1 for a in judged for results in a.result.realizations.values()))

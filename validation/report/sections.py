@@ -64,14 +64,24 @@ def _git_commit() -> str:
     return f"git {commit.strip()}" + ("+changes" if dirty.strip() else "")
 
 
-def header(seconds, mode, command) -> list[str]:
-    """The report's title and the provenance of the run (command, version, time, platform)."""
-    import bem.fft
+def version_text() -> str:
+    """The code that ran, by one hash: its git commit where the tree is clean, else the hash
+    of its sources (the cache's version, :func:`validation.run.cache.source_version`)."""
+    from validation._version import __version__
     from validation.run.cache import source_version
 
     commit = _git_commit()
-    run = [f"Command: `{command}`" if command else "",
-           f"asperity-validation {source_version()}" + (f" ({commit})" if commit else ""),
+    if commit and not commit.endswith("+changes"):
+        return f"asperity-validation {__version__} ({commit})"
+    return f"asperity-validation {source_version()}" + (
+        " (uncommitted changes)" if commit else "")
+
+
+def header(seconds, mode, command) -> list[str]:
+    """The report's title and the provenance of the run (command, version, time, platform)."""
+    import bem.fft
+
+    run = [f"Command: `{command}`" if command else "", version_text(),
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
            f"mode: {mode}" if mode else ""]
     return [

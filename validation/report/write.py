@@ -347,7 +347,7 @@ def _check_arguments(results, folder, seconds, mode, command, executor, cache_di
     return checks.file_path("folder", folder)
 
 
-def _scene_page(figures: _Figures, analysis: Analysis) -> None:
+def _scene_page(figures: _Figures, analysis: Analysis, findings: bool = True) -> None:
     """A scene's page: where each theory holds, the findings with their numbers and rules,
     the sampling study, and per surface family its figures and verdict tables."""
     scene, lines = analysis.result.scene, figures.lines
@@ -359,7 +359,7 @@ def _scene_page(figures: _Figures, analysis: Analysis) -> None:
         return
     lines += _surface_lines(analysis)
     lines += validity_section(analysis)
-    lines += scene_findings(analysis)
+    lines += scene_findings(analysis) if findings else []
     lines += sampling_section([analysis])
     _surface_section(figures, analysis)
     lines += timing(analysis.result)
@@ -373,7 +373,8 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     into ``folder``.
 
     ``lead`` (Markdown lines) are the first sections of ``report.md``, after its header: a
-    one-scan check's answer (:class:`validation.check.result.CheckResult`).
+    one-scan check's answer (:class:`validation.check.result.CheckResult`), which then stands
+    for the summary, and the paper's findings (about populations of surfaces) are left out.
 
     ``command`` (the command line that produced the results), the package version and the run
     time ``seconds`` head the report. A previous report in ``folder`` is replaced, its figures,
@@ -394,11 +395,11 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     rows = table_rows(analyses)
     written = write_tables(folder, analyses, rows)
     figures = _Figures(folder, header(seconds, mode, command) + list(lead or []))
-    front_page(figures, analyses, rows)
+    front_page(figures, analyses, rows, one_scan=bool(lead))
     pages = {}
     for analysis in analyses:
         page = _Figures(folder, [], figures.jobs)
-        _scene_page(page, analysis)
+        _scene_page(page, analysis, findings=not lead)
         pages[scene_page(analysis.result.scene.name)] = page.lines
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
     path = folder / "report.md"

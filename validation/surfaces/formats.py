@@ -181,8 +181,9 @@ def _read_surfacetopography(path: pathlib.Path, channel: int | None) -> Loaded:
                              f"of {path}, got {channel!r}")
         info = reader.default_channel if channel is None else reader.channels[channel]
         if len(info.nb_grid_pts) != 2:
-            raise ValueError(f"{path}: a line scan ({info.nb_grid_pts[0]} points), not a height "
-                             "map")
+            raise ValueError(f"{path}: read as a line scan ({info.nb_grid_pts[0]} points), not a "
+                             f"height map; a map needs at least 32 x 32 points (a text file of "
+                             f"two numbers per row reads as a profile: positions and heights)")
         arguments: dict = {"channel_index": info.index}
         if info.physical_sizes is None:
             arguments["physical_sizes"] = (1.0, 1.0)    # placeholder, replaced by the caller's
@@ -251,9 +252,10 @@ def load_map(path: pathlib.Path, reader: str = "auto", channel: int | None = Non
         except ImportError as error:
             missing = error
     else:
-        if missing is not None:
-            tried = f"{path}: {'; '.join(failures)}; " if failures else ""
-            raise ImportError(f"{tried}{missing}") from None
+        if missing is not None:   # the extra first: what the user has to do
+            tried = (f" (the built-in reader, tried too: {'; '.join(failures)})" if failures
+                     else "")
+            raise ImportError(f"{path}: {missing}{tried}") from None
         raise ValueError(f"{path}: cannot read it as a height map ({'; '.join(failures)})")
     heights = np.asarray(heights)
     if not (np.issubdtype(heights.dtype, np.integer) or np.issubdtype(heights.dtype, np.floating)):
