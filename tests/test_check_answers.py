@@ -119,3 +119,18 @@ def test_a_format_that_needs_the_extra_says_so_first(tmp_path, monkeypatch):
     assert message.startswith(f"{tmp_path / 'scan.mi'}: reading '.mi' files needs the optional "
                               f"extra: pip install")
     assert message.index("optional extra") < message.index("first line is not numbers")
+
+
+def test_no_surface_interval_of_a_relative_error_reaches_below_minus_one():
+    from validation.judge.headline import headline_numbers
+    from validation.judge.tolerance import surface_interval
+
+    mean, std, count = np.array([-0.4, 0.1]), np.array([0.5, 0.01]), np.array([8, 8])
+    free = surface_interval(mean, std, count)
+    bounded = surface_interval(mean, std, count, floor=-1.0)
+    assert free.low[0] < -1.0 and bounded.low[0] == -1.0
+    assert bounded.low[1] == free.low[1] and np.array_equal(bounded.high, free.high)
+    errors = np.column_stack([np.linspace(-0.95, 0.3, 8), np.linspace(-0.95, 0.3, 8)])
+    cells = headline_numbers(errors, np.zeros(2), (0.05, 0.2), floor=np.array([-1.0, -np.inf]))
+    assert cells["surface_low"][0] == -1.0 and cells["surface_low"][1] < -1.0
+    assert np.array_equal(cells["surface_verdicts"][:, 0], cells["surface_verdicts"][:, 1])

@@ -129,3 +129,11 @@ def test_what_is_not_a_scan_is_refused():
         check_scan(np.zeros(8), spacing=1e-9, cache=False)
     with pytest.raises(ValueError, match="names no file"):
         check_scan("no-such-scan.di", cache=False)
+
+
+def test_the_errors_of_one_surface_leave_the_interval_empty(result, tmp_path):
+    result.write_report(tmp_path / "report")
+    rows = _rows(tmp_path / "report" / "errors.csv")
+    assert rows and all(r["realizations"] == "1" for r in rows)
+    assert all(r["ci95_low"] == r["ci95_high"] == r["std_error"] == "" for r in rows)
+    assert all(r["mean_error"] != "" for r in rows if r["model"] == "gw")

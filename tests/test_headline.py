@@ -229,8 +229,11 @@ def test_headline_and_validity_tables_have_their_columns(default_report):
     for r in headline_rows:
         assert r["regime"] == regime_of(float(r["area_fraction"]))
         assert float(r["low"]) <= float(r["mean_error"]) <= float(r["high"])
-        assert float(r["half_width"]) == pytest.approx(
-            (float(r["high"]) - float(r["low"])) / 2, rel=1e-8)
+        # the CSV keeps 10 significant digits: each value within half a unit of its 10th
+        # digit, 5e-10 of itself
+        high, low, half = float(r["high"]), float(r["low"]), float(r["half_width"])
+        assert half == pytest.approx((high - low) / 2,
+                                     abs=5e-10 * (abs(high) + abs(low) + abs(half)))
     with open(folder / "validity.csv", newline="", encoding="utf-8") as stream:
         validity = next(csv.reader(stream))
     # the range in contact-area fraction first, the load beside it

@@ -204,3 +204,19 @@ def test_a_leakage_size_scene_reports_its_findings_figures_and_columns(tmp_path)
         np.testing.assert_allclose(float(r["Leakage"]) * float(r["sigma"]), float(r["leakage"]),
                                    rtol=1e-8)
         assert float(r["leakage_error"]) >= 0
+
+
+def test_a_figure_drawn_by_other_drawing_code_is_not_read_from_the_cache(monkeypatch):
+    import functools
+
+    from validation.report import write
+    from validation.run import cache
+
+    draw = functools.partial(len, [1, 2])
+    key = write._figure_key("figure.png", draw)
+    assert key == write._figure_key("figure.png", draw)
+    monkeypatch.setattr(cache, "_REPORT_VERSION", "another drawing code")
+    assert write._figure_key("figure.png", draw) != key
+    # the modules that draw are the ones report_version hashes
+    assert {"report/figures.py", "report/atlas.py", "report/sealing_figures.py",
+            "report/layout.py", "check/figure.py"} <= cache.REPORT_ONLY_MODULES

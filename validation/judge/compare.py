@@ -258,7 +258,8 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
     surface, surface_verdicts = None, ()
     if not single:
         surface = surface_interval(interval.mean, interval.std, interval.count,
-                                   confidence=confidence)
+                                   confidence=confidence,
+                                   floor=-1.0 if quantity in RELATIVE_QUANTITIES else -np.inf)
         surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
                                  for tol in tolerances)
     if sealing is not None:

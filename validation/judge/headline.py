@@ -42,6 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
+from validation.judge.errors import RELATIVE_QUANTITIES
 from validation.judge.tolerance import classify_per_surface, surface_interval
 from validation.judge.verdicts import (
     CONFIDENCE,
@@ -180,8 +181,8 @@ class HeadlineCell:
 
 
 def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
-                     one_surface: bool = False, confidence: float = CONFIDENCE
-                     ) -> dict[str, np.ndarray]:
+                     one_surface: bool = False, confidence: float = CONFIDENCE,
+                     floor: float | np.ndarray = -np.inf) -> dict[str, np.ndarray]:
     """The numbers and verdicts of headline cells from the errors at their fraction.
 
     Parameters
@@ -196,6 +197,9 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
         Judge one surface by its band alone (``errors`` then holds one row).
     confidence : float
         Confidence of the intervals and verdicts.
+    floor : float or array, shape (cells,)
+        The least error of any surface per cell (-1 for relative errors), the lower end of the
+        per-surface interval at least (:func:`validation.judge.tolerance.surface_interval`).
 
     Returns
     -------
@@ -222,7 +226,7 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
     interval = confidence_interval(errors, confidence)
     complete = known == errors.shape[0]
     surface = surface_interval(interval.mean, interval.std, interval.count,
-                               confidence=confidence)
+                               confidence=confidence, floor=floor)
     return dict(realizations=known, mean=interval.mean, low=interval.low, high=interval.high,
                 surface_low=surface.low, surface_high=surface.high, band=band,
                 verdicts=np.array([classify(interval, band, t, complete=complete)
@@ -266,7 +270,9 @@ def _frame_cells(comparison: Comparison, entries, frame: str, fractions) -> list
         # the entries of one comparison share its realizations and tolerances
         numbers = headline_numbers(errors, band, entries[0].tolerances,
                                    one_surface=entries[0].one_surface,
-                                   confidence=comparison.confidence)
+                                   confidence=comparison.confidence,
+                                   floor=np.array([-1.0 if e.quantity in RELATIVE_QUANTITIES
+                                                   else -np.inf for e in entries]))
         for i, e in enumerate(entries):
             cells.append(HeadlineCell(
                 e.model, e.quantity, e.reference_field or e.quantity, fraction, load,

@@ -140,7 +140,8 @@ class SurfaceInterval:
 
 
 def surface_interval(mean: np.ndarray, std: np.ndarray, count: np.ndarray, *,
-                     content: float = CONTENT, confidence: float = 0.95) -> SurfaceInterval:
+                     content: float = CONTENT, confidence: float = 0.95,
+                     floor: float | np.ndarray = -np.inf) -> SurfaceInterval:
     """Tolerance interval (eq. T35) and quantile bounds (eq. T36) per load point.
 
     Parameters
@@ -152,14 +153,19 @@ def surface_interval(mean: np.ndarray, std: np.ndarray, count: np.ndarray, *,
         Number of finite errors per point.
     content, confidence : float
         Share of surfaces P and confidence gamma, both in (0, 1).
+    floor : float or array
+        The least error any surface can have: -1 for a relative error (a model's area or
+        stiffness is never negative), -inf otherwise. The interval's lower end is raised to it
+        (the normal approximation knows no bound); no verdict changes, since a tolerance below 1
+        is never met at -1.
     """
     mean, std = np.asarray(mean, dtype=float), np.asarray(std, dtype=float)
     count = np.asarray(count, dtype=int)
     _check(content, confidence, 2)
     k2 = _factors(count, content, confidence, two_sided_factor)
     kq = _factors(count, content, confidence, quantile_bound_factor)
-    return SurfaceInterval(mean - k2 * std, mean + k2 * std, mean + kq * std, mean - kq * std,
-                           content, confidence)
+    return SurfaceInterval(np.maximum(mean - k2 * std, floor), mean + k2 * std, mean + kq * std,
+                           mean - kq * std, content, confidence)
 
 
 def classify_per_surface(interval: SurfaceInterval, band: np.ndarray, tolerance: float, *,

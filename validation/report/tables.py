@@ -145,11 +145,14 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
             # the contact-area fraction of the reference the model is judged against
             fraction = c.area_fraction if e.area_fraction is None else e.area_fraction
             for k in range(c.load.size):
+                # one surface has an error and its band, no interval over realizations: left
+                # empty rather than written as +-inf and nan
+                spread = ((e.interval.low[k], e.interval.high[k], e.interval.std[k])
+                          if e.interval.count[k] > 1 else (None, None, None))
                 out["errors.csv"].append([name, *sweep, model, e.frame, quantity,
                                           e.reference_field, k, c.load[k], fraction[k],
-                                          e.interval.mean[k],
-                                          e.interval.low[k], e.interval.high[k],
-                                          e.interval.std[k], int(e.interval.count[k]), cells[k],
+                                          e.interval.mean[k], *spread,
+                                          int(e.interval.count[k]), cells[k],
                                           c.band_source_of(e),
                                           c.confidence, low[k], high[k], *sealing[k]])
                 out["verdicts.csv"] += [[name, *sweep, model, e.frame, quantity, k, c.load[k], t,

@@ -147,13 +147,15 @@ def _figure_key(name: str, draw) -> str | None:
     """Cache key of a figure job, None when it cannot be pickled (it is then drawn anyway)."""
     from importlib.metadata import version
 
-    from validation.run.cache import source_version
+    from validation.run.cache import report_version, source_version
 
     try:
         job = hashlib.sha256(pickle.dumps(draw, protocol=5)).hexdigest()
     except (pickle.PicklingError, AttributeError, TypeError):
         return None
-    return cache_key("figure", source_version(), name=name, job=job, matplotlib=version("matplotlib"))
+    # the drawing code is in the key too (source_version leaves the report's modules out)
+    return cache_key("figure", source_version(), name=name, job=job, drawing=report_version(),
+                     matplotlib=version("matplotlib"))
 
 
 def _png_of(draw) -> bytes:

@@ -40,7 +40,7 @@ from bem.curve import CURVE_QUANTITIES, ContactCurve
 __all__ = ["Cache", "CacheWarning", "REPORT_ONLY_MODULES", "cache_key", "check_directory",
            "curve_arrays", "curve_from_arrays", "default_cache_dir", "model_quantities",
            "needs_leakage", "needs_stiffness",
-           "source_version"]
+           "report_version", "source_version"]
 
 _CHECKSUM = "__checksum__"
 _KEY = "__key__"
@@ -243,7 +243,27 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/atlas.py", "check/__init__.py", "check/command.py",
                                  "check/figure.py", "check/physical.py", "check/request.py",
                                  "check/resolution.py", "check/units.py", "check/glance.py",
-                                 "check/frames.py"})
+                                 "check/frames.py", "check/library.py", "check/result.py"})
+
+
+def report_version() -> str:
+    """A hash of the modules :data:`REPORT_ONLY_MODULES` names (the drawing and writing code
+    that :func:`source_version` leaves out): a figure cached by one state of the drawing code
+    is never read back by another."""
+    global _REPORT_VERSION
+    if _REPORT_VERSION is None:
+        digest = hashlib.sha256()
+        root = pathlib.Path(__file__).resolve().parents[1]
+        for name in sorted(REPORT_ONLY_MODULES):
+            path = root / name
+            if path.is_file():
+                digest.update(name.encode())
+                digest.update(path.read_bytes())
+        _REPORT_VERSION = digest.hexdigest()[:16]
+    return _REPORT_VERSION
+
+
+_REPORT_VERSION: str | None = None
 
 
 def source_version() -> str:
