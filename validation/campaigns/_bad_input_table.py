@@ -25,6 +25,10 @@ NO_ROW = {
     "bem.ConvergenceWarning": "a warning: built by warnings.warn from the project's message",
     "validation.SceneError": "an exception the project raises, with its own message",
     "bem.ContactModel": "a typing.Protocol (the contract); each model that follows it has rows",
+    "validation.check_scan": "its arguments are the check command's options, checked by their "
+                             "own campaign (tests/test_bad_options.py, "
+                             "tests/test_check_library.py); a valid extreme runs a whole check",
+    "validation.CheckResult": "a result check_scan builds, not built by users",
 }
 
 

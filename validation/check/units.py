@@ -14,18 +14,13 @@ import math
 import re
 from dataclasses import dataclass
 
-from validation.surfaces.units import LENGTH_UNITS
+from validation.surfaces.units import LENGTH_UNITS, PRESSURE_UNITS, format_length, \
+    format_pressure, length_unit_for
 from validation.surfaces.units import parse_length as _length
 
 __all__ = ["PRESSURE_UNITS", "PressureRange", "format_length", "format_pressure",
            "length_unit_for", "parse_length", "parse_pressure", "parse_pressure_range"]
 
-#: Pascals per unit of pressure.
-PRESSURE_UNITS: dict[str, float] = {
-    "Pa": 1.0, "hPa": 1e2, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "TPa": 1e12,
-    "N/m2": 1.0, "N/m^2": 1.0, "N/mm2": 1e6, "N/mm^2": 1e6,
-    "bar": 1e5, "mbar": 1e2, "psi": 6894.757293168361, "ksi": 6894757.293168361,
-}
 _QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 
 
@@ -148,31 +143,3 @@ def parse_pressure_range(text: str, *, default_count: int = 12) -> PressureRange
                          f"must be at least 2 for a range (one pressure alone: LOW:LOW:1), got "
                          f"{text!r}")
     return PressureRange(low, high, count, low_unit)
-
-
-def _shown(value: float) -> float:
-    """``value`` as printed to three significant figures (so that 0.99999999 MPa, a pressure
-    range's end after a round trip through E*, is shown in MPa, not as 1e+03 kPa)."""
-    return float(f"{value:.3g}")
-
-
-def length_unit_for(metres: float) -> str:
-    """The length unit (nm, um or mm) in which ``metres`` reads as a number from 1 to 1000."""
-    for unit in ("nm", "um", "mm"):
-        if abs(_shown(metres / LENGTH_UNITS[unit])) < 1000.0:
-            return unit
-    return "m"
-
-
-def format_pressure(pascals: float) -> str:
-    """A pressure in the prefix that reads best: ``3.2 MPa``."""
-    for unit in ("GPa", "MPa", "kPa"):
-        if abs(_shown(pascals / PRESSURE_UNITS[unit])) >= 1.0:
-            return f"{pascals / PRESSURE_UNITS[unit]:.3g} {unit}"
-    return f"{pascals:.3g} Pa"
-
-
-def format_length(metres: float) -> str:
-    """A length in the unit that reads best: ``20 nm``."""
-    unit = length_unit_for(metres)
-    return f"{metres / LENGTH_UNITS[unit]:.3g} {unit}"

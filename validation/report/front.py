@@ -14,11 +14,12 @@ import numpy as np
 from validation.judge.compare import COMPARED_QUANTITIES
 from validation.judge.findings import NEW
 from validation.judge.headline import HeadlineCell
-from validation.judge.verdicts import SYMBOLS, UNCONVERGED
+from validation.judge.verdicts import SYMBOLS, UNCONVERGED, UNDECIDED
 from validation.common.labels import compared_label, model_label, model_rank
 from validation.common.models import FRAME_LABELS, FRAMES
 from validation.report.sections import conventions, md_table, sweep_member
 from validation.report.summary import error_text
+from validation.surfaces.units import format_pressure
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
@@ -33,7 +34,9 @@ HEADLINE_INTRO = (
     "realization's path in ln(area fraction). A cell reads **mean error (95 % interval over "
     "realizations) mark [interval holding 90 % of single surfaces] mark**, the marks ✔ holds, "
     "✘ fails, ? undecided at the scene's largest tolerance, on the mean and per surface; for one "
-    "surface (one realization) it reads **error ± reference band mark**. Errors in % (area, "
+    "surface (one realization) it reads **error ± reference band mark**; an undecided mean says "
+    "why in brackets (reference band: a finer reference decides it; too few realizations; not "
+    "converged). Errors in % (area, "
     "conductance), in σ (separation d; Persson: mean gap ū), as ln(h_eff/h_eff,BEM) (leakage). "
     "Below each table the scene's atlas: every cell's verdict along the whole load path. Every "
     "number, and the verdicts at each tolerance, are in `headline.csv`.\n")
@@ -70,6 +73,9 @@ def headline_cell_text(cell: HeadlineCell | None, index: int) -> str:
         return f"{mean} ± {band} {mark}"
     text = f"{mean} ({error_text(cell.low, q, unit=False)}, {error_text(cell.high, q, unit=False)})" \
            f" {mark}"
+    reason = cell.reasons[index] if index < len(cell.reasons) else ""
+    if cell.verdicts[index] == UNDECIDED and reason:   # why, where the interval alone would not say
+        text += f" ({reason})"
     if math.isfinite(cell.surface_low):
         text += (f" [{error_text(cell.surface_low, q, unit=False)}, "
                  f"{error_text(cell.surface_high, q, unit=False)}] "
@@ -84,7 +90,8 @@ def headline_table(analysis: Analysis) -> list[str]:
     by_value = {v: c for v, c in sorted(analysis.headlines.items()) if c}
     if not by_value:
         return []
-    sweep = len(analysis.result.scene.surface.sweep_values) > 1
+    scene = analysis.result.scene
+    sweep = len(scene.surface.sweep_values) > 1
     parameter = analysis.comparisons[0].parameter if analysis.comparisons else ""
     fractions = sorted({c.fraction for cells in by_value.values() for c in cells})
     frames = [f for f in FRAMES if any(c.frame == f for cells in by_value.values()
@@ -99,7 +106,7 @@ def headline_table(analysis: Analysis) -> list[str]:
             columns.append((fraction, value))
             header.append(f"{100 * fraction:g} %, {sweep_member(parameter, value)}" if sweep
                           else f"{100 * fraction:g} %" if framed
-                          else f"{100 * fraction:g} % (Load {at[0].load:.1e})")
+                          else f"{100 * fraction:g} % ({_load_text(at[0].load, scene)})")
     keys = sorted({(c.model, c.quantity, c.reference_field, c.frame)
                    for cells in by_value.values() for c in cells},
                   key=lambda k: (FRAMES.index(k[3]) if k[3] in FRAMES else 0,
@@ -112,14 +119,25 @@ def headline_table(analysis: Analysis) -> list[str]:
             for m, q, field, frame in keys]
     tolerance = analysis.result.scene.tolerances[index]
     loads = [] if not framed or sweep else [
-        "Load at each fraction, per frame (its reference's): " + "; ".join(
+        ("Nominal pressure" if scene.physical_e_star else "Load")
+        + " at each fraction, per frame (its reference's): " + "; ".join(
             f"{FRAME_LABELS[frame]} " + ", ".join(
-                f"{100 * f:g} % at {at[0].load:.1e}" for f in fractions
+                f"{100 * f:g} % at {_load_text(at[0].load, scene)}" for f in fractions
                 for at in ([c for cells in by_value.values() for c in cells
                             if c.fraction == f and c.frame == frame],) if at)
             for frame in frames) + ".\n"]
-    return ([f"Within {tolerance:g}; {_realizations(analysis.result)}.\n"]
+    return ([f"Verdicts at the tolerance {tolerance:g}: an error within ±{100 * tolerance:g} % "
+             f"(area, stiffness), ±{tolerance:g} σ (separation, mean gap), ±{tolerance:g} in "
+             f"ln h_eff (leakage); {_realizations(analysis.result)}.\n"]
             + md_table(header, rows) + ([""] + loads if loads else []))
+
+
+def _load_text(load: float, scene) -> str:
+    """The load at a headline fraction: the nominal pressure where the scene has a physical E*
+    (a check), else ``Load`` = p/E*."""
+    if scene.physical_e_star:
+        return format_pressure(load * scene.physical_e_star)
+    return f"Load {load:.1e}"
 
 
 def _realizations(result: SceneResult) -> str:
@@ -206,9 +224,29 @@ def findings_overview(analyses: list[Analysis]) -> list[str]:
             + [(f"**{cells[key, c]}**" if cells[key, c] != NEW else NEW)
                if (key, c) in cells else "–" for c in columns]
             for key in sorted(claims)]
+    skipped = [key for key in ABSENT_FINDINGS if key not in claims]
+    why = sorted({ABSENT_FINDINGS[key] for key in skipped}, key=list(ABSENT_FINDINGS.values()).index)
+    absent = (["Not in this run: " + "; ".join(
+        f"{', '.join(f'({k})' for k in skipped if ABSENT_FINDINGS[k] == reason)} {reason}"
+        for reason in why) + ".\n"] if skipped else [])
     return lines + ["The paper's findings, checked point by point on this run; the numbers that "
                     "decide each, and the rules, are on the scene pages.\n"] \
-        + md_table(["finding"] + columns, rows)
+        + md_table(["finding"] + columns, rows) + absent
+
+
+#: Why a finding may be absent from a run: what it needs.
+ABSENT_FINDINGS = {
+    "a": "need a surface scene with the BEM reference (the paper's scenes)",
+    "b": "need a surface scene with the BEM reference (the paper's scenes)",
+    "c": "need a surface scene with the BEM reference (the paper's scenes)",
+    "d": "need a surface scene with the BEM reference (the paper's scenes)",
+    "e": "need a surface scene with the BEM reference (the paper's scenes)",
+    "f": "need a scene of nested windows with the BEM's leakage (sealing-size, in the full "
+         "report)",
+    "g": "need a scene of nested windows with the BEM's leakage (sealing-size, in the full "
+         "report)",
+    "h": "needs a scene sampled at several intervals ([sampling] factors)",
+}
 
 
 def scenes_section(analyses: list[Analysis]) -> list[str]:

@@ -1,6 +1,8 @@
-"""Length units of measured maps: the accepted spellings and lengths written with their unit
-(``"10 um"``, ``"20 nm"``), shared by the file readers (:mod:`validation.surfaces.formats`),
-:func:`validation.read_topography` and the scene keys that take a length.
+"""Units: the accepted spellings of lengths (of measured maps) and pressures, lengths written
+with their unit (``"10 um"``, ``"20 nm"``), shared by the file readers
+(:mod:`validation.surfaces.formats`), :func:`validation.read_topography` and the scene keys that
+take a length; and lengths and pressures written as they read best (``20 nm``, ``6.7 MPa``),
+for the check and the reports.
 """
 
 from __future__ import annotations
@@ -9,7 +11,8 @@ import re
 
 from bem.checks import positive
 
-__all__ = ["LENGTH_UNITS", "unit_factor", "parse_length", "length_in"]
+__all__ = ["LENGTH_UNITS", "PRESSURE_UNITS", "format_length", "format_pressure", "length_in",
+           "length_unit_for", "parse_length", "unit_factor"]
 
 #: Metres per unit, for every spelling accepted in files and arguments.
 LENGTH_UNITS: dict[str, float] = {
@@ -64,3 +67,39 @@ def length_in(name: str, value: float | str, unit: str) -> float:
     if given is None:
         return number
     return number * unit_factor(f"the unit of {name}", given) / unit_factor("unit", unit)
+
+
+#: Pascals per unit of pressure.
+PRESSURE_UNITS: dict[str, float] = {
+    "Pa": 1.0, "hPa": 1e2, "kPa": 1e3, "MPa": 1e6, "GPa": 1e9, "TPa": 1e12,
+    "N/m2": 1.0, "N/m^2": 1.0, "N/mm2": 1e6, "N/mm^2": 1e6,
+    "bar": 1e5, "mbar": 1e2, "psi": 6894.757293168361, "ksi": 6894757.293168361,
+}
+
+
+def _shown(value: float) -> float:
+    """``value`` as printed to three significant figures (so that 0.99999999 MPa, a pressure
+    range's end after a round trip through E*, is shown in MPa, not as 1e+03 kPa)."""
+    return float(f"{value:.3g}")
+
+
+def length_unit_for(metres: float) -> str:
+    """The length unit (nm, um or mm) in which ``metres`` reads as a number from 1 to 1000."""
+    for unit in ("nm", "um", "mm"):
+        if abs(_shown(metres / LENGTH_UNITS[unit])) < 1000.0:
+            return unit
+    return "m"
+
+
+def format_pressure(pascals: float) -> str:
+    """A pressure in the prefix that reads best: ``3.2 MPa``."""
+    for unit in ("GPa", "MPa", "kPa"):
+        if abs(_shown(pascals / PRESSURE_UNITS[unit])) >= 1.0:
+            return f"{pascals / PRESSURE_UNITS[unit]:.3g} {unit}"
+    return f"{pascals:.3g} Pa"
+
+
+def format_length(metres: float) -> str:
+    """A length in the unit that reads best: ``20 nm``."""
+    unit = length_unit_for(metres)
+    return f"{metres / LENGTH_UNITS[unit]:.3g} {unit}"
