@@ -27,12 +27,7 @@ import numpy as np
 import scipy.fft
 
 from bem import background, checks
-from bem.wisdom import load_wisdom, save_wisdom
-
-try:  # pyFFTW is optional at run time
-    import pyfftw
-except ImportError:  # pragma: no cover - exercised by a subprocess test
-    pyfftw = None
+from bem.wisdom import load_wisdom, pyfftw, save_wisdom  # pyfftw: None where not installed
 
 __all__ = ["RealFFT2", "CosineTransform2", "PaddedRealFFT2", "have_pyfftw", "default_threads", "fft_threads",
            "idle_cpus"]

@@ -22,10 +22,33 @@ import pathlib
 import platform
 import tempfile
 
-try:  # pyFFTW is optional at run time
-    import pyfftw
-except ImportError:  # pragma: no cover - exercised by a subprocess test
-    pyfftw = None
+
+
+def _import_pyfftw():
+    """pyFFTW, or None where it is not installed (it is optional at run time).
+
+    Its ``interfaces`` package imports ``dask.array`` when dask is installed (for its dask
+    interface, which this package does not use): a second of every start-up. That import is
+    kept out while pyFFTW loads, by a ``None`` entry for ``dask.array.fft`` in ``sys.modules``
+    (which makes that one import fail, as pyFFTW allows), removed again at once: dask itself,
+    and pyFFTW's dask interface imported later by its name, work as before.
+    """
+    import sys
+
+    blocked = "dask.array.fft" not in sys.modules
+    if blocked:
+        sys.modules["dask.array.fft"] = None
+    try:
+        import pyfftw
+    except ImportError:  # pragma: no cover - exercised by a subprocess test
+        return None
+    finally:
+        if blocked and "dask.array.fft" in sys.modules and sys.modules["dask.array.fft"] is None:
+            del sys.modules["dask.array.fft"]
+    return pyfftw
+
+
+pyfftw = _import_pyfftw()
 
 __all__ = ["WISDOM_VARIABLE", "wisdom_file", "load_wisdom", "save_wisdom"]
 
