@@ -134,3 +134,32 @@ def test_no_surface_interval_of_a_relative_error_reaches_below_minus_one():
     cells = headline_numbers(errors, np.zeros(2), (0.05, 0.2), floor=np.array([-1.0, -np.inf]))
     assert cells["surface_low"][0] == -1.0 and cells["surface_low"][1] < -1.0
     assert np.array_equal(cells["surface_verdicts"][:, 0], cells["surface_verdicts"][:, 1])
+
+
+def test_surprising_values_are_explained_under_their_table():
+    from validation.check.physical import table_lines
+
+    load = np.array([1e-5, 1e-4])
+    separation = PhysicalTable("separation", "Separation d", "nm", load, None,
+                               np.array([2.0, -0.5]), np.array([0.1, 0.1]), {"gw": np.ones(2)},
+                               {"gw": np.array(["holds", "fails"])}, 0.2)
+    assert "A negative separation" in "\n".join(table_lines(separation))
+    leakage = PhysicalTable("leakage", "h_eff", "nm", load, None, np.array([3.0, 0.0]),
+                            np.array([0.1, 0.0]), {"gw": np.ones(2)},
+                            {"gw": np.array(["holds", "fails"])}, 0.2)
+    assert "h_eff = 0" in "\n".join(table_lines(leakage))
+    area = PhysicalTable("area", "A/A0", "", load, None, np.array([1e-4, 1e-2]),
+                         np.array([2e-4, 1e-3]), {"gw": np.ones(2)},
+                         {"gw": np.array(["undecided", "fails"])}, 0.2)
+    text = "\n".join(table_lines(area))
+    assert "At 1 pressure(s) the reference's band is wider than its value" in text
+    assert "negative" not in text and "h_eff = 0" not in text
+
+
+def test_the_sink_is_written_in_the_unit_that_reads_best():
+    from validation.check.frames import frame_lines
+
+    load = np.array([1e-4, 1e-3])
+    table = PhysicalTable("area", "A/A0", "", load, None, np.ones(2), np.zeros(2), {}, {}, 0.2)
+    text = frame_lines([table], sigma=5.0, unit="nm", e_star=115e9, nominal_size=2e7)  # 20 mm
+    assert "m p L/E* = 18.9 um = 3,786 σ" in text[0]

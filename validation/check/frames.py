@@ -30,6 +30,11 @@ __all__ = ["FULL_CONTACT_STIFFNESS", "frame_lines"]
 FULL_CONTACT_STIFFNESS = 1.15
 
 
+def _plain(value: float) -> str:
+    """A number to three figures without an exponent below a million (``3,790``)."""
+    return f"{value:,.0f}" if 1e3 <= abs(value) < 1e6 else f"{value:.3g}"
+
+
 def frame_lines(tables, *, sigma: float, unit: str, e_star: float | None,
                 nominal_size: float | None) -> list[str]:
     """The report's paragraph on the frames of the answer (module docstring).
@@ -70,9 +75,11 @@ def frame_lines(tables, *, sigma: float, unit: str, e_star: float | None,
     side = format_length(nominal_size * LENGTH_UNITS[unit])
     return [text + (f" *Finite nominal contact* of side {side} "
                     "(`--nominal-size`): the interface's answer with the separation lowered by the bulk sink of that "
-                    f"square under the mean pressure, m p L/E* = {sink:.3g} {unit} = "
-                    f"{sink / sigma:.3g} σ at the highest pressure, and its compliance "
+                    f"square under the mean pressure, m p L/E* = "
+                    f"{format_length(sink * LENGTH_UNITS[unit])} = "
+                    f"{_plain(sink / sigma)} σ at the highest pressure, and its compliance "
                     "m L/E* in series with the interface's stiffness (1/K = 1/K_i + m L/E*, "
                     f"which stays below about {FULL_CONTACT_STIFFNESS:g} E*/L = {ceiling:.3g} "
                     f"{k_unit}); improved GW, with that square's uniform term, is judged "
-                    "there.") + "\n"]
+                    "there. Its separation is negative once the sink exceeds the interface's "
+                    "mean gap: the rigid plane is then below the surface's mean plane.") + "\n"]

@@ -212,7 +212,28 @@ def table_lines(table: PhysicalTable) -> list[str]:
         row += [f"{shown(values[k])} {_SYMBOLS.get(str(table.verdicts[m][k]), '?')}"
                 for m, values in table.models.items()]
         lines.append("| " + " | ".join(row) + " |")
-    return lines + [""]
+    return lines + [""] + _notes(table)
+
+
+def _notes(table: PhysicalTable) -> list[str]:
+    """What a reader would stop at in a table, said under it: a negative separation, a
+    leakage of zero, a band wider than its value."""
+    values = [table.reference] + list(table.models.values())
+    notes = []
+    if table.field in ("separation", "mean_gap") and any(np.any(v < 0) for v in values):
+        notes.append("A negative separation: the rigid plane lies below the surface's mean "
+                     "plane, as it does at heavy contact (and, in a finite frame, once the "
+                     "nominal contact's bulk sink exceeds the interface's mean gap).")
+    if table.field == "leakage" and any(np.any(v == 0) for v in values):
+        notes.append("h_eff = 0: no fluid path joins inlet and outlet, the interface seals "
+                     "(a model at 0 predicts sealing there).")
+    wide = np.isfinite(table.band) & (table.band > np.abs(table.reference))
+    if np.any(wide):
+        notes.append(f"At {int(np.count_nonzero(wide))} pressure(s) the reference's band is "
+                     "wider than its value: the reference cannot tell it from zero there (a "
+                     "contact of a few pixels), and no verdict there is more than the band "
+                     "allows.")
+    return [" ".join(notes) + "\n"] if notes else []
 
 
 def write_csv(tables: list[PhysicalTable], path: str | pathlib.Path) -> pathlib.Path:
