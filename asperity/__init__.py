@@ -25,7 +25,8 @@ __all__ += ["gw_integral", "log_gw_integral", "GW_ORDERS", "DISTRIBUTIONS",
             "interaction_parameter", "interaction_curves", "InteractionCurves"]
 
 # Summits of a height map and the discrete asperity model with first-order interaction.
-from asperity.summits import Summits, find_summits, summits_from_arrays, summits_to_arrays  # noqa: E402
+from asperity.summits import Summits, find_summits  # noqa: E402
+from asperity.summit_arrays import summits_from_arrays, summits_to_arrays  # noqa: E402
 from asperity.discrete import DISCRETE_QUANTITIES, DiscreteAsperityModel, ValidityWarning  # noqa: E402
 from asperity.interaction import PointForceInteraction  # noqa: E402
 

@@ -23,7 +23,7 @@ from bem import checks
 from bem.checks import frozen_array
 from bem.checks import positive as _finite_positive
 
-__all__ = ["Summits", "find_summits", "summits_to_arrays", "summits_from_arrays"]
+__all__ = ["Summits", "find_summits"]
 
 _CURVATURES = ("geometric", "mean")
 
@@ -394,16 +394,3 @@ def find_summits(heights, spacing: float, *, neighbours: int = 8, periodic: bool
         column=keep_i, periodic=bool(periodic), curvature=curvature, neighbours=neighbours,
         rejected_row=jj[~convex], rejected_column=ii[~convex],
     )
-
-
-def summits_to_arrays(summits: Summits) -> dict[str, np.ndarray]:
-    """:meth:`Summits.to_arrays` as a function (for caches that store plain arrays)."""
-    if not isinstance(summits, Summits):
-        raise checks.InputTypeError(f"summits must be an asperity.Summits, got "
-                                    f"{type(summits).__name__}")
-    return summits.to_arrays()
-
-
-def summits_from_arrays(arrays) -> Summits:
-    """:meth:`Summits.from_arrays` as a function."""
-    return Summits.from_arrays(arrays)

@@ -37,7 +37,7 @@ CONVERGED = 0.05
 SUGGESTED_CUTOFF = 8
 _MEASURE = {"area": "relative", "conductance": "relative", "separation": "in units of σ",
             "mean_gap": "in units of σ", "leakage": "log of the ratio"}
-_NAMES = {"area": "contact area", "conductance": "stiffness (conductance)",
+_NAMES = {"area": "contact area", "conductance": "stiffness K",
           "separation": "separation", "mean_gap": "mean gap", "leakage": "leakage h_eff"}
 
 

@@ -232,7 +232,7 @@ _SOURCE_VERSION: str | None = None
 #: not part of its hash. Paths relative to the ``validation`` folder.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
                                  "run/cost.py", "report/figures.py", "judge/findings.py",
-                                 "common/labels.py", "run/progress.py", "report/write.py",
+                                 "common/labels.py", "run/progress.py", "report/write.py", "report/folder.py",
                                  "report/sections.py", "report/tables.py", "judge/verdicts.py",
                                  "judge/tolerance.py", "run/sequential.py", "judge/sampling.py",
                                  "report/sampling.py", "judge/sealing.py",
