@@ -234,3 +234,31 @@ def test_leakage_is_not_solved_again_above_its_grid_limit(tmp_path, monkeypatch)
     base = parse_scene(leaky | {"bem": {"max_grid": 32}}, source="test")
     (original,) = run_scenes([base], progress=False, cache_dir=str(tmp_path))
     np.testing.assert_array_equal(curve.leakage, original.realizations[2.3][0].curves["bem"].leakage)
+
+
+def test_the_stiffness_is_solved_again_only_where_a_stiffness_cell_is_held(tmp_path):
+    from validation import run_scenes
+    from validation.judge.decide import _apply
+    from validation.run.refine import run_job
+    from validation.run.sequential import RefinementLevel
+
+    stiff = WM | {"quantities": {"use": ["area", "load", "separation", "conductance"]},
+                  "realizations": {"count": 3, "seed": 5}, "bem": {"max_grid": 32}}
+    (base,) = run_scenes([parse_scene(stiff, source="test")], progress=False,
+                         cache_dir=str(tmp_path))
+    solve = lambda jobs: [run_job(job, str(tmp_path)) for job in jobs]  # noqa: E731
+    skipped = {2.3: list(base.realizations[2.3])}
+    _apply(skipped, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem",
+                                    stiffness={2.3: False}), solve)
+    solved = {2.3: list(base.realizations[2.3])}
+    _apply(solved, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem"), solve)
+    for a, b, original in zip(skipped[2.3], solved[2.3], base.realizations[2.3]):
+        kept, finer, coarse = a.curves["bem"], b.curves["bem"], original.curves["bem"]
+        np.testing.assert_array_equal(kept.area, finer.area)   # the contact is refined alike
+        assert kept.extras["grid"].tolist() == finer.extras["grid"].tolist()
+        # the stiffness and its band stay those of the scene's grid where it was not solved
+        np.testing.assert_array_equal(kept.conductance, coarse.conductance)
+        np.testing.assert_array_equal(kept.extras["conductance_error"],
+                                      coarse.extras["conductance_error"])
+        assert not np.allclose(finer.conductance[[0, 2]], coarse.conductance[[0, 2]])
+        assert finer.conductance[1] == coarse.conductance[1]

@@ -28,8 +28,8 @@ from validation.common import models
 from validation.judge.bands import method_band
 from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
-from validation.run.refine import (MAX_LEAKAGE_GRID, RefineJob, interface_extension, merge_job,
-                                   solver_tolerance, unavailable)
+from validation.run.refine import (MAX_LEAKAGE_GRID, STIFFNESS_FIELDS, RefineJob,
+                                   interface_extension, merge_job, solver_tolerance, unavailable)
 from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
 from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
                                        run_looks, scene_plan, undecided_share)
@@ -133,7 +133,7 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
             factor = level.grid // result.task.surface.n
             extension = None if level.reference == "bem" else interface_extension(result.task)
             jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value],
-                                  with_leakage, extension))
+                                  with_leakage, extension, level.stiffness.get(value, True)))
             where.append((value, index))
     for job, (value, index), (curve, computed) in zip(jobs, where, solve(jobs)):
         result = by_value[value][index]
@@ -178,7 +178,7 @@ def _level(scene, by_value: dict, confidence: float, grid: int,
     """The points of reference ``name`` to solve on ``grid`` (those its band decides among the
     points solved on the grid below), or None where there are none."""
     n = scene.surface.n
-    points, tolerances, leakage = {}, {}, {}
+    points, tolerances, leakage, stiffness = {}, {}, {}, {}
     for value, results in by_value.items():
         mask, band, held = band_decides(scene, results, confidence, name)
         reference = results[0].curves[name]
@@ -189,12 +189,16 @@ def _level(scene, by_value: dict, confidence: float, grid: int,
             leaky = held.get("leakage", np.zeros(mask.shape, bool))
             if grid <= MAX_LEAKAGE_GRID:
                 leakage[value] = tuple(int(k) for k in np.flatnonzero(leaky & below))
+            stiff = np.zeros(mask.shape, bool)
+            for quantity in STIFFNESS_FIELDS:
+                stiff |= held.get(quantity, np.zeros(mask.shape, bool))
+            stiffness[value] = bool(np.any(stiff & mask & below))
             # the band expected on the finer grid: half the present one (first order)
             tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
                                                  scene.bem.tol)
     if not points:
         return None
-    return RefinementLevel(grid, points, tolerances, leakage, name)
+    return RefinementLevel(grid, points, tolerances, leakage, name, stiffness)
 
 
 def decide_scene(scene, by_value: dict, run: Callable[[int], list],

@@ -196,6 +196,9 @@ class RefinementLevel:
     leakage: dict = field(default_factory=dict)
     # the reference refined: the finite window's ("bem") or the interface's ("bem_interface")
     reference: str = "bem"
+    # sweep value -> whether the stiffness is solved again (a stiffness cell is held by the band
+    # at one of the points; absent: True)
+    stiffness: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
