@@ -262,3 +262,20 @@ def test_the_stiffness_is_solved_again_only_where_a_stiffness_cell_is_held(tmp_p
                                       coarse.extras["conductance_error"])
         assert not np.allclose(finer.conductance[[0, 2]], coarse.conductance[[0, 2]])
         assert finer.conductance[1] == coarse.conductance[1]
+
+
+def test_a_finer_grid_is_not_asked_where_the_reference_methods_own_bound_keeps_a_cell_open():
+    from types import SimpleNamespace
+
+    from validation.judge.decide import decidable
+
+    # one surface, tolerance 0.2, the method's own bound 0.07: an error of 0.3 is decided
+    # with that bound alone (fails), 0.22 and 0.15 are not (0.22 - 0.07 <= 0.2 < 0.22 + 0.07),
+    # 0.1 holds; a point whose error is not known may be known on a finer grid
+    errors = np.array([[0.3, 0.22, 0.15, 0.1, np.nan]])
+    one = SimpleNamespace(one_surface=True, errors=errors, band=np.full(5, 0.3))
+    assert decidable(one, np.full(5, 0.07), 0.2).tolist() == [True, False, False, True, True]
+    assert decidable(one, np.zeros(5), 0.2).all()      # the window's reference: no bound
+    population = SimpleNamespace(one_surface=False, errors=np.vstack([errors, errors]),
+                                 band=np.full(5, 0.3))
+    assert decidable(population, np.full(5, 0.07), 0.2).all()

@@ -89,8 +89,8 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
                 or entry.reference_model != reference:
             continue
         # only the discretisation part: a finer grid does not narrow the method's own bound
-        band = np.asarray(entry.band, dtype=float) - method_band(
-            results, entry.reference_field or quantity, reference)
+        method = method_band(results, entry.reference_field or quantity, reference)
+        band = np.asarray(entry.band, dtype=float) - method
         mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
         for index, tolerance in enumerate(entry.tolerances):
             open_ = entry.verdicts[index] == UNDECIDED
@@ -99,12 +99,28 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
             # one surface: an open cell is held by its band, whatever its size
             floor = 0.0 if entry.one_surface else REFERENCE_ACCURACY * tolerance
             with np.errstate(invalid="ignore"):
-                holds_open = open_ & (band > floor)
+                holds_open = open_ & (band > floor) & decidable(entry, method, tolerance)
             mask |= holds_open
             smallest = np.fmin(smallest, np.where(holds_open, band, np.inf))
     mask = (np.any(np.stack(list(held.values())), axis=0) if held
             else np.zeros(comparison.load.shape, bool))
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
+
+
+def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
+    """Points of a one-surface comparison whose cells would be decided at ``tolerance`` against
+    the best reference a finer grid can give: its band down to ``band_floor``, the reference
+    method's own bound that no grid narrows (zero for the window's reference, eq. T50). Where
+    even that leaves a cell open, a finer solve is futile for it. A population's cells are all
+    taken as decidable here: more realizations may decide what a finer grid alone cannot, and
+    so may a point whose error is not known."""
+    from validation.judge.verdicts import one_surface_verdicts
+
+    if not entry.one_surface:
+        return np.ones(np.shape(entry.band), bool)
+    error = np.asarray(entry.errors[0], dtype=float)
+    # an error not known (an unconverged reference point, say) may be known on a finer grid
+    return (one_surface_verdicts(error, band_floor, tolerance) != UNDECIDED) | np.isnan(error)
 
 
 #: The references a finer grid can refine (validation.run.refine): the finite window's (the
