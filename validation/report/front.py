@@ -19,7 +19,6 @@ from validation.common.labels import compared_label, model_label, model_rank
 from validation.common.models import FRAME_LABELS, FRAMES
 from validation.report.sections import conventions, md_table, sweep_member
 from validation.report.summary import error_text
-from validation.surfaces.units import format_pressure
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
@@ -119,7 +118,7 @@ def headline_table(analysis: Analysis) -> list[str]:
             for m, q, field, frame in keys]
     tolerance = analysis.result.scene.tolerances[index]
     loads = [] if not framed or sweep else [
-        ("Nominal pressure" if scene.physical_e_star else "Load")
+        ("Nominal pressure" if getattr(scene, "physical_e_star", None) else "Load")
         + " at each fraction, per frame (its reference's): " + "; ".join(
             f"{FRAME_LABELS[frame]} " + ", ".join(
                 f"{100 * f:g} % at {_load_text(at[0].load, scene)}" for f in fractions
@@ -135,8 +134,11 @@ def headline_table(analysis: Analysis) -> list[str]:
 def _load_text(load: float, scene) -> str:
     """The load at a headline fraction: the nominal pressure where the scene has a physical E*
     (a check), else ``Load`` = p/E*."""
-    if scene.physical_e_star:
-        return format_pressure(load * scene.physical_e_star)
+    e_star = getattr(scene, "physical_e_star", None)
+    if e_star:
+        from validation.surfaces.units import format_pressure
+
+        return format_pressure(load * e_star)
     return f"Load {load:.1e}"
 
 
