@@ -66,12 +66,12 @@ def _quoted(text: str) -> str:
     return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
 
 
-def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneResult,
-                   tables: list[PhysicalTable]) -> tuple[list[str], list[str]]:
-    """The lines that head a check's report: the surface, the answer at a glance, every
-    model in physical units, the frames, and whether the reference is converged on the scan
-    (``sampled``: the same scene before any finer reference solve); and the answer at a
-    glance alone."""
+def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneResult
+                   ) -> tuple[list[PhysicalTable], list[str], list[str]]:
+    """The tables of a check in physical units, the lines that head its report (the surface,
+    the answer at a glance, every model in physical units, the frames, and whether the
+    reference is converged on the scan; ``sampled``: the same scene before any finer reference
+    solve), and the answer at a glance alone."""
     from validation.common import models
     from validation.judge.analysis import analyse
     from validation.judge.bands import method_band
@@ -82,6 +82,7 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
     realization = result.realizations[0.0][0]
     s = scene.surface
     unit = s.unit
+    tables = physical_tables(realization, comparison, e_star=request.e_star, unit=unit)
     # the interface's reference: the check's answer, and the one its finer grid refines
     reference_name = (models.reference_among(realization.curves, "interface")
                       or models.reference_among(realization.curves))
@@ -117,7 +118,7 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
                          nominal_size=scene.nominal_size)
     lines += resolution_lines(rows_, spacing=s.spacing, unit=unit,
                               short_cutoff=request.short_cutoff)
-    return lines, glance
+    return tables, lines, glance
 
 
 @dataclass(frozen=True)
@@ -158,13 +159,7 @@ class CheckResult:
     def of(cls, request: CheckRequest, runs, sampled, *, scene_text: str,
            seconds: float) -> CheckResult:
         """The result of the runs of a check (``runs[0]`` the whole scan)."""
-        from validation.judge.analysis import analyse
-
-        result = runs[0]
-        comparison = analyse(result).comparisons[0]
-        tables = physical_tables(result.realizations[0.0][0], comparison, e_star=request.e_star,
-                                 unit=result.scene.surface.unit)
-        sections, answer = check_sections(request, result, sampled, tables)
+        tables, sections, answer = check_sections(request, runs[0], sampled)
         return cls(request, tuple(tables), tuple(sections), tuple(answer), scene_text,
                    float(seconds), tuple(runs), sampled)
 
