@@ -226,6 +226,49 @@ def test_the_readme_results_block_is_the_headline(tmp_path):
     assert "+0.05 (+0.01, +0.09) ✔" in persson
 
 
+def _results_page():
+    sys.path.insert(0, str(ROOT / "docs"))
+    try:
+        import results_page
+    finally:
+        sys.path.remove(str(ROOT / "docs"))
+    return results_page
+
+
+def test_the_results_page_is_the_published_report():
+    """docs/guide/results.md is exactly what docs/results_page.py writes from docs/results."""
+    module = _results_page()
+    published = ROOT / "docs" / "results"
+    generated = module.page(published, module.written_run_time())
+    assert generated == module.PAGE_PATH.read_text(encoding="utf-8"), \
+        "results page differs: run python docs/results_page.py"
+    for link in re.findall(r"\]\((\.\./results/[^)#]+)", generated):
+        assert (module.PAGE_PATH.parent / link).resolve().is_file(), link
+
+
+def test_the_results_page_counts_the_claims(tmp_path):
+    """The claims table on constructed findings: one surface's verdict in words, a family's
+    verdicts counted, an untested claim said so, the paper-less overview left out."""
+
+    rows = [("paper-wm-d205", "2.05", "", "a", "claim a", "x", "undecided"),
+            ("validity-map", "2.05", "", "a", "claim a", "x", "reproduced"),
+            ("validity-map", "2.2", "", "a", "claim a", "x", "reproduced"),
+            ("validity-map", "2.4", "", "a", "claim a", "x", "contradicted"),
+            ("validity-map", "2.05", "", "h", "claim h", "not tested: one sampling", "undecided"),
+            ("paper-wm-d205", "2.05", "", "e", "overview", "x", "not in the paper")]
+    findings = [dict(zip(("scene", "D", "H", "finding", "claim", "evidence", "verdict"), r))
+                for r in rows]
+    table = _results_page().findings_table(findings).splitlines()
+    assert table[0] == "| claim | paper, D = 2.05 | validity map |"
+    assert table[2] == "| (a) claim a | undecided | 2 reproduced, 1 contradicted |"
+    assert table[3] == "| (h) claim h | – | not tested |"
+    assert len(table) == 4
+    verdicts = [dict(scene="s", tolerance=t, verdict=v, verdict_per_surface=p)
+                for t, v, p in (("0.2", "holds", "undecided"), ("0.2", "undecided", "holds"),
+                                ("0.05", "fails", ""), ("0.05", "fails", ""))]
+    assert _results_page().decided_table(verdicts).splitlines()[2] == "| `s` | 50 % / 0 % | 50 % |"
+
+
 def test_the_readme_stays_a_front_door():
     lines = (ROOT / "README.md").read_text(encoding="utf-8").splitlines()
     assert len(lines) <= 250, f"README.md has {len(lines)} lines; the guide (docs/guide) has room"
