@@ -68,7 +68,7 @@ whose uniform bulk deformation is improved GW's interaction term. The headline t
 atlas rows, `headline.csv`, `errors.csv`, `verdicts.csv` and `validity.csv` name each model's
 frame; the front page gives each frame's headline at its own reference's contact-area
 fractions. The interface reference carries its own method error in its band
-([Benchmarks](benchmarks.md#the-interface-reference)), so no interface theory is said to hold
+([Benchmarks](benchmarks.md#the-interface-reference-python-benchmarksbench_interfacepy)), so no interface theory is said to hold
 where that bound alone straddles the tolerance.
 
 {key_numbers}
