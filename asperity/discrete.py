@@ -103,6 +103,9 @@ class DiscreteAsperityModel:
         aperture of the rigid gap ``max(d - z, 0)``, z ~ N(0, s^2), at the model's own
         separation d (docs/theory.md, eq. L5). Default: s = the standard deviation of the
         summit heights (ddof = 0, as in the GW fit), the only height spread the model carries.
+    device : {"cpu", "gpu"}
+        Where the interaction's FFT sums run (:class:`asperity.interaction.PointForceInteraction`,
+        :mod:`bem.device`); the Newton solver and its results stay numpy.
 
     Notes
     -----
@@ -115,12 +118,12 @@ class DiscreteAsperityModel:
     def __init__(self, summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
                  m: float | None = None, tol: float = 1e-10, max_iter: int = 50,
                  method: str = "auto", height_rms: float | None = None,
-                 local: bool = False) -> None:
+                 local: bool = False, device: str = "cpu") -> None:
         tol = checks.real_number("tol", tol, minimum=0.0, exclusive=True, maximum=1.0,
                                  exclusive_maximum=True)
         max_iter = checks.integer("max_iter", max_iter, minimum=1)
         self.problem = assemble(summits, e_star=e_star, interaction=interaction, m=m,
-                                method=method, local=local)
+                                method=method, local=local, device=device)
         self.local = bool(local)
         self.summits = summits
         self.e_star = self.problem.e_star

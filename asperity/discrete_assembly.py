@@ -124,7 +124,8 @@ class DiscreteProblem:
 
 
 def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
-             m: float | None = None, method: str = "auto", local: bool = False) -> DiscreteProblem:
+             m: float | None = None, method: str = "auto", local: bool = False,
+             device: str = "cpu") -> DiscreteProblem:
     """Build the discrete system of ``summits`` (see :class:`asperity.DiscreteAsperityModel`
     for the parameters). Raises ``ValueError`` naming a bad parameter."""
     if not isinstance(summits, Summits):
@@ -143,7 +144,8 @@ def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
         if interaction:
             raise ValueError("m (uniform interaction) replaces the pairwise interaction: "
                              "use it with interaction=False")
-    operator = (PointForceInteraction.from_summits(summits, e_star=e_star, method=method)
+    operator = (PointForceInteraction.from_summits(summits, e_star=e_star, method=method,
+                                                   device=device)
                 if interaction else None)
     return DiscreteProblem(
         summits=summits, e_star=e_star, height=summits.height, radius=summits.radius,

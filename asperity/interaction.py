@@ -47,6 +47,7 @@ from typing import Callable
 import numpy as np
 
 from bem import checks
+from bem.device import array_module, check_device, to_host
 from bem.fft import BACKENDS
 
 __all__ = ["PointForceInteraction"]
@@ -115,6 +116,10 @@ class PointForceInteraction:
         Backend of :class:`bem.fft.RealFFT2`.
     threads : int
         FFT threads (default 1: on a busy machine multi-threaded small FFTs are slower).
+    device : {"cpu", "gpu"}
+        Where the FFT sums run (:mod:`bem.device`): on a GPU the lattice, the kernel spectrum
+        and the transforms are CuPy arrays and cuFFT (:mod:`bem.fft_device`), the forces and
+        the sums at the targets numpy arrays (moved per call); the method chosen is the CPU's.
 
     Notes
     -----
@@ -124,7 +129,8 @@ class PointForceInteraction:
 
     def __init__(self, x, y, *, e_star: float = 1.0, spacing: float | None = None, row=None,
                  column=None, shape: tuple[int, int] | None = None, periodic: bool = False,
-                 method: str = "auto", fft_backend: str = "auto", threads: int = 1) -> None:
+                 method: str = "auto", fft_backend: str = "auto", threads: int = 1,
+                 device: str = "cpu") -> None:
         x = np.array(checks.real_array("x", x), dtype=float).ravel()
         y = np.array(checks.real_array("y", y), dtype=float).ravel()
         if x.shape != y.shape:
@@ -134,6 +140,8 @@ class PointForceInteraction:
         fft_backend = checks.choice("fft_backend", fft_backend, BACKENDS)
         threads = checks.integer("threads", threads, minimum=1)
         periodic = checks.flag("periodic", periodic)
+        self.device = check_device(device)
+        self._xp = array_module(self.device)
         if x.size > 1 and np.unique(np.stack((x, y), axis=1), axis=0).shape[0] != x.size:
             # a point force at zero distance is undefined, and the lattice FFT would keep only
             # one of two coincident forces: the methods would disagree
@@ -190,6 +198,17 @@ class PointForceInteraction:
             points = self._fft_shape[0] * self._fft_shape[1]
             self._fft_cost = _FFT_POINT_COST * points * max(1.0, math.log2(points))
 
+    def __getstate__(self) -> dict:
+        # the array module is found again where the operator is unpickled (a module does
+        # not pickle; process pools and caches pickle models)
+        state = dict(self.__dict__)
+        state.pop("_xp", None)
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        self.__dict__.update(state)
+        self._xp = array_module(self.device)
+
     @classmethod
     def from_summits(cls, summits, *, e_star: float = 1.0, method: str = "auto",
                      **kwargs) -> "PointForceInteraction":
@@ -234,7 +253,15 @@ class PointForceInteraction:
             np.divide(self._factor, distance, out=kernel, where=distance > 0)
             # The kernel is even in both offsets, so its spectrum is real (up to rounding); the
             # 1/size of the unnormalised inverse is folded into it.
-            if self.periodic:
+            if self.device == "gpu":
+                from bem.fft_device import DevicePaddedRealFFT2, DeviceRealFFT2
+
+                xp = self._xp
+                fft = (DeviceRealFFT2(xp, self._fft_shape) if self.periodic
+                       else DevicePaddedRealFFT2(xp, self._block))
+                self._spectrum = xp.asarray(np.fft.rfft2(kernel).real / fft.size)
+                self._grid, self._out = fft.input_block, fft.output_block
+            elif self.periodic:
                 fft = RealFFT2(self._fft_shape, backend=self._fft_backend,
                                threads=self._threads, planner_effort="FFTW_ESTIMATE")
                 self._spectrum = fft.forward(kernel).real / fft.size
@@ -245,7 +272,7 @@ class PointForceInteraction:
                                      threads=self._threads, planner_effort="FFTW_MEASURE")
                 self._spectrum = np.fft.rfft2(kernel).real / fft.size
                 self._grid, self._out = fft.input_block, fft.output_block
-            self._placed = (np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp))
+            self._placed = (self._xp.zeros(0, dtype=np.intp), self._xp.zeros(0, dtype=np.intp))
             self._fft = fft
         return self._spectrum
 
@@ -326,15 +353,17 @@ class PointForceInteraction:
         spectrum = self._kernel_spectrum()
         fft = self._fft
         grid = self._grid               # zero except where the previous call placed forces
+        xp = self._xp   # (numpy: asarray and to_host return their argument)
         grid[self._placed] = 0.0
-        placed = (self._row_local[sources], self._column_local[sources])
+        placed = (xp.asarray(self._row_local[sources]), xp.asarray(self._column_local[sources]))
         # Positions are distinct, so plain assignment places every force (no accumulation).
-        grid[placed] = forces
+        grid[placed] = xp.asarray(forces)
         self._placed = placed
         fft.execute_forward()
         np.multiply(fft.spectrum_buffer, spectrum, out=fft.spectrum_buffer)
         fft.execute_inverse()
-        return self._out[self._row_local[targets], self._column_local[targets]]
+        return to_host(self._out[xp.asarray(self._row_local[targets]),
+                                 xp.asarray(self._column_local[targets])])
 
     def _direct_sum(self, forces, sources, targets):
         out = np.empty(targets.size)

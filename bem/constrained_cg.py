@@ -31,12 +31,12 @@ _REFRESH_INTERVAL = 50
 class _Workspace:
     """Preallocated arrays of one grid, reused by every iteration (and along a load path)."""
 
-    def __init__(self, shape: tuple[int, int]) -> None:
-        self.shape = shape
+    def __init__(self, shape: tuple[int, int], xp=np) -> None:
+        self.shape, self.xp = shape, xp   # xp: the array module of the operator's device
         self._u: np.ndarray | None = None
-        self.g = np.empty(shape)  # u - z, the gap but for a constant
-        self.work = np.empty(shape)  # scratch of the direct sums
-        self.flag = np.empty(shape, dtype=bool)
+        self.g = xp.empty(shape)  # u - z, the gap but for a constant
+        self.work = xp.empty(shape)  # scratch of the direct sums
+        self.flag = xp.empty(shape, dtype=bool)
         self._inverse_kernel: InverseKernel | None = None
         self.preconditioned = True  # whether the last solve used the preconditioner
 
@@ -44,7 +44,7 @@ class _Workspace:
     def u(self) -> np.ndarray:
         """The displacement of the iterate (allocated when the last one was handed out)."""
         if self._u is None:
-            self._u = np.empty(self.shape)
+            self._u = self.xp.empty(self.shape)
         return self._u
 
     def take_displacement(self) -> np.ndarray:
@@ -56,7 +56,8 @@ class _Workspace:
         """The preconditioner of ``operator``'s grid, built on first use."""
         if self._inverse_kernel is None:
             self._inverse_kernel = InverseKernel(operator.shape, operator.spacing,
-                                                 e_star=operator.e_star, threads=operator.threads)
+                                                 e_star=operator.e_star, threads=operator.threads,
+                                                 device=operator.device)
         return self._inverse_kernel
 
 
@@ -157,6 +158,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     and the update of u. The iteration is the same as on full arrays.
     """
     load_control = total is not None
+    xp = operator.xp
     u, g, flag = ws.u, ws.g, ws.flag
     columns = z.shape[1]
     flat_g, flat_flag, flat_p = g.reshape(-1), flag.reshape(-1), p.reshape(-1)
@@ -194,7 +196,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     residual = math.inf
     since_refresh = 0
     tau_fallback = None
-    direction = np.zeros(0)
+    direction = xp.zeros(0)
     t_sum = 0.0
     restarted = False   # separation control restarted after losing every contact
     for iteration in range(1, max_iter + 1):
@@ -268,7 +270,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             sources.append((entering, values))
             indices = np.concatenate((indices, entering))
             pressure = np.concatenate((pressure, values))
-            direction = np.concatenate((direction, np.zeros(entered)))
+            direction = np.concatenate((direction, xp.zeros(entered)))
         if clipped or entered:
             contact.set(indices)
         scale = 1.0

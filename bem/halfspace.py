@@ -46,14 +46,11 @@ import numpy as np
 import scipy.fft
 
 from bem import checks
-
+from bem.device import array_module, check_device, to_host
 from bem.fft import CosineTransform2, PaddedRealFFT2, RealFFT2, fft_threads
 from bem.reference import love_pixel_displacement
 
 __all__ = ["HalfSpace"]
-
-
-
 
 
 class HalfSpace:
@@ -92,11 +89,18 @@ class HalfSpace:
         wisdom for the process, :mod:`bem.wisdom` in a file for the next ones; up to 2x faster
         transforms measured here) and "FFTW_ESTIMATE" below, where measuring planned no faster
         transforms.
+    device : {"cpu", "gpu"}
+        Where the products run: numpy and pyFFTW/scipy, or CuPy and cuFFT on a CUDA GPU
+        (:mod:`bem.device`; ``backend``, ``threads`` and ``planner_effort`` are the CPU's). On the
+        GPU the work buffers are CuPy arrays, :meth:`displacement` still takes and returns
+        numpy arrays, and point sources are always added by products.
 
     Attributes
     ----------
-    shape, spacing, e_star, periodic
+    shape, spacing, e_star, periodic, device
         As given.
+    xp : module
+        The array module of the device's fields (numpy or cupy).
     convolution_shape : tuple of int
         Shape of the FFT grid: ``2 * shape`` non-periodic, ``shape`` periodic.
     backend : str
@@ -112,7 +116,10 @@ class HalfSpace:
 
     def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
                  periodic: bool = False, backend: str = "auto", threads: int | None = None,
-                 planner_effort: str | None = None, mirror: bool = False) -> None:
+                 planner_effort: str | None = None, mirror: bool = False,
+                 device: str = "cpu") -> None:
+        self.device = check_device(device)
+        self.xp = array_module(self.device)
         if not isinstance(shape, (tuple, list)) or len(shape) != 2:
             raise ValueError(f"shape must be a pair of positive integers, got {shape!r}")
         shape = tuple(checks.integer("shape", s, minimum=1) for s in shape)
@@ -132,7 +139,12 @@ class HalfSpace:
         if planner_effort is None:
             large = self.convolution_shape[0] * self.convolution_shape[1] >= 1024 * 1024
             planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
-        if self.mirror:
+        if self.device == "gpu":
+            from bem.fft_device import device_transform
+
+            self._fft = device_transform(self.xp, self.shape, periodic=self.periodic,
+                                         mirror=self.mirror)
+        elif self.mirror:
             self._fft = CosineTransform2(self.shape, backend=backend, threads=threads,
                                          planner_effort=planner_effort)
         elif self.periodic:
@@ -151,6 +163,7 @@ class HalfSpace:
         self._scaled_spectrum = self._kernel_spectrum() / self._fft.size
         if not self.mirror:   # complex spectrum: each value twice
             self._scaled_spectrum = np.repeat(self._scaled_spectrum, 2, axis=1)
+        self._scaled_spectrum = self.xp.asarray(self._scaled_spectrum)
         self._influence: np.ndarray | None = None
         self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
@@ -161,8 +174,8 @@ class HalfSpace:
         # periodic at 512^2 / 1024^2), hence the factor 0.2.
         size = self.convolution_shape[0] * self.convolution_shape[1]
         self.direct_source_limit = int(0.2 * math.log2(max(size, 2)) * size / (ny * nx))
-        if self.mirror:   # the quadrant's response is not a translation: products only
-            self.direct_source_limit = 0
+        if self.mirror or self.device == "gpu":   # a mirror quadrant's response is not a
+            self.direct_source_limit = 0           # translation; a GPU product is cheap
 
     # -- construction --------------------------------------------------------------------------
 
@@ -212,8 +225,8 @@ class HalfSpace:
     def kernel_spectrum(self) -> np.ndarray:
         """``K_hat`` [length/pressure] in the unnormalised DFT convention of the module
         docstring, shape of the rfft spectrum of the convolution grid (fresh, read-only)."""
-        spectrum = (self._scaled_spectrum if self.mirror
-                    else self._scaled_spectrum[:, ::2]) * self._fft.size
+        spectrum = to_host(self._scaled_spectrum if self.mirror
+                           else self._scaled_spectrum[:, ::2]) * self._fft.size
         spectrum.setflags(write=False)
         return spectrum
 
@@ -237,9 +250,9 @@ class HalfSpace:
             raise ValueError(f"pressure must have shape {self.shape}, got {pressure.shape}")
         if not np.all(np.isfinite(pressure)):
             raise ValueError("pressure must be finite (no NaN or inf)")
-        out = np.empty(self.shape)
-        self._apply(pressure, out)
-        return out
+        out = self.xp.empty(self.shape)
+        self._apply(self.xp.asarray(pressure), out)
+        return to_host(out)
 
     def _apply(self, pressure: np.ndarray, out: np.ndarray) -> None:
         """``out[...] = K * pressure`` without checks or allocations (the solvers' hot path)."""
@@ -288,7 +301,8 @@ class HalfSpace:
             self._coarse = HalfSpace((self.shape[0] // 2, self.shape[1] // 2),
                                      2.0 * self.spacing, e_star=self.e_star,
                                      periodic=self.periodic, backend=self.backend,
-                                     threads=self.threads, mirror=self.mirror)
+                                     threads=self.threads, mirror=self.mirror,
+                                     device=self.device)
         return self._coarse
 
     # -- real-space influence coefficients ---------------------------------------------------
@@ -380,4 +394,5 @@ class HalfSpace:
 
     def __repr__(self) -> str:
         return (f"HalfSpace(shape={self.shape}, spacing={self.spacing!r}, e_star={self.e_star!r}, "
-                f"periodic={self.periodic}, mirror={self.mirror}, backend={self.backend!r})")
+                f"periodic={self.periodic}, mirror={self.mirror}, backend={self.backend!r}, "
+                f"device={self.device!r})")

@@ -137,6 +137,10 @@ class BoundaryElementModel:
                  for name in ("e_star", "tol", "max_iter", "periodic")}
         heights, spacing, *_ = checks.contact_problem(heights, spacing, **given,
                                                       minimum_grid=MINIMUM_GRID)
+        if "device" in options:   # a GPU asked for where there is none: now, not at the first solve
+            from bem.device import array_module
+
+            array_module(options["device"])
         heights.setflags(write=False)
         self.heights = heights
         self.spacing = spacing

@@ -98,7 +98,8 @@ class _PathStarts:
             return np.repeat(np.repeat(coarse, 2, axis=0), 2, axis=1)
         if self._nested and _nestable(operator.shape):
             if self._coarse_workspace is None:
-                self._coarse_workspace = _Workspace(operator.coarse().shape)
+                coarse_operator = operator.coarse()
+                self._coarse_workspace = _Workspace(coarse_operator.shape, coarse_operator.xp)
             start, coarse = _coarse_start(operator, self._z, load=load, separation=separation,
                                           tol=self._tol, max_iter=self._max_iter,
                                           previous=self._coarse_pressure,
@@ -134,6 +135,7 @@ def contact_curve(
     area_estimator: str = DEFAULT_AREA_ESTIMATOR,
     error_estimate: bool = False,
     mirror: bool = False,
+    device: str = "cpu",
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -187,6 +189,9 @@ def contact_curve(
         ``mirror``): the periodic solution of :func:`bem.interface.mirror_extension` of the
         heights, per copy, at a quarter of its points; contact edges, patches and the flow do
         not wrap around.
+    device : {"cpu", "gpu"}
+        Where the contact problems are solved (:func:`bem.solve_contact`); the leakage's
+        Reynolds solves stay on the CPU, in the background threads, either way.
 
     Returns
     -------
@@ -231,7 +236,7 @@ def contact_curve(
     mirror = checks.flag("mirror", mirror)
     if mirror and not periodic:
         raise ValueError("mirror needs periodic=True (the extension's period is solved)")
-    operator = _check_operator(operator, z.shape, spacing, e_star, periodic, mirror)
+    operator = _check_operator(operator, z.shape, spacing, e_star, periodic, mirror, device)
     wraps = operator.wraps
     want_stiffness = "stiffness" in quantities or "conductance" in quantities
     want_contacts = "contacts" in quantities
@@ -257,11 +262,13 @@ def contact_curve(
             z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
             mirror=mirror, tol=tol, max_iter=max_iter, area_estimator=area_estimator,
             preconditioned=preconditioned, operator=operator.coarse() if keep else None,
+            device=device,
             callback=(lambda i, solution: coarse_pressures.__setitem__(i, solution.pressure))
             if keep else None,
             **({"loads": targets} if loads is not None else {"separations": targets}))
-    workspace = _Workspace(z.shape)
-    starts = _PathStarts(operator, z, tol=tol, max_iter=int(max_iter), nested=preconditioned,
+    workspace = _Workspace(z.shape, operator.xp)
+    z_device = operator.xp.asarray(z)   # (numpy: z itself)
+    starts = _PathStarts(operator, z_device, tol=tol, max_iter=int(max_iter), nested=preconditioned,
                          coarse_pressures=coarse_pressures)
     # The Reynolds solves of each point run in background threads while the next point's contact
     # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
@@ -270,7 +277,7 @@ def contact_curve(
         target = float(targets[index])
         problem = {"load": target if loads is not None else None,
                    "separation": target if separations is not None else None}
-        solution = _solve(operator, z, **problem, tol=tol, max_iter=int(max_iter),
+        solution = _solve(operator, z_device, **problem, tol=tol, max_iter=int(max_iter),
                           initial=starts.start(int(index), **problem), stiffness=want_stiffness,
                           ws=workspace, preconditioned=preconditioned)
         starts.solved(solution)

@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from bem.device import array_module
 from bem.fft import RealFFT2
 
 __all__ = ["InverseKernel"]
@@ -49,6 +50,8 @@ class InverseKernel:
         Composite modulus E* [pressure].
     backend, threads
         As for :class:`bem.fft.RealFFT2`.
+    device : {"cpu", "gpu"}
+        Where it runs (:mod:`bem.device`); its blocks are then arrays of that device.
     planner_effort : str, optional
         As for :class:`bem.fft.RealFFT2`; default "FFTW_MEASURE" from 512 x 512 points on,
         "FFTW_ESTIMATE" below.
@@ -61,13 +64,19 @@ class InverseKernel:
 
     def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
                  backend: str = "auto", threads: int | None = None,
-                 planner_effort: str | None = None) -> None:
+                 planner_effort: str | None = None, device: str = "cpu") -> None:
         self.shape = tuple(int(s) for s in shape)
         if planner_effort is None:
             planner_effort = ("FFTW_MEASURE" if self.shape[0] * self.shape[1] >= _MEASURED_GRID
                               else "FFTW_ESTIMATE")
-        self._fft = RealFFT2(self.shape, backend=backend, threads=threads,
-                             planner_effort=planner_effort)
+        xp = array_module(device)
+        if device == "gpu":
+            from bem.fft_device import DeviceRealFFT2
+
+            self._fft = DeviceRealFFT2(xp, self.shape)
+        else:
+            self._fft = RealFFT2(self.shape, backend=backend, threads=threads,
+                                 planner_effort=planner_effort)
         ny, nx = self.shape
         qy = 2.0 * math.pi * np.fft.fftfreq(ny, d=spacing)
         qx = 2.0 * math.pi * np.fft.rfftfreq(nx, d=spacing)
@@ -75,7 +84,7 @@ class InverseKernel:
         q[0, 0] = 2.0 * math.pi / (max(ny, nx) * spacing)
         symbol = 0.5 * e_star * q / self._fft.size
         # each value twice: one real multiply over the float view of the complex spectrum
-        self._scaled_symbol = np.repeat(symbol, 2, axis=1)
+        self._scaled_symbol = xp.asarray(np.repeat(symbol, 2, axis=1))
         self.input_block = self._fft.real_buffer
         self.output_block = self._fft.output_buffer
 

@@ -57,6 +57,7 @@ import numpy as np
 
 from bem import checks
 from bem.area import PERIMETER_COEFFICIENT, contact_area
+from bem.device import check_device, to_host
 from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
 from bem.halfspace import HalfSpace
 from bem.solution import ContactSolution, _frozen
@@ -105,9 +106,11 @@ def _check_real(name: str, value, *, positive: bool = False, non_negative: bool 
                                  exclusive=positive)
 
 
-def _check_operator(operator, shape, spacing, e_star, periodic, mirror=False) -> HalfSpace:
+def _check_operator(operator, shape, spacing, e_star, periodic, mirror=False,
+                    device="cpu") -> HalfSpace:
     if operator is None:
-        return HalfSpace(shape, spacing, e_star=e_star, periodic=periodic, mirror=mirror)
+        return HalfSpace(shape, spacing, e_star=e_star, periodic=periodic, mirror=mirror,
+                         device=device)
     if not isinstance(operator, HalfSpace):
         raise ValueError(f"operator must be a bem.HalfSpace, got {type(operator).__name__}")
     mismatch = []
@@ -121,6 +124,8 @@ def _check_operator(operator, shape, spacing, e_star, periodic, mirror=False) ->
         mismatch.append(f"periodic {operator.periodic} != {periodic}")
     if operator.mirror != mirror:
         mismatch.append(f"mirror {operator.mirror} != {mirror}")
+    if operator.device != check_device(device):
+        mismatch.append(f"device {operator.device!r} != {device!r}")
     if mismatch:
         raise ValueError("operator does not match the problem: " + "; ".join(mismatch))
     return operator
@@ -154,6 +159,7 @@ def solve_contact(
     operator: HalfSpace | None = None,
     stiffness: bool = False,
     preconditioned: bool = True,
+    device: str = "cpu",
 ) -> ContactSolution:
     """Contact of a rough elastic surface with a rigid plane, at given load or separation.
 
@@ -196,6 +202,9 @@ def solve_contact(
         Precondition the iteration and start cold solves from the coarse grid (module
         docstring); False gives the plain Polonsky-Keer iteration, whose iteration count grows
         like n. Both converge to the same state under the same stopping rule.
+    device : {"cpu", "gpu"}
+        Where the solve runs (:mod:`bem.device`): numpy, or CuPy on a CUDA GPU. The solution's
+        arrays are numpy arrays either way.
 
     Returns
     -------
@@ -219,7 +228,8 @@ def solve_contact(
     ValueError
         For non-finite, non-2-D or smaller than 4 x 4 heights, spacing <= 0,
         e_star <= 0, negative load, both or neither of load/separation, a periodic separation
-        <= mean(z), tol <= 0, max_iter < 1, a bad initial pressure or a mismatched operator.
+        <= mean(z), tol <= 0, max_iter < 1, a bad initial pressure, a mismatched operator, or
+        ``device="gpu"`` without CuPy or a CUDA device.
     """
     z, spacing, e_star, tol, max_iter, periodic = _check_problem(
         heights, spacing, e_star, tol, max_iter, periodic)
@@ -234,9 +244,10 @@ def solve_contact(
                 f"separation must exceed the mean height {float(z.mean())!r} for a periodic "
                 f"surface (full contact, where the load is undetermined), got {separation!r}")
     initial = _check_initial(initial, z.shape)
-    operator = _check_operator(operator, z.shape, spacing, e_star, periodic)
+    operator = _check_operator(operator, z.shape, spacing, e_star, periodic, device=device)
+    z = operator.xp.asarray(z)
     return _solve(operator, z, load=load, separation=separation, tol=tol, max_iter=int(max_iter),
-                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape),
+                  initial=initial, stiffness=stiffness, ws=_Workspace(z.shape, operator.xp),
                   preconditioned=preconditioned)
 
 
@@ -244,12 +255,16 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
            tol: float, max_iter: int, initial: np.ndarray | None, stiffness: bool,
            ws: _Workspace, preconditioned: bool = True, warn: bool = True) -> ContactSolution:
     """The solve after validation (shared with the load path); ``warn``: a solve that does not
-    converge warns (ConvergenceWarning)."""
+    converge warns (ConvergenceWarning). ``z`` is an array of the operator's device; ``initial``
+    may be a host array."""
+    xp = operator.xp
     preconditioner = ws.inverse_kernel(operator) if preconditioned else None
     ws.preconditioned = preconditioned
     if initial is None and preconditioned:
         initial = _coarse_start(operator, z, load=load, separation=separation, tol=tol,
                                 max_iter=max_iter)[0]
+    if initial is not None:
+        initial = xp.asarray(initial)   # (numpy: the same array; a GPU: a copy of the host's)
     pixel_area = operator.spacing**2
     nominal_area = z.size * pixel_area
     highest = float(z.max())
@@ -257,8 +272,8 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
                                                      and separation >= highest)
     if zero_load:
         d = highest if separation is None else separation
-        p = np.zeros(z.shape)
-        return _record(operator, z, p, np.zeros(z.shape), d, _Outcome(
+        p = xp.zeros(z.shape)
+        return _record(operator, z, p, xp.zeros(z.shape), d, _Outcome(
             p, True, 0, 0.0, "zero load: no contact"), stiffness, ws, nominal_area, tol, warn)
     if load is not None:
         total = load / pixel_area
@@ -266,7 +281,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
             p = _owned(initial)
             p *= total / float(p.sum())
         else:
-            p = np.full(z.shape, total / z.size)
+            p = xp.full(z.shape, total / z.size)
         outcome = _constrained_cg(operator, z, p, total=total, separation=None, tol=tol,
                                   max_iter=max_iter, ws=ws,
                                   preconditioner=preconditioner)
@@ -308,7 +323,7 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     """
     if not _nestable(z.shape):
         return None, None
-    heights = np.ascontiguousarray(z[::2, ::2])
+    heights = operator.xp.ascontiguousarray(z[::2, ::2])
     if operator.periodic and separation is not None and separation <= float(heights.mean()):
         return None, None  # full contact on the coarse grid: no load to start from
     coarse = operator.coarse()
@@ -317,7 +332,8 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     solution = _solve(coarse, heights, load=load, separation=separation,
                       tol=max(tol, _COARSE_TOLERANCE),
                       max_iter=min(max_iter, _COARSE_MAX_ITERATIONS), initial=previous,
-                      stiffness=False, ws=_Workspace(coarse.shape) if ws is None else ws,
+                      stiffness=False,
+                      ws=_Workspace(coarse.shape, coarse.xp) if ws is None else ws,
                       warn=False)
     pressure = np.asarray(solution.pressure)
     if not pressure.any():
@@ -328,7 +344,7 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
 def _owned(initial: np.ndarray) -> np.ndarray:
     """The start pressure to iterate on in place: ``initial`` itself (the callers hand over
     arrays they made), unless it is read-only, i.e. a previous result."""
-    return initial if initial.flags.writeable else np.array(initial)
+    return initial if getattr(initial.flags, "writeable", True) else np.array(initial)
 
 
 def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d: float,
@@ -354,6 +370,7 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
             warnings.warn(f"bem.solve_contact: stiffness solve not converged after "
                           f"{stiffness_iterations} iterations", ConvergenceWarning, stacklevel=3)
     load = float(p.sum()) * pixel_area
+    p, u, gap, contact = (to_host(array) for array in (p, u, gap, contact))
     return ContactSolution(
         pressure=_frozen(p),
         displacement=_frozen(u),

@@ -70,7 +70,7 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     # start: uniform on C, scaled to minimise the energy q.Kq/2 - q.1 along it (no extra
     # product: K q is needed for the residual anyway; about 10 % fewer iterations than the
     # unscaled 1 / K(0) measured on WM load paths)
-    q = np.full(n_contact, 1.0 / operator.self_influence)
+    q = operator.xp.full(n_contact, 1.0 / operator.self_influence)
     kq = product(q)
     curvature = _dot(q, kq)
     if curvature > 0.0:

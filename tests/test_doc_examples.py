@@ -49,6 +49,8 @@ NOT_RUN = {
                "command runs on small scenes in these blocks and in tests/test_cli.py",
     "cluster": "needs a dask scheduler and workers on other hosts",
     "user-file": "names the reader's own scene or scan, which no repository holds",
+    "gpu": "needs CuPy and a CUDA device; tests/test_device.py runs the same calls on a "
+           "stand-in for CuPy, and on CuPy itself where there is a GPU",
     "pending": "a command or scene key written up from its interface before it is in the "
                "program",
 }

@@ -31,7 +31,9 @@ import threading
 import time
 import warnings
 from concurrent.futures import ProcessPoolExecutor
+from dataclasses import replace
 
+from bem.device import DEVICES, array_module
 from bem.wisdom import WISDOM_VARIABLE
 from validation.run.cache import check_directory, default_cache_dir
 from validation.scenes.reader import builtin_scenes, load_scene
@@ -134,6 +136,15 @@ def _report(args: argparse.Namespace) -> int:
         args.out, args.full = args.publish, not args.quick
     if quick:
         scenes = [scene.quick_version() for scene in scenes]
+    if getattr(args, "device", None):
+        scenes = [replace(scene, bem=replace(scene.bem, device=args.device)) for scene in scenes]
+    for scene in scenes:   # a GPU asked for where there is none: said before any computing
+        if scene.bem.device != "cpu":
+            try:
+                array_module(scene.bem.device, "--device" if args.device else "[bem] device")
+            except ValueError as error:
+                raise SceneError(str(error) if args.device else f"scene {scene.name!r}: {error}"
+                                 ) from None
     mode = "quick" if quick else ("full" if args.full or not args.scenes else "as written")
     for message in (m for scene in scenes for m in scene_warnings(scene)):
         print(f"warning: {message}", file=sys.stderr)
@@ -259,6 +270,10 @@ def _run_options(parser: argparse.ArgumentParser, jobs: int | None = None,
                         help="dask.distributed scheduler address; realizations run on that cluster")
     parser.add_argument("--quiet", action="store_true",
                         help="no progress bar (warnings and errors are still printed)")
+    parser.add_argument("--device", choices=DEVICES, default=None,
+                        help="where the reference's contact problems are solved: cpu, or gpu "
+                             "(CuPy and a CUDA device; the gpu extra); default: each scene's "
+                             "[bem] device (cpu)")
 
 
 def build_parser() -> argparse.ArgumentParser:

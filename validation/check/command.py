@@ -41,7 +41,8 @@ def check_request(args: argparse.Namespace) -> CheckRequest:
     return make_request(path, e_star=args.e_star, pressures=args.pressure,
                         short_cutoff=args.short_cutoff, fill=args.fill, resample=args.resample,
                         physical_size=args.physical_size, file_unit=args.file_unit,
-                        tiles=args.tiles, nominal_size=getattr(args, "nominal_size", None))
+                        tiles=args.tiles, nominal_size=getattr(args, "nominal_size", None),
+                        device=getattr(args, "device", None) or "cpu")
 
 
 #: The reader's keywords a message may recommend, and the check's option for each.

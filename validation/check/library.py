@@ -25,6 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from bem.device import array_module
 from validation.check.request import CheckRequest, scene_text
 from validation.check.result import CheckResult
 from validation.check.units import parse_length, parse_pressure, parse_pressure_range
@@ -42,7 +43,7 @@ __all__ = ["check_scan", "check_scenes", "is_check_scene", "make_request", "requ
 OPTIONS = {"e_star": "--e-star", "pressures": "--pressure", "short_cutoff": "--short-cutoff",
            "fill": "--fill", "resample": "--resample", "physical_size": "--physical-size",
            "file_unit": "--file-unit", "tiles": "--tiles", "nominal_size": "--nominal-size",
-           "models": "--models", "scan": "SCAN"}
+           "models": "--models", "device": "--device", "scan": "SCAN"}
 
 
 def _keywords(message: str) -> str:
@@ -114,7 +115,7 @@ def _pressure_text(pressures) -> str | None:
 
 def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=None,
                  resample=None, physical_size=None, file_unit=None, spacing=None,
-                 tiles: int = 1, nominal_size=None, models=None,
+                 tiles: int = 1, nominal_size=None, models=None, device: str = "cpu",
                  cache_dir: str | None = None) -> CheckRequest:
     """The :class:`CheckRequest` of :func:`check_scan`'s arguments (units parsed, the scan
     read once to check it).
@@ -125,6 +126,7 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
         Naming the argument and what it allows (the command line's option names are used
         by the command, :mod:`.command`).
     """
+    array_module(device, "--device")   # a GPU asked for where there is none: said first
     path, physical_size, file_unit, scratch = _scan_source(scan, spacing, file_unit,
                                                            physical_size, cache_dir)
     if not scratch and not path.is_file():
@@ -155,7 +157,7 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
                              f", got {list(models)!r}")
         models = tuple(models)
     request = CheckRequest(path, e_star, pressure_range, None, fill, physical_size, file_unit,
-                           int(tiles), resample, None, models, scratch)
+                           int(tiles), resample, None, models, scratch, device)
     if tiles > 1:
         rows, columns = request.read("m").heights.shape
         side = min(rows, columns) // math.isqrt(tiles)
@@ -237,7 +239,8 @@ def request_of_scene(scene) -> CheckRequest:
         size = f"{size * LENGTH_UNITS[s.unit]:.17g} m"
     return CheckRequest(pathlib.Path(s.path), scene.physical_e_star, None, cutoff,
                         options.get("fill"), size, s.file_unit, 1,
-                        None if s.resample == "none" else s.resample, nominal, scene.models)
+                        None if s.resample == "none" else s.resample, nominal, scene.models,
+                        device=scene.bem.device)
 
 
 def run_request(request: CheckRequest, scenes, scene_text_: str, *, executor=None,
@@ -273,7 +276,8 @@ def _wisdom(cache_dir: str | None):
 
 def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=None,
                resample=None, physical_size=None, file_unit=None, spacing=None, tiles: int = 1,
-               nominal_size=None, models=None, cache: str | os.PathLike | bool | None = None,
+               nominal_size=None, models=None, device: str = "cpu",
+               cache: str | os.PathLike | bool | None = None,
                progress: bool = False) -> CheckResult:
     """Which theory to trust on one measured scan: every model against the boundary-element
     reference of that very surface, at nominal pressures in physical units.
@@ -308,6 +312,9 @@ def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=Non
         Side of your square nominal contact (``"10mm"``): adds the finite frame.
     models : sequence of str, optional
         Registered model names (each frame's reference is added).
+    device : {"cpu", "gpu"}
+        Where the reference's contact problems are solved: ``"gpu"`` needs CuPy and a CUDA
+        device (the ``gpu`` extra); the numbers are the CPU's (to rounding).
     cache : path, True/None or False
         The run cache folder; None or True: the command's default folder; False: none.
     progress : bool
@@ -331,7 +338,7 @@ def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=Non
                                short_cutoff=short_cutoff, fill=fill, resample=resample,
                                physical_size=physical_size, file_unit=file_unit, spacing=spacing,
                                tiles=tiles, nominal_size=nominal_size, models=models,
-                               cache_dir=cache_dir)
+                               device=device, cache_dir=cache_dir)
         scenes, text = check_scenes(request)
     except (ValueError, TypeError) as error:
         raise type(error)(_keywords(str(error))) from None

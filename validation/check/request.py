@@ -91,6 +91,9 @@ class CheckRequest:
     scratch : bool
         True when ``path`` is a copy the library call wrote of a height array (a report written
         from it keeps its own copy).
+    device : str
+        Where the reference's contact problems are solved, ``"cpu"`` or ``"gpu"``
+        (:mod:`bem.device`; the scene's ``[bem] device``).
     """
 
     path: pathlib.Path
@@ -105,6 +108,7 @@ class CheckRequest:
     nominal_size: float | None = None
     models: tuple[str, ...] | None = None
     scratch: bool = False
+    device: str = "cpu"
 
     @property
     def name(self) -> str:
@@ -213,6 +217,7 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     lines += [""] + _table("quantities", {"use": list(QUANTITIES)})
     refined = side <= MAX_REFINED_SIDE and tiles == 1
     lines += [""] + _table("bem", {"tol": CHECK_TOLERANCE,
-                                   "max_grid": 2 * side if refined else None})
+                                   "max_grid": 2 * side if refined else None,
+                                   "device": None if request.device == "cpu" else request.device})
     return "\n".join(lines) + "\n"
 

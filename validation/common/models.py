@@ -318,8 +318,10 @@ def _improved_gw(inputs: ModelInputs, one_iteration: bool = False):
 def _discrete(inputs: ModelInputs, interaction: bool = True, local: bool = False):
     from asperity import DiscreteAsperityModel
 
+    # the scene's [bem] device serves the interaction's FFT sums too (not part of the cache
+    # key: the sums are the CPU's to rounding)
     return DiscreteAsperityModel(inputs.summits(), e_star=inputs.e_star, interaction=interaction,
-                                 local=local)
+                                 local=local, device=inputs.bem_options.get("device", "cpu"))
 
 
 def _persson(inputs: ModelInputs):
@@ -341,6 +343,12 @@ def _bem(inputs: ModelInputs):
 def _extension(inputs: ModelInputs) -> str:
     """How the interface reference makes a period of the heights (:class:`bem.InterfaceModel`)."""
     return "periodic" if inputs.periodic_surface else "mirror"
+
+
+def _cached_options(options: dict) -> dict:
+    """The options that determine a reference's result (its cache key): all but the device,
+    whose results are the same (tests/test_device.py)."""
+    return {k: v for k, v in options.items() if k != "device"}
 
 
 def _interface_options(inputs: ModelInputs) -> dict:
@@ -386,16 +394,16 @@ register("persson", _persson, label="Persson", style=dict(color="tab:purple", li
          cached=True, settings=lambda inputs: {"window": PERSSON_WINDOW})
 register("bem", _bem, label="BEM (exact)", style=dict(color="black", linestyle="-", linewidth=2.0),
          needs_summits=False, cached=True, reference=True, contacts="patches", frame="finite",
-         settings=lambda inputs: {"options": inputs.bem_options})
+         settings=lambda inputs: {"options": _cached_options(inputs.bem_options)})
 register("bem_interface", _bem_interface, label="BEM interface (exact)",
          style=dict(color="dimgray", linestyle="--", linewidth=2.0), needs_summits=False,
          cached=True, reference=True, contacts="patches", frame="interface",
-         settings=lambda inputs: {"options": _interface_options(inputs),
+         settings=lambda inputs: {"options": _cached_options(_interface_options(inputs)),
                                   "extension": _extension(inputs)})
 register("bem_nominal", _bem_nominal, label="BEM nominal contact (exact)",
          style=dict(color="black", linestyle=":", linewidth=2.0), needs_summits=False,
          cached=True, reference=True, contacts="patches", frame="finite", default=False,
-         settings=lambda inputs: {"options": _interface_options(inputs),
+         settings=lambda inputs: {"options": _cached_options(_interface_options(inputs)),
                                   "extension": _extension(inputs),
                                   "nominal_size": inputs.nominal_size})
 

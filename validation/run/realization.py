@@ -253,7 +253,8 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
                                           max_iter=task.bem.max_iter,
                                           # an even grid along both sides: the scene
                                           # checks it (a measured map's tiles are made even)
-                                          error_estimate=task.bem.reference_error),
+                                          error_estimate=task.bem.reference_error,
+                                          device=task.bem.device),
                          periodic_surface=task.surface.periodic or task.bem.periodic,
                          nominal_size=task.nominal_size)
     curves, loads = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)

@@ -314,7 +314,9 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     curve = concurrent_curve(heights, spacing, loads=loads, quantities=quantities,
                              e_star=task.e_star, periodic=periodic, tol=job.tol,
                              max_iter=task.bem.max_iter, callback=keep if leaky else None,
-                             mirror=mirror)
+                             mirror=mirror, device=task.bem.device,
+                             # one GPU runs one path at a time
+                             parts=1 if task.bem.device == "gpu" else None)
     if leaky:
         flow = BackgroundLeakage(spacing, periodic=periodic and not mirror)
         for index in sorted(gaps):

@@ -190,7 +190,7 @@ def _surface_parts(top: _Reader, base: dict, folder: pathlib.Path | None) -> dic
         reader.finish()
     parts["bem"] = _build(BemSettings, top.sub("bem"), dict(
         periodic="boolean", tol="number", max_iter="integer", reference_error="boolean",
-        max_grid="integer", frames="strings"))
+        max_grid="integer", frames="strings", device="string"))
     parts["quick"] = _build(QuickSettings, top.sub("quick"), dict(
         realizations="integer", n="integer", count="integer", quantities="strings",
         max_grid="integer"))

@@ -26,7 +26,7 @@ file's tables and keys map onto them::
     [models]  use m nominal_size        -> Scene.models (registered names), Scene.m,
                                            Scene.nominal_size
     [quantities]  use                   -> Scene.quantities
-    [bem]  periodic tol max_iter reference_error max_grid frames  -> BemSettings
+    [bem]  periodic tol max_iter reference_error max_grid frames device  -> BemSettings
     [tolerances]  levels                -> Scene.tolerances
     [sampling]  factors                 -> Scene.sampling (surface scenes)
     [quick]  realizations n count quantities max_grid       -> QuickSettings
@@ -45,6 +45,7 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, dataclass, field, fields, replace
 
+from bem.device import DEVICES
 from validation.common import models as _models
 from validation.common import checks as check
 from validation.common.checks import SceneError, SceneWarning
@@ -131,8 +132,12 @@ class BemSettings:
     # the frames whose references are computed ("interface", "finite": docs/theory.md 8.10);
     # None: those of the scene's models (Scene resolves it)
     frames: tuple[str, ...] | None = None
+    # where the reference's contact problems are solved (bem.device): "cpu" or "gpu"; results
+    # and cache entries are the same from either
+    device: str = "cpu"
 
     def __post_init__(self) -> None:
+        check.choice(self, "device", DEVICES)
         if self.frames is not None:
             check.names(self, "frames", _models.FRAMES)
         check.flag(self, "periodic")
