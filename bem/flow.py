@@ -50,10 +50,6 @@ import math
 import warnings
 
 import numpy as np
-import scipy.ndimage
-import scipy.sparse
-import scipy.sparse.csgraph
-import scipy.sparse.linalg
 
 from bem import checks
 from bem.background import BackgroundCall
@@ -86,6 +82,8 @@ def _winding_clusters(labels: np.ndarray, count: int) -> np.ndarray:
     the crossings (breadth-first from a virtual root, node 0, joined to one node per periodic
     cluster; accumulated along the tree by pointer jumping) and every crossing is then checked.
     """
+    import scipy.sparse.csgraph
+
     ends = [(labels[:, -1], labels[:, 0], 1), (labels[-1, :], labels[0, :], 0)]
     a = np.concatenate([e[0] for e in ends])
     b = np.concatenate([e[1] for e in ends])
@@ -138,6 +136,8 @@ def spanning_cells(fluid, *, periodic: bool = False) -> np.ndarray:
     numpy.ndarray of bool
         Same shape as ``fluid``; all False when no cluster spans (no leakage).
     """
+    import scipy.ndimage   # where used: a warm report imports this module, solves no flow
+
     fluid = np.asarray(fluid, dtype=bool)
     labels, count = scipy.ndimage.label(fluid, structure=_FOUR_CONNECTED)
     if count == 0:
@@ -159,6 +159,8 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     share when periodic) and ``boundary`` is ``(cell, conductance, edge_pressure)`` for the
     half-faces to the inlet and outlet edges (empty when periodic).
     """
+    import scipy.sparse.csgraph
+
     rows, columns = k.shape
     index = np.full(k.shape, -1, dtype=np.intp)
     unknowns = int(np.count_nonzero(cells))

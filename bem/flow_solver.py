@@ -7,7 +7,6 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
-import scipy.sparse.linalg
 
 from bem.warnings import ConvergenceWarning
 
@@ -46,6 +45,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int) -> np.ndarray:
     multigrid solve that stops short of it warns (:class:`bem.warnings.ConvergenceWarning`) and
     returns its last iterate.
     """
+    import scipy.sparse.linalg   # where used (start-up of a warm report)
+
     if cells <= DIRECT_SOLVE_LIMIT:
         factor = scipy.sparse.linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A",
                                           diag_pivot_thresh=0.0,

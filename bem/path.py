@@ -6,9 +6,6 @@ from dataclasses import replace
 from typing import Callable, Iterable
 
 import numpy as np
-import scipy.ndimage
-import scipy.sparse
-import scipy.sparse.csgraph
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import ContactCurve, check_quantities
@@ -33,6 +30,9 @@ def count_contacts(contact: np.ndarray, *, periodic: bool = False) -> int:
     pixels touching only at a corner do not. With ``periodic`` a spot that crosses the edge of
     the grid is counted once: spots touching across opposite edges are merged.
     """
+    import scipy.ndimage   # where used: a warm report imports this module, solves nothing
+    import scipy.sparse.csgraph
+
     contact = checks.boolean_map("contact", contact)
     periodic = checks.flag("periodic", periodic)
     labels, count = scipy.ndimage.label(contact, structure=_FOUR_CONNECTED)

@@ -67,8 +67,9 @@ def task_cost(task, computed: Iterable[str] | None = None) -> float:
         cost += bem * (1.0 + (STIFFNESS_SHARE if _needs_stiffness(task.quantities) else 0.0))
     others = [m for m in task.models if m in models.names() and not models.entry(m).reference]
     # what counts is work that a cache hit saves: the summits and the cached models' paths
-    # (the closed-form curves are evaluated again on every run and cost next to nothing)
-    saved = ("summits",) + tuple(m for m in others if models.entry(m).cached)
+    # (closed-form curves cost next to nothing, cached or not)
+    saved = ("summits",) + tuple(m for m in others if models.entry(m).cached
+                                 and not models.entry(m).closed_form)
     if others and (log is None or any(e.split("-")[0] in saved for e in log)):
         cost += ASPERITY_SHARE * points
     return cost

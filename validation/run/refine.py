@@ -29,7 +29,6 @@ from concurrent.futures import Executor, Future
 from dataclasses import dataclass, replace
 
 import numpy as np
-from scipy import signal
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.flow import BackgroundLeakage
@@ -116,6 +115,8 @@ def interpolated_scan(heights: np.ndarray, factor: int) -> np.ndarray:
     spectrum, the Nyquist term split evenly: :func:`scipy.signal.resample`) neither rings at
     the edges nor adds any wavelength shorter than two pixels of the scan.
     """
+    from scipy import signal   # where used (start-up of a warm report)
+
     rows, columns = heights.shape
     extended = np.concatenate((heights, heights[::-1]), axis=0)
     extended = np.concatenate((extended, extended[:, ::-1]), axis=1)
