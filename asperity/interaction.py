@@ -47,7 +47,7 @@ from typing import Callable
 import numpy as np
 
 from bem import checks
-from bem.device import array_module, check_device, to_host
+from bem.device import array_module, to_host
 from bem.fft import BACKENDS
 
 __all__ = ["PointForceInteraction"]
@@ -140,8 +140,8 @@ class PointForceInteraction:
         fft_backend = checks.choice("fft_backend", fft_backend, BACKENDS)
         threads = checks.integer("threads", threads, minimum=1)
         periodic = checks.flag("periodic", periodic)
-        self.device = check_device(device)
-        self._xp = array_module(self.device)
+        array_module(device)   # a GPU asked for where there is none: said now
+        self.device = device
         if x.size > 1 and np.unique(np.stack((x, y), axis=1), axis=0).shape[0] != x.size:
             # a point force at zero distance is undefined, and the lattice FFT would keep only
             # one of two coincident forces: the methods would disagree
@@ -198,16 +198,11 @@ class PointForceInteraction:
             points = self._fft_shape[0] * self._fft_shape[1]
             self._fft_cost = _FFT_POINT_COST * points * max(1.0, math.log2(points))
 
-    def __getstate__(self) -> dict:
-        # the array module is found again where the operator is unpickled (a module does
-        # not pickle; process pools and caches pickle models)
-        state = dict(self.__dict__)
-        state.pop("_xp", None)
-        return state
-
-    def __setstate__(self, state: dict) -> None:
-        self.__dict__.update(state)
-        self._xp = array_module(self.device)
+    @property
+    def _xp(self):
+        """The array module of the device (looked up, not kept: a module does not pickle, and
+        process pools pickle models)."""
+        return array_module(self.device)
 
     @classmethod
     def from_summits(cls, summits, *, e_star: float = 1.0, method: str = "auto",

@@ -27,7 +27,6 @@ from validation.common.labels import model_label, model_rank
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 PAGE_PATH = ROOT / "docs" / "guide" / "results.md"
-RUN_TIME_NOTE = "<!-- run time: "
 
 #: The headline columns: (title, scene, quantity, surface parameter or None).
 KEY_COLUMNS = (("conductance, D = 2.05", "paper-wm-d205", "conductance", None),

@@ -173,13 +173,23 @@ def _results_block() -> str:
     return text[begin:end]
 
 
-def _readme_results():
+def _docs_script(name: str):
+    """A script of docs/ (readme_results, results_page) imported as a module."""
+    import importlib
+
     sys.path.insert(0, str(ROOT / "docs"))
     try:
-        import readme_results
+        return importlib.import_module(name)
     finally:
         sys.path.remove(str(ROOT / "docs"))
-    return readme_results
+
+
+def _readme_results():
+    return _docs_script("readme_results")
+
+
+def _results_page():
+    return _docs_script("results_page")
 
 
 def test_the_readme_results_are_the_published_ones():
@@ -226,15 +236,6 @@ def test_the_readme_results_block_is_the_headline(tmp_path):
     assert gw.split(" | ")[1] == "-27 (-33, -21) ✘" and "–" in gw
     persson = next(line for line in lines if line.startswith("| Persson (mean gap ū) |"))
     assert "+0.05 (+0.01, +0.09) ✔" in persson
-
-
-def _results_page():
-    sys.path.insert(0, str(ROOT / "docs"))
-    try:
-        import results_page
-    finally:
-        sys.path.remove(str(ROOT / "docs"))
-    return results_page
 
 
 def test_the_results_page_is_the_published_report():

@@ -252,15 +252,19 @@ def report_version() -> str:
     is never read back by another."""
     global _REPORT_VERSION
     if _REPORT_VERSION is None:
-        digest = hashlib.sha256()
         root = pathlib.Path(__file__).resolve().parents[1]
-        for name in sorted(REPORT_ONLY_MODULES):
-            path = root / name
-            if path.is_file():
-                digest.update(name.encode())
-                digest.update(path.read_bytes())
-        _REPORT_VERSION = digest.hexdigest()[:16]
+        _REPORT_VERSION = _sources_digest((name, root / name) for name in sorted(REPORT_ONLY_MODULES)
+                                          if (root / name).is_file())
     return _REPORT_VERSION
+
+
+def _sources_digest(files) -> str:
+    """16 hex digits of a hash of ``(name, path)`` pairs: each name and its file's bytes."""
+    digest = hashlib.sha256()
+    for name, path in files:
+        digest.update(name.encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:16]
 
 
 _REPORT_VERSION: str | None = None
@@ -273,16 +277,13 @@ def source_version() -> str:
     if _SOURCE_VERSION is None:
         from validation._version import __version__
 
-        digest = hashlib.sha256()
         root = pathlib.Path(__file__).resolve().parents[2]
-        for package in ("asperity", "bem", "validation"):
-            for path in sorted((root / package).rglob("*.py")):
-                name = path.relative_to(root / package).as_posix()
-                if package == "validation" and name in REPORT_ONLY_MODULES:
-                    continue
-                digest.update(name.encode())
-                digest.update(path.read_bytes())
-        _SOURCE_VERSION = f"{__version__}+{digest.hexdigest()[:16]}"
+        files = ((path.relative_to(root / package).as_posix(), path)
+                 for package in ("asperity", "bem", "validation")
+                 for path in sorted((root / package).rglob("*.py")))
+        _SOURCE_VERSION = f"{__version__}+" + _sources_digest(
+            (name, path) for name, path in files
+            if not (path.is_relative_to(root / "validation") and name in REPORT_ONLY_MODULES))
     return _SOURCE_VERSION
 
 
