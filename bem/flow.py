@@ -41,7 +41,7 @@ The flow is read from the viscous dissipation ``Q dp = sum over faces T (dp_face
 (boundary half-faces included), which the solution minimises, so its error is of second order
 in the solver's error. The system is solved by sparse LU up to
 :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells and by conjugate gradients preconditioned with
-algebraic multigrid above (:mod:`bem.flow_solver`).
+aggregation multigrid on the pixel grid above (:mod:`bem.flow_solver`).
 """
 
 from __future__ import annotations
@@ -257,11 +257,10 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
 
     Notes
     -----
-    Cost: one sparse LU factorisation of the spanning cells' system: 0.2-0.9 s at 256^2,
-    1.2-2.6 s at 512^2 and 4-8 s at 1024^2 on two cores shared with other jobs (one BLAS
-    thread; up to twice that with OpenBLAS's default threads there), benchmarks/bench_leakage.py;
-    above :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells a multigrid-preconditioned solve, 35 s and 2.7 GB at
-    2048^2 with 5 % contact.
+    Cost (one core, benchmarks/bench_leakage.py): a sparse LU factorisation up to
+    :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells (0.2-0.5 s at 256^2), above it the
+    multigrid-preconditioned solve: 0.6-1.4 s at 512^2, 3-6 s and under 1 GB at 1024^2,
+    8-12 s at 2048^2.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
@@ -279,7 +278,7 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
         return 0.0
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
-        pressure = _solve_pressure(matrix, rhs, cells=conductivity.size)
+        pressure = _solve_pressure(matrix, rhs, cells)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=2)
@@ -313,9 +312,8 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
 
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
-#: at once: the sparse LU of a 1024^2 gap holds about 0.5 GB (39 million entries), the multigrid
-#: hierarchy of a 2048^2 gap about 2.7 GB; a check of a 512^2 scan whose reference is refined to
-#: 1024^2 peaked at 2.6 GB with both directions at once.
+#: at once: the multigrid solve of a 1024^2 gap peaks at 0.6-0.9 GB, of a 2048^2 gap at 2 GB
+#: and more.
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 
 

@@ -1,57 +1,100 @@
 """The linear solve of the Reynolds flow system (:mod:`bem.flow`): sparse LU for gaps up to
-:data:`DIRECT_SOLVE_LIMIT` cells, multigrid-preconditioned conjugate gradients above.
+:data:`DIRECT_SOLVE_LIMIT` cells, conjugate gradients preconditioned by aggregation multigrid on
+the pixel grid above.
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
 
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["DIRECT_SOLVE_LIMIT", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE"]
+__all__ = ["COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
+           "MULTIGRID_TOLERANCE", "multigrid_levels"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
-#: conjugate gradients (:func:`_solve_pressure`): the LU factor of a 2048^2 gap took 4.9 GB
-#: (84 s per direction), the multigrid 2.7 GB (docs/guide/benchmarks.md, "The leakage reference").
-DIRECT_SOLVE_LIMIT = 1024 * 1024
+#: conjugate gradients (:func:`_solve_pressure`). At 256^2 both take a few tenths of a second; at
+#: 512^2 the multigrid took 0.4-1.0 s against 0.6-1.7 s, at 1024^2 2.7-3.3 s against 7-13 s and
+#: 0.6-0.9 GB against 1.5 GB (one core; docs/guide/benchmarks.md, "The leakage reference").
+DIRECT_SOLVE_LIMIT = 256 * 256
+#: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
+#: cells, or at :data:`MULTIGRID_LEVELS` levels.
+COARSEST_LIMIT = 256 * 256
+#: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
+#: at three levels, 17-35 at four on the same 1024^2 and 2048^2 gaps), so larger gaps keep a
+#: larger coarsest grid (512^2 at 2048^2).
+MULTIGRID_LEVELS = 3
 #: Relative residual ``||b - A p|| / ||b||`` of the multigrid solve (on the Jacobi-scaled
 #: system). The aperture comes from the dissipation, whose error is of second order in the
-#: pressure's: on an elastic contact gap near percolation (512^2, 29 % contact) it agreed with
-#: the sparse LU to 1e-12 (75 and 133 iterations, open and periodic); 1e-8 left 3e-6 on a gap
-#: whose g^3 spans more decades (tests/test_hydraulic_aperture.py).
-MULTIGRID_TOLERANCE = 1e-9
+#: pressure's: on elastic contact gaps at 512^2 and 1024^2 (0.1-30 % contact, up to percolation)
+#: the dissipation agreed with the sparse LU's to at most 1e-6 (the aperture to 3e-7), three
+#: orders below the smallest band a leakage has.
+MULTIGRID_TOLERANCE = 1e-7
 #: Most conjugate-gradient iterations of the multigrid solve.
 MULTIGRID_MAX_ITERATIONS = 1000
 
+_LU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                   options={"SymmetricMode": True})
 
-def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int) -> np.ndarray:
-    """``A p = b`` for the symmetric positive-definite flow system of a gap of ``cells`` cells.
 
-    Up to :data:`DIRECT_SOLVE_LIMIT` cells by sparse LU (SuperLU): fill-reducing order by
+def multigrid_levels(cells: int) -> int:
+    """Levels of the multigrid for a gap of ``cells`` cells: halve the grid until at most
+    :data:`COARSEST_LIMIT` cells are left, with at most :data:`MULTIGRID_LEVELS` levels."""
+    levels = 1
+    while cells > COARSEST_LIMIT and levels < MULTIGRID_LEVELS:
+        cells = math.ceil(cells / 4)
+        levels += 1
+    return levels
+
+
+def _aggregates(cells: np.ndarray):
+    """The 2 x 2 blocks of the pixel grid as aggregates of the unknowns ``cells`` (a 2-D map,
+    unknowns numbered in row-major order), and the map of the blocks that hold unknowns."""
+    import scipy.sparse
+
+    rows, columns = cells.shape
+    coarse_shape = ((rows + 1) // 2, (columns + 1) // 2)
+    j, i = np.nonzero(cells)
+    block = (j // 2) * coarse_shape[1] + i // 2
+    kept, aggregate = np.unique(block, return_inverse=True)
+    coarse = np.zeros(coarse_shape[0] * coarse_shape[1], dtype=bool)
+    coarse[kept] = True
+    operator = scipy.sparse.csr_matrix((np.ones(j.size), (np.arange(j.size), aggregate)),
+                                       shape=(j.size, kept.size))
+    return operator, coarse.reshape(coarse_shape)
+
+
+def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray) -> np.ndarray:
+    """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
+    (a 2-D map of the grid's cells in the system, numbered in row-major order).
+
+    Up to :data:`DIRECT_SOLVE_LIMIT` grid cells by sparse LU (SuperLU): fill-reducing order by
     minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the fill of the default
     column order on these grids), no pivoting (``diag_pivot_thresh=0``: elimination of a
-    symmetric positive definite matrix is stable in any order). Chosen over algebraic multigrid
-    there by measurement (benchmarks/bench_leakage.py): exact whatever the contrast of g^3
-    (which spans 20 decades in a contact gap), and faster at 256^2 and 512^2 and near
-    percolation. Above, the factor outgrows the memory (4.9 GB at 2048^2), and the system is
-    solved by conjugate gradients preconditioned with one V-cycle of pyAMG's smoothed
-    aggregation, built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with the
-    scaled constant ``1/D`` as its near-null space and the evolution strength of connection
-    (near percolation, where thin necks carry the flow, the classical symmetric strength needed
-    5-7 times the iterations), to :data:`MULTIGRID_TOLERANCE` (``matrix`` is scaled in place). A
-    multigrid solve that stops short of it warns (:class:`bem.warnings.ConvergenceWarning`) and
-    returns its last iterate.
+    symmetric positive definite matrix is stable in any order); exact whatever the contrast of
+    g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
+    as n^1.5 (7-13 s and 1.5 GB at 1024^2), and the system is solved by conjugate gradients
+    preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
+    blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
+    piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
+    aggregates and no prolongation smoothing: smoothing it took more time than it saved),
+    one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
+    sparse LU. It is built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with
+    the scaled constant ``1/D`` as its near-null space, and iterates to
+    :data:`MULTIGRID_TOLERANCE` (``matrix`` is scaled in place). The geometric aggregates
+    follow the pixels whatever their conductance, which algebraic coarsening (smoothed
+    aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
+    their setup alone took as long as this whole solve. A multigrid solve that stops short of
+    its tolerance warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
-    if cells <= DIRECT_SOLVE_LIMIT:
-        factor = scipy.sparse.linalg.splu(matrix.tocsc(), permc_spec="MMD_AT_PLUS_A",
-                                          diag_pivot_thresh=0.0,
-                                          options={"SymmetricMode": True})
-        return factor.solve(rhs)
+    if cells.size <= DIRECT_SOLVE_LIMIT:
+        return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
     import pyamg
 
     # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
@@ -59,14 +102,24 @@ def _solve_pressure(matrix, rhs: np.ndarray, *, cells: int) -> np.ndarray:
     scale = 1.0 / np.sqrt(scaled.diagonal())
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
-    hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=(1.0 / scale)[:, None],
-                                                  strength="evolution")
+    aggregates, mask = [], cells
+    for _ in range(multigrid_levels(int(np.count_nonzero(cells))) - 1):
+        operator, mask = _aggregates(mask)
+        aggregates.append(("predefined", {"AggOp": operator}))
+    if not aggregates:   # (few unknowns on a large grid: the LU is the whole solve)
+        return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
+    hierarchy = pyamg.smoothed_aggregation_solver(
+        scaled, B=(1.0 / scale)[:, None], aggregate=aggregates, smooth=None,
+        max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
+        presmoother=("gauss_seidel", {"sweep": "forward"}),
+        postsmoother=("gauss_seidel", {"sweep": "backward"}),
+        coarse_solver=("splu", _LU_OPTIONS))
     residuals: list[float] = []
     solution = hierarchy.solve(rhs * scale, tol=MULTIGRID_TOLERANCE, accel="cg",
                                maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)
     reached = residuals[-1] / residuals[0] if residuals and residuals[0] > 0 else 0.0
     if not reached <= MULTIGRID_TOLERANCE:
-        warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells} cells stopped at a "
-                      f"relative residual {reached:.3g} > {MULTIGRID_TOLERANCE:g} after "
+        warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells stopped at "
+                      f"a relative residual {reached:.3g} > {MULTIGRID_TOLERANCE:g} after "
                       f"{len(residuals) - 1} iterations", ConvergenceWarning, stacklevel=3)
     return solution * scale

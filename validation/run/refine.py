@@ -32,7 +32,6 @@ import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.flow import BackgroundLeakage
-from bem.flow_solver import DIRECT_SOLVE_LIMIT
 from bem.interface import method_error
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
@@ -59,13 +58,11 @@ SOLVER_SHARE = 0.01
 STIFFNESS_FIELDS = ("stiffness", "conductance")
 #: Loosest solver tolerance a refined solve uses.
 LOOSEST_TOLERANCE = 1e-4
-#: Largest grid (points per side) on which a finer reference solves the leakage again; on finer
-#: grids the leakage and its band stay those of the grid below. It is the side of the largest
-#: gap the Reynolds system is solved for by sparse LU (bem.flow_solver.DIRECT_SOLVE_LIMIT); on
-#: 2048^2, by multigrid, 2.7 GB and 35 s per direction with 5 % contact, minutes near
-#: percolation, where a refined 2048^2 path of six points with its leakage had not finished
-#: after 30 min (a 1024^2 scan's check).
-MAX_LEAKAGE_GRID = math.isqrt(DIRECT_SOLVE_LIMIT)
+#: Largest grid (points per side) on which a finer reference solves the leakage again; on
+#: finer grids the leakage and its band stay those of the grid below. At 1024^2 one Reynolds
+#: solve (bem.flow_solver's multigrid) takes 3-6 s and under 1 GB; at 2048^2 10-15 s and
+#: 2-3 GB per direction, beyond the memory a check of a 1024^2 scan is to keep to.
+MAX_LEAKAGE_GRID = 1024
 
 
 def unavailable(scene) -> str | None:
