@@ -309,6 +309,28 @@ def _nestable(shape: tuple[int, int]) -> bool:
     return rows % 2 == 0 and columns % 2 == 0 and min(rows, columns) // 2 >= _COARSEST_GRID
 
 
+def _prolonged(coarse, periodic: bool):
+    """A coarse pressure on the grid twice as fine: the coarse values at the even points (the
+    samples the coarse grid shares with the fine one, ``z[::2, ::2]``) and their linear
+    interpolation between them, along each axis in turn; past the last sample the neighbour
+    across the period (``periodic``) or the last sample itself (a window, or a mirror
+    extension's even image). Against each coarse value repeated on 2 x 2 pixels, which shifts
+    every contact spot by half a fine pixel, this start saved 13 % of the fine grid's products on
+    a 12-point 1024^2 path of the check's benchmark scan (829 -> 720; iterations 410 -> 357)."""
+    out = coarse   # (numpy's functions dispatch to a device array's module)
+    for axis in (0, 1):
+        following = np.roll(out, -1, axis=axis)
+        if not periodic:   # past the last sample: the last sample
+            last = [slice(None)] * 2
+            last[axis] = slice(-1, None)
+            following[tuple(last)] = out[tuple(last)]
+        out = np.stack((out, 0.5 * (out + following)), axis=axis + 1)
+        shape = list(coarse.shape) if axis == 0 else [2 * coarse.shape[0], coarse.shape[1]]
+        shape[axis] *= 2
+        out = out.reshape(shape)
+    return out
+
+
 def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
                   separation: float | None, tol: float, max_iter: int,
                   previous: np.ndarray | None = None, ws: _Workspace | None = None
@@ -338,7 +360,7 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     pressure = np.asarray(solution.pressure)
     if not pressure.any():
         return None, None
-    return np.repeat(np.repeat(pressure, 2, axis=0), 2, axis=1), pressure
+    return _prolonged(pressure, operator.periodic and not operator.mirror), pressure
 
 
 def _owned(initial: np.ndarray) -> np.ndarray:

@@ -333,3 +333,26 @@ def test_separation_control_recovers_from_a_poor_initial_pressure():
     assert good.converged and poor.converged and good.load > 0
     assert poor.load == pytest.approx(good.load, rel=1e-6)
     assert poor.gap.min() >= -1e-9 * np.ptp(z)
+
+
+@pytest.mark.parametrize("periodic", [False, True])
+def test_the_nested_start_interpolates_the_coarse_pressure_linearly(periodic):
+    """The fine start keeps every coarse value at its sample (z[::2, ::2]) and interpolates
+    linearly between samples, across the period when periodic, else holding the last one."""
+    from bem.solver import _prolonged
+
+    rng = np.random.default_rng(3)
+    coarse = rng.random((6, 8))
+    fine = _prolonged(coarse, periodic)
+    assert fine.shape == (12, 16)
+    np.testing.assert_array_equal(fine[::2, ::2], coarse)
+    below = np.roll(coarse, -1, axis=0)
+    if not periodic:
+        below[-1] = coarse[-1]
+    np.testing.assert_allclose(fine[1::2, ::2], 0.5 * (coarse + below))
+    right = np.roll(coarse, -1, axis=1)
+    if not periodic:
+        right[:, -1] = coarse[:, -1]
+    np.testing.assert_allclose(fine[::2, 1::2], 0.5 * (coarse + right))
+    # the centre of four samples is their mean
+    np.testing.assert_allclose(fine[1, 1], coarse[:2, :2].mean())
