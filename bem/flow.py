@@ -278,7 +278,7 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
         return 0.0
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
-        pressure = _solve_pressure(matrix, rhs, cells)
+        pressure = _solve_pressure(matrix, rhs, cells, periodic)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=2)
@@ -327,9 +327,10 @@ class BackgroundLeakage:
     """:func:`leakage_aperture` of a sequence of gaps, solved in background threads while the
     caller goes on (e.g. solves the next contact problem of a load path).
 
-    The sparse LU factorisation releases the GIL, so the two flow directions of a gap (one
-    thread each; one thread for both above :data:`PARALLEL_DIRECTIONS_LIMIT` cells, so that
-    one factor is held at a time) and the caller's own work run on separate cores. At most
+    The two flow directions of a gap (one thread each; one thread for both above
+    :data:`PARALLEL_DIRECTIONS_LIMIT` cells, so that one solve's memory is held at a time) run
+    beside the caller's own work: the sparse LU releases the GIL, the multigrid of larger gaps
+    in its vector operations but not in its Gauss-Seidel sweeps. At most
     ``pending`` gaps are in flight (:meth:`submit` waits for the oldest beyond that), which
     bounds the memory held by gaps and factors. The threads are daemons
     (:class:`bem.background.BackgroundCall`): a caller interrupted by Ctrl-C does not wait.

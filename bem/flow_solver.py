@@ -13,7 +13,7 @@ import numpy as np
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
-           "MULTIGRID_TOLERANCE", "multigrid_levels"]
+           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "multigrid_levels"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -21,6 +21,10 @@ __all__ = ["COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRI
 #: 512^2 the multigrid took 0.4-1.0 s against 0.6-1.7 s, at 1024^2 2.7-3.3 s against 7-13 s and
 #: 0.6-0.9 GB against 1.5 GB (one core; docs/guide/benchmarks.md, "The leakage reference").
 DIRECT_SOLVE_LIMIT = 256 * 256
+#: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
+#: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
+#: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
+PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
 #: cells, or at :data:`MULTIGRID_LEVELS` levels.
 COARSEST_LIMIT = 256 * 256
@@ -68,9 +72,11 @@ def _aggregates(cells: np.ndarray):
     return operator, coarse.reshape(coarse_shape)
 
 
-def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray) -> np.ndarray:
+def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool = False
+                    ) -> np.ndarray:
     """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
-    (a 2-D map of the grid's cells in the system, numbered in row-major order).
+    (a 2-D map of the grid's cells in the system, numbered in row-major order; ``periodic``:
+    the system of a periodic gap, grounded at one cell per cluster).
 
     Up to :data:`DIRECT_SOLVE_LIMIT` grid cells by sparse LU (SuperLU): fill-reducing order by
     minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the fill of the default
@@ -88,12 +94,17 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray) -> np.ndarray:
     :data:`MULTIGRID_TOLERANCE` (``matrix`` is scaled in place). The geometric aggregates
     follow the pixels whatever their conductance, which algebraic coarsening (smoothed
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
-    their setup alone took as long as this whole solve. A multigrid solve that stops short of
-    its tolerance warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
+    their setup alone took as long as this whole solve. On a periodic gap these aggregates
+    converge slowly (the pressure fluctuation has no fixed edge: 200-600 iterations at three
+    levels on 1024^2), so periodic gaps are solved by the LU up to
+    :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above by algebraic coarsening: smoothed
+    aggregation with the evolution strength of connection, which follows the thin necks that
+    carry the flow near percolation. A multigrid solve that stops short of its tolerance warns
+    (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
-    if cells.size <= DIRECT_SOLVE_LIMIT:
+    if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT):
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
     import pyamg
 
@@ -102,18 +113,23 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray) -> np.ndarray:
     scale = 1.0 / np.sqrt(scaled.diagonal())
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
-    aggregates, mask = [], cells
-    for _ in range(multigrid_levels(int(np.count_nonzero(cells))) - 1):
-        operator, mask = _aggregates(mask)
-        aggregates.append(("predefined", {"AggOp": operator}))
-    if not aggregates:   # (few unknowns on a large grid: the LU is the whole solve)
-        return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
-    hierarchy = pyamg.smoothed_aggregation_solver(
-        scaled, B=(1.0 / scale)[:, None], aggregate=aggregates, smooth=None,
-        max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
-        presmoother=("gauss_seidel", {"sweep": "forward"}),
-        postsmoother=("gauss_seidel", {"sweep": "backward"}),
-        coarse_solver=("splu", _LU_OPTIONS))
+    near_null = (1.0 / scale)[:, None]
+    if periodic:
+        hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
+                                                      coarse_solver=("splu", _LU_OPTIONS))
+    else:
+        aggregates, mask = [], cells
+        for _ in range(multigrid_levels(int(np.count_nonzero(cells))) - 1):
+            operator, mask = _aggregates(mask)
+            aggregates.append(("predefined", {"AggOp": operator}))
+        if not aggregates:   # (few unknowns on a large grid: the LU is the whole solve)
+            return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
+        hierarchy = pyamg.smoothed_aggregation_solver(
+            scaled, B=near_null, aggregate=aggregates, smooth=None,
+            max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
+            presmoother=("gauss_seidel", {"sweep": "forward"}),
+            postsmoother=("gauss_seidel", {"sweep": "backward"}),
+            coarse_solver=("splu", _LU_OPTIONS))
     residuals: list[float] = []
     solution = hierarchy.solve(rhs * scale, tol=MULTIGRID_TOLERANCE, accel="cg",
                                maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)

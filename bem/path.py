@@ -271,7 +271,7 @@ def contact_curve(
     starts = _PathStarts(operator, z_device, tol=tol, max_iter=int(max_iter), nested=preconditioned,
                          coarse_pressures=coarse_pressures)
     # The Reynolds solves of each point run in background threads while the next point's contact
-    # problem is solved (the sparse LU releases the GIL): the leakage costs little wall time.
+    # problem is solved (bem.flow.BackgroundLeakage).
     flow = BackgroundLeakage(spacing, periodic=wraps) if want_leakage else None
     for index in order:
         target = float(targets[index])

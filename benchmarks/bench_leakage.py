@@ -9,9 +9,9 @@ aperture is solved for flow along x, periodic and not, by
 * ``direct``: ``bem.hydraulic_aperture`` with every gap solved by sparse LU (SuperLU,
   minimum-degree order on the symmetric pattern, no pivoting);
 * ``multigrid``: ``bem.hydraulic_aperture`` with every gap solved by conjugate gradients
-  preconditioned by the aggregation multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels as
+  preconditioned by the multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels as
   aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
-  relative residual 1e-7);
+  for a periodic gap the algebraic coarsening of ``amg-evo``; relative residual 1e-7);
 * ``amg-evo``: algebraic coarsening for comparison: pyamg smoothed aggregation with evolution
   strength on the Jacobi-scaled matrix, a sparse LU on the coarsest level, conjugate gradients
   to a relative residual of 1e-7.
@@ -19,8 +19,9 @@ aperture is solved for flow along x, periodic and not, by
 Each row gives the time (matrix assembly and the multigrid's setup included), the iterations
 where known and the aperture's relative difference from ``direct``. Solved gaps are cached in
 ``--cache`` (default bench-out/leakage-cache; not committed). ``bem.hydraulic_aperture`` solves
-gaps up to ``bem.flow_solver.DIRECT_SOLVE_LIMIT`` cells (256^2) directly and larger ones by
-``multigrid``; the measured rows are in docs/guide/benchmarks.md, "The leakage reference".
+gaps up to ``bem.flow_solver.DIRECT_SOLVE_LIMIT`` cells (256^2; periodic ones up to 1024^2)
+directly and larger ones by ``multigrid``; the measured rows are in docs/guide/benchmarks.md,
+"The leakage reference".
 
 Usage: ``python benchmarks/bench_leakage.py [--sizes 256 512 1024] [--solvers direct
 multigrid amg-evo] [--cache DIR]``
@@ -62,12 +63,15 @@ def project_solver(gap: np.ndarray, periodic: bool, direct: bool) -> float:
     (``direct``) or by its multigrid."""
     import bem.flow_solver
 
-    limit = bem.flow_solver.DIRECT_SOLVE_LIMIT
-    bem.flow_solver.DIRECT_SOLVE_LIMIT = gap.size if direct else 0
+    names = ("DIRECT_SOLVE_LIMIT", "PERIODIC_DIRECT_SOLVE_LIMIT")
+    limits = [getattr(bem.flow_solver, name) for name in names]
+    for name in names:
+        setattr(bem.flow_solver, name, gap.size if direct else 0)
     try:
         return bem.hydraulic_aperture(gap, 1.0, periodic=periodic) / gap.max()
     finally:
-        bem.flow_solver.DIRECT_SOLVE_LIMIT = limit
+        for name, limit in zip(names, limits):
+            setattr(bem.flow_solver, name, limit)
 
 
 def algebraic_multigrid(gap: np.ndarray, periodic: bool) -> tuple[float, int]:

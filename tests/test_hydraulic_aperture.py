@@ -258,10 +258,12 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
 @pytest.mark.parametrize("coarsest", [24 * 24, 48 * 48])
 def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch, periodic, seed,
                                                                      coarsest):
-    """Above DIRECT_SOLVE_LIMIT cells the flow system is solved by multigrid-preconditioned
-    conjugate gradients; forced on smaller gaps (about 16 % contact, g^3 over many decades near
-    the contact edges), with two and three levels, it must give the sparse LU's aperture to
-    well within its tolerance (the dissipation's error is of second order in the pressure's)."""
+    """Above DIRECT_SOLVE_LIMIT cells (PERIODIC_DIRECT_SOLVE_LIMIT when periodic) the flow
+    system is solved by multigrid-preconditioned conjugate gradients; forced on smaller gaps
+    (about 16 % contact, g^3 over many decades near the contact edges), with two and three
+    levels of pixel blocks (algebraic coarsening when periodic), it must give the sparse LU's
+    aperture to well within its tolerance (the dissipation's error is of second order in the
+    pressure's)."""
     import bem.flow
     import bem.flow_solver
 
@@ -269,13 +271,14 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
     direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", coarsest)
     used = []
     original = bem.flow._solve_pressure
 
-    def spy(matrix, rhs, cells):
+    def spy(matrix, rhs, cells, periodic):
         used.append(bem.flow_solver.multigrid_levels(int(np.count_nonzero(cells))))
-        return original(matrix, rhs, cells)
+        return original(matrix, rhs, cells, periodic)
 
     monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
     multigrid = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
