@@ -18,8 +18,8 @@ __all__ = ["COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRI
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
 #: conjugate gradients (:func:`_solve_pressure`). At 256^2 both take a few tenths of a second; at
-#: 512^2 the multigrid took 0.4-1.0 s against 0.6-1.7 s, at 1024^2 2.7-3.3 s against 7-13 s and
-#: 0.6-0.9 GB against 1.5 GB (one core; docs/guide/benchmarks.md, "The leakage reference").
+#: 512^2 the multigrid took 0.4-1.4 s against 0.7-2.1 s, at 1024^2 3.5-5.8 s against 4-13 s and
+#: 0.5 GB against 1.5 GB (one core; docs/guide/benchmarks.md, "The leakage reference").
 DIRECT_SOLVE_LIMIT = 256 * 256
 #: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
@@ -35,8 +35,8 @@ MULTIGRID_LEVELS = 3
 #: Relative residual ``||b - A p|| / ||b||`` of the multigrid solve (on the Jacobi-scaled
 #: system). The aperture comes from the dissipation, whose error is of second order in the
 #: pressure's: on elastic contact gaps at 512^2 and 1024^2 (0.1-30 % contact, up to percolation)
-#: the dissipation agreed with the sparse LU's to at most 1e-6 (the aperture to 3e-7), three
-#: orders below the smallest band a leakage has.
+#: the aperture agreed with the sparse LU's to 2e-9 at most, and to 1e-7 on a test gap whose g^3
+#: spans more decades (a residual of 1e-6 left 6e-6 there).
 MULTIGRID_TOLERANCE = 1e-7
 #: Most conjugate-gradient iterations of the multigrid solve.
 MULTIGRID_MAX_ITERATIONS = 1000
