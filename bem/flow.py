@@ -259,8 +259,7 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     -----
     Cost (one core, benchmarks/bench_leakage.py): a sparse LU factorisation up to
     :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells (0.2-0.5 s at 256^2), above it the
-    multigrid-preconditioned solve: 0.6-1.4 s at 512^2, 3-6 s and under 1 GB at 1024^2,
-    about 10 s at 2048^2 (an interpolated gap, 12 iterations).
+    multigrid-preconditioned solve: 0.6-1.4 s at 512^2, 3-6 s and under 1 GB at 1024^2.
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)

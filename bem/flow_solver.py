@@ -12,8 +12,9 @@ import numpy as np
 
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
-           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "multigrid_levels"]
+__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
+           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT",
+           "multigrid_levels"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -25,12 +26,15 @@ DIRECT_SOLVE_LIMIT = 256 * 256
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
 #: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
 PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
+#: Gaps of more cells than this are solved with algebraic coarsening, not the pixel blocks: on a
+#: 2048^2 gap of a check near percolation the pixel blocks (three levels, the coarsest 512^2)
+#: stalled at a relative residual of 1.3e-7 after 1000 iterations.
+PIXEL_MULTIGRID_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
 #: cells, or at :data:`MULTIGRID_LEVELS` levels.
 COARSEST_LIMIT = 256 * 256
 #: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
-#: at three levels, 17-35 at four on the same 1024^2 and 2048^2 gaps), so larger gaps keep a
-#: larger coarsest grid (512^2 at 2048^2).
+#: at three levels, 17-35 at four on the same 1024^2 gaps).
 MULTIGRID_LEVELS = 3
 #: Relative residual ``||b - A p|| / ||b||`` of the multigrid solve (on the Jacobi-scaled
 #: system). The aperture comes from the dissipation, whose error is of second order in the
@@ -38,6 +42,11 @@ MULTIGRID_LEVELS = 3
 #: the aperture agreed with the sparse LU's to 2e-9 at most, and to 1e-7 on a test gap whose g^3
 #: spans more decades (a residual of 1e-6 left 6e-6 there).
 MULTIGRID_TOLERANCE = 1e-7
+#: Relative residual of the algebraic multigrid (periodic gaps above
+#: :data:`PERIODIC_DIRECT_SOLVE_LIMIT`, every gap above :data:`PIXEL_MULTIGRID_LIMIT`): at 1e-7
+#: it left 1.8e-7 in the aperture of the test gap, at 1e-8 3e-6 on one whose g^3 spans more
+#: decades.
+ALGEBRAIC_TOLERANCE = 1e-9
 #: Most conjugate-gradient iterations of the multigrid solve.
 MULTIGRID_MAX_ITERATIONS = 1000
 
@@ -96,11 +105,13 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
     their setup alone took as long as this whole solve. On a periodic gap these aggregates
     converge slowly (the pressure fluctuation has no fixed edge: 200-600 iterations at three
-    levels on 1024^2), so periodic gaps are solved by the LU up to
-    :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above by algebraic coarsening: smoothed
-    aggregation with the evolution strength of connection, which follows the thin necks that
-    carry the flow near percolation. A multigrid solve that stops short of its tolerance warns
-    (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate.
+    levels on 1024^2), and above :data:`PIXEL_MULTIGRID_LIMIT` cells they stalled on a gap near
+    percolation; periodic gaps are solved by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT`
+    cells, and these and every gap above :data:`PIXEL_MULTIGRID_LIMIT` by algebraic coarsening:
+    smoothed aggregation with the evolution strength of connection, which follows the thin necks
+    that carry the flow near percolation, to :data:`ALGEBRAIC_TOLERANCE`. A multigrid solve that
+    stops short of its tolerance warns (:class:`bem.warnings.ConvergenceWarning`) and returns
+    its last iterate.
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
@@ -114,7 +125,9 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     near_null = (1.0 / scale)[:, None]
-    if periodic:
+    algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
+    tolerance = ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE
+    if algebraic:
         hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
                                                       coarse_solver=("splu", _LU_OPTIONS))
     else:
@@ -131,11 +144,11 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
             postsmoother=("gauss_seidel", {"sweep": "backward"}),
             coarse_solver=("splu", _LU_OPTIONS))
     residuals: list[float] = []
-    solution = hierarchy.solve(rhs * scale, tol=MULTIGRID_TOLERANCE, accel="cg",
+    solution = hierarchy.solve(rhs * scale, tol=tolerance, accel="cg",
                                maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)
     reached = residuals[-1] / residuals[0] if residuals and residuals[0] > 0 else 0.0
-    if not reached <= MULTIGRID_TOLERANCE:
+    if not reached <= tolerance:
         warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells stopped at "
-                      f"a relative residual {reached:.3g} > {MULTIGRID_TOLERANCE:g} after "
+                      f"a relative residual {reached:.3g} > {tolerance:g} after "
                       f"{len(residuals) - 1} iterations", ConvergenceWarning, stacklevel=3)
     return solution * scale

@@ -286,6 +286,22 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     np.testing.assert_allclose(multigrid, direct, rtol=1e-7)
 
 
+def test_gaps_above_the_pixel_multigrid_limit_get_the_direct_aperture(monkeypatch):
+    """Above PIXEL_MULTIGRID_LIMIT cells the multigrid coarsens algebraically (evolution
+    strength) instead of by pixel blocks; forced on a small gap it gives the LU's aperture."""
+    import bem.flow_solver
+
+    gap = _random_gap(96, 2)
+    gap[gap > 0] **= 3
+    direct = [hydraulic_aperture(gap, 1.0, direction=d) for d in "xy"]
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "PIXEL_MULTIGRID_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "_aggregates", None)   # never the pixel blocks
+    algebraic = [hydraulic_aperture(gap, 1.0, direction=d) for d in "xy"]
+    assert min(direct) > 0
+    np.testing.assert_allclose(algebraic, direct, rtol=1e-7)
+
+
 def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     from bem.flow_solver import COARSEST_LIMIT, MULTIGRID_LEVELS, multigrid_levels
 
