@@ -19,7 +19,7 @@ _running = 0
 
 def running() -> int:
     """Background calls of this process running now (each keeps a core busy, e.g. the models
-    a realization computes beside its reference: :func:`bem.fft.fft_threads` leaves
+    a realization computes beside its reference: :func:`bem.fft_threads.fft_threads` leaves
     their cores to them)."""
     return _running
 

@@ -18,7 +18,7 @@ import numpy as np
 from bem import checks
 from bem.background import BackgroundCall, running
 from bem.curve import CURVE_QUANTITIES, ContactCurve
-from bem.fft import default_threads
+from bem.fft_threads import default_threads
 from bem.path import contact_curve
 from bem.solver import ContactSolution
 
@@ -85,7 +85,7 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
                              **options)
 
     # the other sub-paths start first, so that each operator sees the others running and takes
-    # one FFT thread (bem.fft.fft_threads)
+    # one FFT thread (bem.fft_threads.fft_threads)
     others = [BackgroundCall(solve, where, name=f"sub-path-{k}")
               for k, where in enumerate(positions[1:], start=1)]
     curves = [solve(positions[0])] + [call.result() for call in others]

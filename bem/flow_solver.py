@@ -12,9 +12,9 @@ import numpy as np
 
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
-           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT",
-           "multigrid_levels"]
+__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "MULTIGRID_LEVELS",
+           "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT",
+           "PIXEL_MULTIGRID_LIMIT", "multigrid_levels"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -115,7 +115,11 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
-    if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT):
+    algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
+    levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
+    # (few unknowns on a large grid, one level: the LU is the whole solve)
+    if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
+            or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
     import pyamg
 
@@ -125,18 +129,15 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     near_null = (1.0 / scale)[:, None]
-    algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
     tolerance = ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE
     if algebraic:
         hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
                                                       coarse_solver=("splu", _LU_OPTIONS))
     else:
         aggregates, mask = [], cells
-        for _ in range(multigrid_levels(int(np.count_nonzero(cells))) - 1):
+        for _ in range(levels - 1):
             operator, mask = _aggregates(mask)
             aggregates.append(("predefined", {"AggOp": operator}))
-        if not aggregates:   # (few unknowns on a large grid: the LU is the whole solve)
-            return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
         hierarchy = pyamg.smoothed_aggregation_solver(
             scaled, B=near_null, aggregate=aggregates, smooth=None,
             max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,

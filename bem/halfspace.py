@@ -47,7 +47,8 @@ import scipy.fft
 
 from bem import checks
 from bem.device import array_module, to_host
-from bem.fft import CosineTransform2, PaddedRealFFT2, RealFFT2, fft_threads
+from bem.fft import CosineTransform2, PaddedRealFFT2, RealFFT2
+from bem.fft_threads import fft_threads
 from bem.reference import love_pixel_displacement
 
 __all__ = ["HalfSpace"]

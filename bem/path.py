@@ -11,9 +11,10 @@ from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, cont
 from bem.curve import ContactCurve, check_quantities
 from bem.flow import BackgroundLeakage
 from bem.halfspace import HalfSpace
+from bem.nested_grid import _nestable, _prolonged
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
-                        _check_operator, _coarse_start, _nestable, _prolonged, _solve,
+                        _check_operator, _coarse_start, _solve,
                         _Workspace)
 
 __all__ = ["ERROR_FACTOR", "PERIMETER_COEFFICIENT_UNCERTAINTY", "contact_curve", "count_contacts",
@@ -95,7 +96,7 @@ class _PathStarts:
         operator = self._operator
         coarse = self._coarse_pressures.pop(index, None)
         if self._nested and _nestable(operator.shape) and coarse is not None and coarse.any():
-            return _prolonged(coarse, operator.periodic and not operator.mirror)
+            return _prolonged(coarse, operator)
         if self._nested and _nestable(operator.shape):
             if self._coarse_workspace is None:
                 coarse_operator = operator.coarse()

@@ -60,6 +60,7 @@ from bem.area import PERIMETER_COEFFICIENT, contact_area
 from bem.device import check_device, to_host
 from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
 from bem.halfspace import HalfSpace
+from bem.nested_grid import _nestable, _prolonged
 from bem.solution import ContactSolution, _frozen
 from bem.stiffness import _stiffness
 from bem.warnings import ConvergenceWarning
@@ -73,8 +74,6 @@ DEFAULT_TOLERANCE = 1e-9
 DEFAULT_MAX_ITERATIONS = 5000
 #: Smallest accepted grid side (points).
 MINIMUM_GRID = 4
-#: Nested iteration: coarse solves down to grids of this side (:func:`_coarse_start`).
-_COARSEST_GRID = 64
 #: Stopping tolerance of the coarse solves of the nested iteration (starts only).
 #: (the fine iteration counts were the same with 1e-4, 1e-6 and 1e-9 on WM surfaces).
 _COARSE_TOLERANCE = 1e-6
@@ -303,45 +302,18 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
     return _record(operator, z, p, u, d, outcome, stiffness, ws, nominal_area, tol, warn)
 
 
-def _nestable(shape: tuple[int, int]) -> bool:
-    """Whether a grid has a coarse level for the nested iteration (even, half >= 64)."""
-    rows, columns = shape
-    return rows % 2 == 0 and columns % 2 == 0 and min(rows, columns) // 2 >= _COARSEST_GRID
-
-
-def _prolonged(coarse, periodic: bool):
-    """A coarse pressure on the grid twice as fine: the coarse values at the even points (the
-    samples the coarse grid shares with the fine one, ``z[::2, ::2]``) and their linear
-    interpolation between them, along each axis in turn; past the last sample the neighbour
-    across the period (``periodic``) or the last sample itself (a window, or a mirror
-    extension's even image). Against each coarse value repeated on 2 x 2 pixels, which shifts
-    every contact spot by half a fine pixel, this start saved 13 % of the fine grid's products on
-    a 12-point 1024^2 path of the check's benchmark scan (829 -> 720; iterations 410 -> 357)."""
-    out = coarse   # (numpy's functions dispatch to a device array's module)
-    for axis in (0, 1):
-        following = np.roll(out, -1, axis=axis)
-        if not periodic:   # past the last sample: the last sample
-            last = [slice(None)] * 2
-            last[axis] = slice(-1, None)
-            following[tuple(last)] = out[tuple(last)]
-        out = np.stack((out, 0.5 * (out + following)), axis=axis + 1)
-        shape = list(coarse.shape) if axis == 0 else [2 * coarse.shape[0], coarse.shape[1]]
-        shape[axis] *= 2
-        out = out.reshape(shape)
-    return out
-
-
 def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
                   separation: float | None, tol: float, max_iter: int,
                   previous: np.ndarray | None = None, ws: _Workspace | None = None
                   ) -> tuple[np.ndarray | None, np.ndarray | None]:
     """Nested iteration: the pressure of the same problem on every other grid point (the same
-    continuous surface sampled at spacing 2h), repeated on 2 x 2 pixels, and that coarse pressure.
+    continuous surface sampled at spacing 2h), interpolated onto the fine grid
+    (:func:`bem.nested_grid._prolonged`), and that coarse pressure.
 
     The coarse problem starts from ``previous`` (a coarse pressure, e.g. of the previous point
     of a load path) when given, else it is solved recursively the same way. ``ws`` is a
     workspace of the coarse grid to reuse. (None, None) when the grid is odd, its half is below
-    ``_COARSEST_GRID`` or the coarse problem has no contact.
+    ``bem.nested_grid._COARSEST_GRID`` or the coarse problem has no contact.
     """
     if not _nestable(z.shape):
         return None, None
@@ -360,7 +332,7 @@ def _coarse_start(operator: HalfSpace, z: np.ndarray, *, load: float | None,
     pressure = np.asarray(solution.pressure)
     if not pressure.any():
         return None, None
-    return _prolonged(pressure, operator.periodic and not operator.mirror), pressure
+    return _prolonged(pressure, operator), pressure
 
 
 def _owned(initial: np.ndarray) -> np.ndarray:

@@ -42,6 +42,7 @@ import tracemalloc
 import numpy as np
 
 import bem
+import bem.fft_threads
 from bem.solver import DEFAULT_TOLERANCE
 from validation import wm_surface
 
@@ -163,7 +164,7 @@ def main() -> None:
     except ImportError:
         tamaas_version = None
     print(f"FFT backend: {'pyfftw' if bem.fft.have_pyfftw() else 'scipy'}, "
-          f"CPUs {bem.fft.default_threads()}, load average {os.getloadavg()[0]:.1f}, "
+          f"CPUs {bem.fft_threads.default_threads()}, load average {os.getloadavg()[0]:.1f}, "
           f"tol {DEFAULT_TOLERANCE:g}, {'plain' if args.plain else 'preconditioned, nested'}; "
           f"Tamaas: {tamaas_version or 'not importable'}")
     header = ("| N | half-space | load | area | iterations | time (s) | FFT pair (ms) "

@@ -339,11 +339,13 @@ def test_separation_control_recovers_from_a_poor_initial_pressure():
 def test_the_nested_start_interpolates_the_coarse_pressure_linearly(periodic):
     """The fine start keeps every coarse value at its sample (z[::2, ::2]) and interpolates
     linearly between samples, across the period when periodic, else holding the last one."""
-    from bem.solver import _prolonged
+    from types import SimpleNamespace
+
+    from bem.nested_grid import _prolonged
 
     rng = np.random.default_rng(3)
     coarse = rng.random((6, 8))
-    fine = _prolonged(coarse, periodic)
+    fine = _prolonged(coarse, SimpleNamespace(periodic=periodic, mirror=False))
     assert fine.shape == (12, 16)
     np.testing.assert_array_equal(fine[::2, ::2], coarse)
     below = np.roll(coarse, -1, axis=0)

@@ -116,7 +116,7 @@ def test_project_works_without_pyfftw():
 
 
 def test_thread_count_override(monkeypatch):
-    from bem.fft import default_threads
+    from bem.fft_threads import default_threads
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "3")
     assert default_threads() == 3
@@ -143,7 +143,7 @@ def test_transforms_leave_their_input_untouched(backend):
 
 
 def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
-    import bem.fft as fft
+    import bem.fft_threads as fft
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "4")
     assert fft.fft_threads((512, 512)) == 1                 # small grids: one thread
@@ -159,7 +159,7 @@ def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
 
 
 def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
-    import bem.fft as fft
+    import bem.fft_threads as fft
 
     samples = iter([(100, 1000), (250, 1200)])     # 150 of 200 ticks idle
     monkeypatch.setattr(fft, "_cpu_times", lambda: next(samples))
@@ -172,7 +172,7 @@ def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
 def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkeypatch):
     import threading
 
-    import bem.fft as fft
+    import bem.fft_threads as fft
     from bem.background import BackgroundCall, running
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "2")
@@ -190,7 +190,7 @@ def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkey
 
 @pytest.mark.parametrize("interval", [-1.0, float("nan"), "0.1"])
 def test_idle_cpus_refuses_a_bad_interval(interval):
-    from bem.fft import idle_cpus
+    from bem.fft_threads import idle_cpus
 
     with pytest.raises((ValueError, TypeError), match="interval"):
         idle_cpus(interval)

@@ -1,0 +1,39 @@
+"""The coarse grid of the nested iteration (:func:`bem.solver._coarse_start`, the load path's
+starts in :mod:`bem.path`): which grids have one, and a coarse pressure carried to the fine grid.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Nested iteration: coarse solves down to grids of this side.
+_COARSEST_GRID = 64
+
+
+def _nestable(shape: tuple[int, int]) -> bool:
+    """Whether a grid has a coarse level for the nested iteration (even, half >= 64)."""
+    rows, columns = shape
+    return rows % 2 == 0 and columns % 2 == 0 and min(rows, columns) // 2 >= _COARSEST_GRID
+
+
+def _prolonged(coarse, operator):
+    """A coarse pressure on the grid of ``operator`` (twice as fine): the coarse values at the
+    even points (the samples the coarse grid shares with the fine one, ``z[::2, ::2]``) and
+    their linear interpolation between them, along each axis in turn; past the last sample the
+    neighbour across the period (a periodic operator) or the last sample itself (a window, or a
+    mirror extension's even image). Against each coarse value repeated on 2 x 2 pixels, which
+    shifts every contact spot by half a fine pixel, this start saved 13 % of the fine grid's
+    products on a 12-point 1024^2 path of the check's benchmark scan (829 -> 720; iterations
+    410 -> 357)."""
+    wraps = operator.periodic and not operator.mirror
+    out = coarse   # (numpy's functions dispatch to a device array's module)
+    for axis in (0, 1):
+        following = np.roll(out, -1, axis=axis)
+        if not wraps:   # past the last sample: the last sample
+            last = [slice(None)] * 2
+            last[axis] = slice(-1, None)
+            following[tuple(last)] = out[tuple(last)]
+        shape = list(out.shape)
+        shape[axis] *= 2
+        out = np.stack((out, 0.5 * (out + following)), axis=axis + 1).reshape(shape)
+    return out
