@@ -81,6 +81,20 @@ def _aggregates(cells: np.ndarray):
     return operator, coarse.reshape(coarse_shape)
 
 
+def _compressed_rows(hierarchy) -> None:
+    """Every level's operator, interpolation and restriction of a pyAMG hierarchy in CSR, in
+    place: smoothed aggregation with one near-null vector builds them as BSR of 1 x 1 blocks,
+    whose Gauss-Seidel sweep and products are several times slower per unknown than CSR's (a
+    sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
+    in CSR the solve took 20 % less, the same iterates). The smoothers take the operator of
+    their level at each call, so they follow."""
+    for level in hierarchy.levels:
+        level.A = level.A.tocsr()
+        for name in ("P", "R"):
+            if hasattr(level, name):
+                setattr(level, name, getattr(level, name).tocsr())
+
+
 def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool = False
                     ) -> np.ndarray:
     """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
@@ -144,6 +158,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool =
             presmoother=("gauss_seidel", {"sweep": "forward"}),
             postsmoother=("gauss_seidel", {"sweep": "backward"}),
             coarse_solver=("splu", _LU_OPTIONS))
+    _compressed_rows(hierarchy)
     residuals: list[float] = []
     solution = hierarchy.solve(rhs * scale, tol=tolerance, accel="cg",
                                maxiter=MULTIGRID_MAX_ITERATIONS, residuals=residuals)

@@ -347,3 +347,35 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
     with pytest.warns(bem.ConvergenceWarning, match="multigrid solve of 9216 cells stopped"):
         value = hydraulic_aperture(gap, 1.0)
     assert value > 0 and np.isfinite(value)
+
+
+def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
+    """Smoothed aggregation builds its coarse levels as 1 x 1 BSR; they are converted to CSR
+    (a faster Gauss-Seidel sweep) and the solve gives the aperture of the BSR hierarchy."""
+    import pyamg
+    import scipy.sparse
+
+    import bem.flow_solver
+
+    gap = _random_gap(96, 1)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 24 * 24)
+    built = []
+    original = pyamg.smoothed_aggregation_solver
+
+    def spy(*args, **kwargs):
+        built.append(original(*args, **kwargs))
+        return built[-1]
+
+    monkeypatch.setattr(pyamg, "smoothed_aggregation_solver", spy)
+    converted = hydraulic_aperture(gap, 1.0)
+    assert len(built[-1].levels) == 3
+    assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
+               for level in built[-1].levels)
+    assert all(getattr(level, name).format == "csr" for level in built[-1].levels[:-1]
+               for name in ("P", "R"))
+    monkeypatch.setattr(bem.flow_solver, "_compressed_rows", lambda hierarchy: None)
+    assert built[0].levels[1].A.format == "csr"
+    blocked = hydraulic_aperture(gap, 1.0)
+    assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
+    assert converted == pytest.approx(blocked, rel=1e-12)
