@@ -78,11 +78,14 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
         return contact_curve(heights, spacing, loads=loads, callback=callback, **options)
     positions = [np.arange(start, loads.size, parts) for start in range(parts)]
 
+    coarse = options.pop("coarse_pressures", None) or {}
+
     def solve(where: np.ndarray) -> ContactCurve:
         report = (None if callback is None
                   else lambda index, solution: callback(int(where[index]), solution))
+        starts = {k: coarse[int(point)] for k, point in enumerate(where) if int(point) in coarse}
         return contact_curve(heights, spacing, loads=loads[where], callback=report,
-                             **options)
+                             coarse_pressures=starts, **options)
 
     # the other sub-paths start first, so that each operator sees the others running and takes
     # one FFT thread (bem.fft_threads.fft_threads)

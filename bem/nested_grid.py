@@ -4,6 +4,8 @@ starts in :mod:`bem.path`): which grids have one, and a coarse pressure carried 
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
 #: Nested iteration: coarse solves down to grids of this side.
@@ -36,4 +38,36 @@ def _prolonged(coarse, operator):
         shape = list(out.shape)
         shape[axis] *= 2
         out = np.stack((out, 0.5 * (out + following)), axis=axis + 1).reshape(shape)
+    return out
+
+
+def checked_coarse_pressures(pressures, shape: tuple[int, int], points: int,
+                             preconditioned: bool) -> dict[int, np.ndarray]:
+    """``pressures`` (point index -> pressure on every other grid point of a grid of
+    ``shape``, as :func:`bem.contact_curve` takes them) as a dict of float arrays, checked:
+    a mapping, indices among the ``points`` of the path, each array of the half grid's shape,
+    finite and non-negative, on a grid the nested iteration can halve."""
+    if pressures is None:
+        return {}
+    if not isinstance(pressures, Mapping):
+        raise TypeError(f"coarse_pressures must be a mapping of point indices to pressures, "
+                        f"got {type(pressures).__name__}")
+    if pressures and not (preconditioned and _nestable(shape)):
+        raise ValueError(f"coarse_pressures need the nested iteration: the preconditioned "
+                         f"solver on an even grid of at least {2 * _COARSEST_GRID} points per "
+                         f"side, got {shape}")
+    half = (shape[0] // 2, shape[1] // 2)
+    out = {}
+    for index, pressure in pressures.items():
+        if isinstance(index, bool) or not isinstance(index, (int, np.integer)) \
+                or not 0 <= index < points:
+            raise ValueError(f"coarse_pressures: keys must be point indices 0..{points - 1}, "
+                             f"got {index!r}")
+        pressure = np.asarray(pressure, dtype=float)
+        if pressure.shape != half:
+            raise ValueError(f"coarse_pressures[{index}] must have the half grid's shape {half}, "
+                             f"got {pressure.shape}")
+        if not np.all(np.isfinite(pressure)) or np.any(pressure < 0.0):
+            raise ValueError(f"coarse_pressures[{index}] must be finite and non-negative")
+        out[int(index)] = pressure
     return out

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import Callable, Iterable
+from typing import Callable, Iterable, Mapping
 
 import numpy as np
 
@@ -11,7 +11,7 @@ from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, cont
 from bem.curve import ContactCurve, check_quantities
 from bem.flow import BackgroundLeakage
 from bem.halfspace import HalfSpace
-from bem.nested_grid import _nestable, _prolonged
+from bem.nested_grid import _nestable, _prolonged, checked_coarse_pressures
 from bem import checks
 from bem.solver import (DEFAULT_MAX_ITERATIONS, DEFAULT_TOLERANCE, ContactSolution, _check_problem,
                         _check_operator, _coarse_start, _solve,
@@ -96,6 +96,7 @@ class _PathStarts:
         operator = self._operator
         coarse = self._coarse_pressures.pop(index, None)
         if self._nested and _nestable(operator.shape) and coarse is not None and coarse.any():
+            self._coarse_pressure = coarse   # (the next coarse solve's start, if one is due)
             return _prolonged(coarse, operator)
         if self._nested and _nestable(operator.shape):
             if self._coarse_workspace is None:
@@ -137,6 +138,7 @@ def contact_curve(
     error_estimate: bool = False,
     mirror: bool = False,
     device: str = "cpu",
+    coarse_pressures: Mapping[int, np.ndarray] | None = None,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -193,6 +195,12 @@ def contact_curve(
     device : {"cpu", "gpu"}
         Where the contact problems are solved (:func:`bem.solve_contact`); the leakage's
         Reynolds solves stay on the CPU, in the background threads, either way.
+    coarse_pressures : mapping, optional
+        Pressures [pressure] already solved at some of the points on every other grid point
+        (point index -> array of shape ``(N/2, M/2)``, the same problem on ``heights[::2,
+        ::2]``, e.g. the path one grid below): those points start from them (interpolated)
+        instead of a coarse solve of their own. Any pressure is a valid start; the solution
+        agrees with the path's own to the solver's tolerance.
 
     Returns
     -------
@@ -209,8 +217,8 @@ def contact_curve(
     Raises
     ------
     ValueError
-        For bad heights, spacing, loads or separations (as :func:`bem.solve_contact`) and
-        unknown quantities.
+        For bad heights, spacing, loads or separations (as :func:`bem.solve_contact`),
+        unknown quantities, and coarse pressures of another shape or grid.
     """
     z, spacing, e_star, tol, max_iter, periodic = _check_problem(
         heights, spacing, e_star, tol, max_iter, periodic)
@@ -252,7 +260,9 @@ def contact_curve(
     contacts = np.empty(size) if want_contacts else None
     stiffness = np.empty(size) if want_stiffness else None
     leakage = np.empty(size) if want_leakage else None
-    coarse, coarse_pressures = None, {}
+    coarse_pressures = checked_coarse_pressures(coarse_pressures, z.shape, targets.size,
+                                                preconditioned)
+    coarse = None
     if error_estimate:
         # The half grid first: its solutions are the nested starts of the fine points, which
         # would otherwise solve the same problems again to a looser tolerance (the error

@@ -110,3 +110,56 @@ def test_count_contacts_connectivity_and_periodic_wrap():
     corner[0, 0] = corner[0, 7] = corner[7, 0] = corner[7, 7] = True  # the four corners
     assert count_contacts(corner, periodic=True) == 1
     assert count_contacts(np.zeros((4, 4), dtype=bool), periodic=True) == 0
+
+
+def test_given_coarse_pressures_replace_the_paths_coarse_solves(monkeypatch):
+    """Pressures of the same loads on every other grid point (the path one grid below) start
+    those points instead of coarse solves of their own; the path agrees with its own to the
+    solver's tolerance."""
+    import bem.path
+
+    heights, spacing = random_surface(128, 3), 1.0 / 128
+    loads = [1e-4, 1e-3, 1e-2]
+    tol = 1e-8
+    kept = {}
+    contact_curve(heights[::2, ::2], 2 * spacing, loads=loads, tol=tol,
+                  callback=lambda index, solution: kept.__setitem__(index, solution.pressure))
+    coarse_solves = []
+    original = bem.path._coarse_start
+
+    def spy(*args, **kwargs):
+        coarse_solves.append(kwargs["load"])
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(bem.path, "_coarse_start", spy)
+    own = contact_curve(heights, spacing, loads=loads, tol=tol)
+    assert len(coarse_solves) == 3
+    coarse_solves.clear()
+    given = contact_curve(heights, spacing, loads=loads, tol=tol,
+                          coarse_pressures={0: kept[0], 2: kept[2]})
+    assert coarse_solves == [loads[1]]   # the point without a given pressure solves its own
+    np.testing.assert_allclose(given.load, own.load, rtol=1e-12)
+    np.testing.assert_allclose(given.area, own.area, rtol=1e-6)
+    np.testing.assert_allclose(given.separation, own.separation, rtol=1e-6)
+
+
+@pytest.mark.parametrize("pressures, error, match", [
+    ([np.zeros((64, 64))], TypeError, "mapping"),
+    ({0: np.zeros((32, 32))}, ValueError, r"half grid's shape \(64, 64\)"),
+    ({3: np.zeros((64, 64))}, ValueError, "point indices 0..1"),
+    ({0: -np.ones((64, 64))}, ValueError, "non-negative"),
+    ({0: np.full((64, 64), np.nan)}, ValueError, "finite"),
+])
+def test_bad_coarse_pressures_are_named(pressures, error, match):
+    heights = random_surface(128, 3)
+    with pytest.raises(error, match=match):
+        contact_curve(heights, 1.0, loads=[1e-3, 1e-2], coarse_pressures=pressures)
+
+
+def test_coarse_pressures_need_a_grid_the_nested_iteration_halves():
+    with pytest.raises(ValueError, match="coarse_pressures need the nested iteration"):
+        contact_curve(HEIGHTS, SPACING, loads=[1e-3], coarse_pressures={0: np.ones((16, 16))})
+    heights = random_surface(128, 3)
+    with pytest.raises(ValueError, match="coarse_pressures need the nested iteration"):
+        contact_curve(heights, 1.0, loads=[1e-3], preconditioned=False,
+                      coarse_pressures={0: np.ones((64, 64))})

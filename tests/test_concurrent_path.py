@@ -38,6 +38,39 @@ def test_sub_paths_give_the_path_in_the_callers_order(heights, parts):
         assert solution.load == pytest.approx(LOADS[index], rel=1e-12)
 
 
+def test_each_sub_path_starts_from_its_own_points_coarse_pressures(monkeypatch):
+    """Coarse pressures given by the caller's index reach the sub-path that solves that point
+    (by its own index there): no coarse solve is left, and the curve is the one path's."""
+    import bem.path
+
+    fine = self_affine_surface(2 * N, hurst=0.8, rms_slope=0.1, rolloff=0.25, seed=3)
+    kept = {}
+    bem.contact_curve(fine[::2, ::2], 2.0 / (2 * N), loads=LOADS, tol=1e-10,
+                      callback=lambda index, solution: kept.__setitem__(index, solution.pressure))
+    solves = []
+    original = bem.path._coarse_start
+    monkeypatch.setattr(bem.path, "_coarse_start",
+                        lambda *args, **kwargs: solves.append(1) or original(*args, **kwargs))
+    one = bem.contact_curve(fine, 1.0 / (2 * N), loads=LOADS, tol=1e-10, coarse_pressures=kept)
+    plain = bem.concurrent_path.contact_curve
+    routed = []
+
+    def sub_path(heights, spacing, *, loads, coarse_pressures, **options):
+        # each start carries its own load: sum p (2h)^2 = W
+        routed.extend(float(np.sum(coarse_pressures[k])) * (2.0 / (2 * N))**2 / load
+                      for k, load in enumerate(loads))
+        return plain(heights, spacing, loads=loads, coarse_pressures=coarse_pressures,
+                     **options)
+
+    monkeypatch.setattr(bem.concurrent_path, "contact_curve", sub_path)
+    split = concurrent_curve(fine, 1.0 / (2 * N), loads=LOADS, parts=3, tol=1e-10,
+                             coarse_pressures=kept)
+    assert solves == [] and len(routed) == LOADS.size
+    np.testing.assert_allclose(routed, 1.0, rtol=1e-9)
+    for name in ("load", "area", "separation"):
+        np.testing.assert_allclose(getattr(split, name), getattr(one, name), rtol=1e-7)
+
+
 def test_one_part_is_the_plain_path(heights):
     one = bem.contact_curve(heights, 1.0 / N, loads=LOADS)
     same = concurrent_curve(heights, 1.0 / N, loads=LOADS, parts=1)

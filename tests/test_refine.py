@@ -279,3 +279,63 @@ def test_a_finer_grid_is_not_asked_where_the_reference_methods_own_bound_keeps_a
     population = SimpleNamespace(one_surface=False, errors=np.vstack([errors, errors]),
                                  band=np.full(5, 0.3))
     assert decidable(population, np.full(5, 0.07), 0.2).all()
+
+
+@pytest.mark.filterwarnings("ignore:scene 'scene' .* has 1 realization")
+def test_a_finer_reference_starts_from_the_pressures_solved_one_grid_below(tmp_path,
+                                                                          monkeypatch):
+    """The scene grid's reference keeps its pressures (validation.run.starts); the finer path
+    starts from them instead of solving its coarse problems again, and agrees with the path
+    that solves them to the solver's tolerance."""
+    import bem.path
+    import validation.run.starts
+    from validation import run_scenes
+
+    monkeypatch.setattr(validation.run.starts, "SMALLEST_KEPT_GRID", 64)
+    scene = parse_scene(WM | {"surface": {"D": 2.3, "rms_slope": 0.1, "n": 64},
+                              "realizations": {"count": 1, "seed": 7},
+                              "bem": {"max_grid": 128, "frames": ["finite"]}}, source="test")
+    coarse_solves = []
+    original = bem.path._coarse_start
+
+    def spy(operator, *args, **kwargs):
+        coarse_solves.append(operator.shape)
+        return original(operator, *args, **kwargs)
+
+    monkeypatch.setattr(bem.path, "_coarse_start", spy)
+    (kept,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path / "kept"))
+    assert kept.refinement.levels and (128, 128) not in coarse_solves
+    assert list((tmp_path / "kept").glob("bem-starts-*.npz"))
+    monkeypatch.setattr(validation.run.starts, "SMALLEST_KEPT_GRID", 10**6)
+    (own,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path / "own"))
+    assert (128, 128) in coarse_solves
+    assert not list((tmp_path / "own").glob("bem-starts-*.npz"))
+    assert own.refinement.levels == kept.refinement.levels
+    refined, solved = kept.realizations[2.3][0].curves["bem"], own.realizations[2.3][0].curves["bem"]
+    np.testing.assert_array_equal(refined.extras["grid"], solved.extras["grid"])
+    np.testing.assert_allclose(refined.area, solved.area, rtol=1e-3)
+    np.testing.assert_allclose(refined.separation, solved.separation, rtol=1e-6)
+
+
+def test_kept_pressures_come_back_by_position_and_a_malformed_entry_is_dropped(tmp_path):
+    from validation.run.cache import Cache
+    from validation.run.starts import KeptPressures, load_starts
+
+    cache = Cache(tmp_path)
+    rng = np.random.default_rng(0)
+    fields = {k: np.where(rng.random((6, 4)) < 0.3, rng.random((6, 4)), 0.0) for k in (1, 4)}
+    kept = KeptPressures()
+    for k, field in fields.items():
+        kept.add(k, field)
+    kept.store(cache, "bem-starts-x")
+    starts = load_starts(cache, "bem-starts-x", (4, 2, 1))
+    assert sorted(starts) == [0, 2]
+    np.testing.assert_array_equal(starts[0], fields[4])
+    np.testing.assert_array_equal(starts[2], fields[1])
+    cache.store("bem-starts-y", {"points": np.array([1]), "shape": np.array([6, 4]),
+                                 "counts": np.array([5]), "index": np.arange(3),
+                                 "pressure": np.ones(3)})
+    assert load_starts(cache, "bem-starts-y", (1,)) == {}
+    assert not cache.path("bem-starts-y").exists()
+    KeptPressures().store(cache, "bem-starts-z")   # nothing kept: nothing written
+    assert not cache.path("bem-starts-z").exists()

@@ -245,15 +245,17 @@ def request_of_scene(scene) -> CheckRequest:
 
 def run_request(request: CheckRequest, scenes, scene_text_: str, *, executor=None,
                 cache_dir: str | None = None, progress: bool = False) -> CheckResult:
-    """Run a check's scenes (the scan as sampled first, then with the finer reference where
-    the band decides; the path itself comes from the cache) and return its result."""
+    """Run a check's scenes (with the finer reference where the band decides, then the scan
+    as sampled, its paths from the cache) and return its result. The scenes with their grid
+    limit run first, so that their references keep the pressures a finer path starts from
+    (:mod:`validation.run.starts`)."""
     from validation.judge.decide import run_scenes
 
     start = time.perf_counter()
     scene = scenes[0]
     sampled = replace(scene, bem=replace(scene.bem, max_grid=None))
-    first = run_scenes([sampled], executor=executor, cache_dir=cache_dir, progress=progress)[0]
     runs = run_scenes(scenes, executor=executor, cache_dir=cache_dir, progress=progress)
+    first = run_scenes([sampled], executor=executor, cache_dir=cache_dir, progress=progress)[0]
     return CheckResult.of(request, runs, first, scene_text=scene_text_,
                           seconds=time.perf_counter() - start)
 

@@ -79,8 +79,8 @@ def _extension(inputs: ModelInputs) -> str:
 
 def _cached_options(options: dict) -> dict:
     """The options that determine a reference's result (its cache key): all but the device,
-    whose results are the same (tests/test_device.py)."""
-    return {k: v for k, v in options.items() if k != "device"}
+    whose results are the same (tests/test_device.py), and a callback, which only watches."""
+    return {k: v for k, v in options.items() if k not in ("device", "callback")}
 
 
 def _interface_options(inputs: ModelInputs) -> dict:

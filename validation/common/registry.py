@@ -68,6 +68,13 @@ class ModelInputs:
         self.bem_options = dict(bem_options or {})
         self._heights, self._summits = heights, summits
 
+    def with_bem_options(self, **options: Any) -> "ModelInputs":
+        """These inputs with ``options`` added to :attr:`bem_options` (a copy)."""
+        copy = object.__new__(type(self))
+        copy.__dict__.update(self.__dict__)
+        copy.bem_options = {**self.bem_options, **options}
+        return copy
+
     @property
     def interaction_m(self) -> float:
         """Improved GW's m for the finite frame's nominal contact: ``m`` for the window, and

@@ -28,8 +28,8 @@ from validation.common import models
 from validation.judge.bands import method_band
 from validation.judge.compare import COMPARED_QUANTITIES, compare_realizations
 from validation.judge.verdicts import REFERENCE_ACCURACY, UNDECIDED
-from validation.run.refine import (MAX_LEAKAGE_GRID, STIFFNESS_FIELDS, RefineJob,
-                                   interface_extension, merge_job, solver_tolerance, unavailable)
+from validation.run.refine import (MAX_LEAKAGE_GRID, REFINED, STIFFNESS_FIELDS, RefineJob,
+                                   merge_job, refined_extension, solver_tolerance, unavailable)
 from validation.run.runner import SceneResult, more_realizations, run_planned, solve_refinements
 from validation.run.sequential import (RefinementLevel, RefinementRecord, SequentialRecord,
                                        run_looks, scene_plan, undecided_share)
@@ -123,12 +123,6 @@ def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
     return (one_surface_verdicts(error, band_floor, tolerance) != UNDECIDED) | np.isnan(error)
 
 
-#: The references a finer grid can refine (validation.run.refine): the finite window's (the
-#: non-periodic problem) and the interface's (its periodic or mirror-extended problem). The
-#: reference of a nominal square (bem_nominal) keeps its band.
-REFINED = ("bem", "bem_interface")
-
-
 def _refined(names) -> list[str]:
     """The refinable references among ``names``, in the order of :data:`REFINED`."""
     return [name for name in REFINED if name in names]
@@ -147,7 +141,7 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
             if only is not None and result.task not in only:
                 continue
             factor = level.grid // result.task.surface.n
-            extension = None if level.reference == "bem" else interface_extension(result.task)
+            extension = refined_extension(level.reference, result.task)
             jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value],
                                   with_leakage, extension, level.stiffness.get(value, True)))
             where.append((value, index))

@@ -41,6 +41,8 @@ from bem.curve import ContactCurve
 from validation.common import models
 from validation.common.models import ModelInputs
 from validation.run import sampling
+from validation.run.refine import REFINED, refined_extension
+from validation.run.starts import KeptPressures, keeps_starts, starts_key
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
                                   source_version)
@@ -186,6 +188,12 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
             log.seconds[item.name] = 0.0
             return cached
     start = time.perf_counter()
+    # a reference a finer grid may refine keeps its pressures: the finer path's starts
+    pressures = None
+    if item.name in REFINED and keeps_starts(log.task, log.task.surface.n):
+        pressures = KeptPressures()
+        inputs = inputs.with_bem_options(
+            callback=lambda index, solution: pressures.add(index, solution.pressure))
     model = item.factory(inputs)
     if "loads" in path:
         curve = model.at_load(path["loads"], quantities=quantities)
@@ -193,6 +201,10 @@ def _model_curve(item: models.ModelEntry, inputs: ModelInputs, path: dict,
         curve = model.at_separation(path["separations"], quantities=quantities)
     log.seconds[item.name] = time.perf_counter() - start
     log.did(item.name)
+    if pressures:
+        task = log.task
+        pressures.store(cache, starts_key(task, task.surface.n,
+                                          refined_extension(item.name, task)))
     if key is not None:
         cache.store(key, curve_arrays(curve))
         if stiffness:

@@ -37,14 +37,15 @@ from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
                                   source_version)
+from validation.run.starts import KeptPressures, keeps_starts, load_starts, starts_key
 from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import surface_heights, surface_identity
 from validation.surfaces.wm import wm_surface
 
-__all__ = ["MAX_LEAKAGE_GRID", "SOLVER_ERROR", "SOLVER_SHARE", "STIFFNESS_FIELDS", "RefineJob", "interface_extension",
+__all__ = ["MAX_LEAKAGE_GRID", "REFINED", "SOLVER_ERROR", "SOLVER_SHARE", "STIFFNESS_FIELDS", "RefineJob", "interface_extension",
            "interpolated_scan",
            "merge_job", "merge_points",
-           "refined_heights",
+           "refined_extension", "refined_heights",
            "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
 
 #: Bound on the solver error of area, conductance (relative) and separation, mean gap (in units
@@ -54,6 +55,10 @@ __all__ = ["MAX_LEAKAGE_GRID", "SOLVER_ERROR", "SOLVER_SHARE", "STIFFNESS_FIELDS
 SOLVER_ERROR = 0.1
 #: Share of the expected band the solver may spend (eq. T40).
 SOLVER_SHARE = 0.01
+#: The references a finer grid can refine: the finite window's (the non-periodic problem) and
+#: the interface's (its periodic or mirror-extended problem). The reference of a nominal square
+#: (bem_nominal) keeps its band.
+REFINED = ("bem", "bem_interface")
 #: The curve fields of the stiffness solve (bem.stiffness), which a refinement may skip.
 STIFFNESS_FIELDS = ("stiffness", "conductance")
 #: Loosest solver tolerance a refined solve uses.
@@ -239,6 +244,12 @@ class RefineJob:
     stiffness: bool = True
 
 
+def refined_extension(reference: str, task) -> str | None:
+    """The extension a finer solve of ``reference`` (one of :data:`REFINED`) uses: None for
+    the window's problem, the interface's otherwise (:func:`interface_extension`)."""
+    return None if reference == "bem" else interface_extension(task)
+
+
 def interface_extension(task) -> str:
     """How the interface reference of ``task`` makes a period of its heights (the registry's
     choice: the map itself when it is one period of a periodic surface, else its mirror)."""
@@ -303,18 +314,27 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     # solves of the points that need them after it: beside it they would take a core from the
     # sub-paths, whose FFT threads are chosen when their operators are built.
     positions = {index for index, k in enumerate(job.points) if k in wanted}
-    gaps = {}
+    gaps, pressures = {}, KeptPressures()
+    grid = job.factor * s.n
+    # the grid below's pressures at these loads are the nested iteration's coarse solutions
+    # (validation.run.starts); this grid's are kept for the next, where there is one
+    starts = load_starts(cache, starts_key(task, grid // 2, job.extension), job.points)
+    kept = keeps_starts(task, grid)
 
     def keep(index: int, solution) -> None:
         if index in positions:
             gaps[index] = solution.fluid_gap
+        if kept:
+            pressures.add(job.points[index], solution.pressure)
 
     curve = concurrent_curve(heights, spacing, loads=loads, quantities=quantities,
                              e_star=task.e_star, periodic=periodic, tol=job.tol,
-                             max_iter=task.bem.max_iter, callback=keep if leaky else None,
-                             mirror=mirror, device=task.bem.device,
+                             max_iter=task.bem.max_iter,
+                             callback=keep if leaky or kept else None,
+                             mirror=mirror, device=task.bem.device, coarse_pressures=starts,
                              # one GPU runs one path at a time
                              parts=1 if task.bem.device == "gpu" else None)
+    pressures.store(cache, starts_key(task, grid, job.extension))
     if leaky:
         flow = BackgroundLeakage(spacing, periodic=periodic and not mirror)
         for index in sorted(gaps):
