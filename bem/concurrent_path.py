@@ -22,7 +22,7 @@ from bem.fft_threads import default_threads
 from bem.path import contact_curve
 from bem.solver import ContactSolution
 
-__all__ = ["CONCURRENT_LIMIT", "concurrent_curve", "path_parts"]
+__all__ = ["CONCURRENT_LIMIT", "concurrent_curve", "dealt", "path_parts"]
 
 #: Largest grid side split into concurrent sub-paths: each holds its own operator (about 150 n²
 #: bytes, 630 MB at 2048²).
@@ -41,9 +41,11 @@ def path_parts(points: int, shape: tuple[int, int]) -> int:
 def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None,
                      callback: Callable[[int, ContactSolution], None] | None = None,
                      **options) -> ContactCurve:
-    """:func:`bem.contact_curve` along ``loads``, the loads dealt in turn to ``parts``
-    sub-paths (``loads[0::parts]``, ``loads[1::parts]``, ...) solved at once, each in its own
-    thread with one FFT thread; the curve in the order of ``loads``.
+    """:func:`bem.contact_curve` along ``loads``, the loads dealt to ``parts`` sub-paths
+    solved at once, each in its own thread with one FFT thread; the curve in the order of
+    ``loads``. The loads are dealt by increasing load to the sub-paths 0, 1, ..., p-1, then
+    p-1, ..., 0, and so on (:func:`dealt`), so that each gets a like share of the heavy loads,
+    whose solves take the most iterations.
 
     Parameters
     ----------
@@ -76,7 +78,7 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
     parts = min(parts, max(loads.size, 1))
     if parts == 1:
         return contact_curve(heights, spacing, loads=loads, callback=callback, **options)
-    positions = [np.arange(start, loads.size, parts) for start in range(parts)]
+    positions = dealt(loads, parts)
 
     coarse = options.pop("coarse_pressures", None) or {}
 
@@ -93,6 +95,18 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
               for k, where in enumerate(positions[1:], start=1)]
     curves = [solve(positions[0])] + [call.result() for call in others]
     return _interleaved(curves, positions, loads.size)
+
+
+def dealt(loads: np.ndarray, parts: int) -> list[np.ndarray]:
+    """Indices into ``loads`` of each of ``parts`` sub-paths: by increasing load, dealt
+    0, 1, ..., p-1, p-1, ..., 0, 0, 1, ... (each sub-path's in increasing order). The
+    iterations of a point grow with its load (14 to 63 from the lightest to the heaviest of
+    12 points of a 1024^2 path), so dealing them in turn gave the second of two sub-paths
+    the heavier of every pair: 202 iterations against 163, 184 against 181 dealt this way."""
+    order = np.argsort(loads, kind="stable")
+    turn = np.arange(order.size) % (2 * parts)
+    part = np.where(turn < parts, turn, 2 * parts - 1 - turn)
+    return [np.sort(order[part == k]) for k in range(parts)]
 
 
 def _interleaved(curves: list[ContactCurve], positions: list[np.ndarray],

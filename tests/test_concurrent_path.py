@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import bem
-from bem.concurrent_path import CONCURRENT_LIMIT, concurrent_curve, path_parts
+from bem.concurrent_path import CONCURRENT_LIMIT, concurrent_curve, dealt, path_parts
 from validation import self_affine_surface
 
 N = 64
@@ -69,6 +69,21 @@ def test_each_sub_path_starts_from_its_own_points_coarse_pressures(monkeypatch):
     np.testing.assert_allclose(routed, 1.0, rtol=1e-9)
     for name in ("load", "area", "separation"):
         np.testing.assert_allclose(getattr(split, name), getattr(one, name), rtol=1e-7)
+
+
+def test_loads_are_dealt_back_and_forth_by_increasing_load():
+    """Sorted by load, the points go to sub-paths 0, 1, 1, 0, 0, 1, ...: each gets a like
+    share of the heavy points (their solves take the most iterations)."""
+    loads = np.array([5.0, 1.0, 12.0, 3.0, 8.0, 2.0, 4.0])
+    order = np.argsort(loads)
+    two = dealt(loads, 2)
+    np.testing.assert_array_equal(two[0], np.sort(order[[0, 3, 4]]))
+    np.testing.assert_array_equal(two[1], np.sort(order[[1, 2, 5, 6]]))
+    three = dealt(loads, 3)
+    assert sorted(np.concatenate(three).tolist()) == list(range(loads.size))
+    assert [len(part) for part in three] == [3, 2, 2]
+    # the heaviest point of each round of 2p goes to the sub-path that got its lightest
+    np.testing.assert_array_equal(dealt(np.arange(12.0), 2)[0], [0, 3, 4, 7, 8, 11])
 
 
 def test_one_part_is_the_plain_path(heights):

@@ -146,6 +146,20 @@ def test_a_gpu_load_path_is_the_cpus(double):
                                .at_load(loads).area, rtol=1e-9)
 
 
+def test_a_gpu_path_starts_from_host_coarse_pressures(double):
+    """Coarse pressures kept on the host (validation.run.starts) start a device path."""
+    z = _surface(128, seed=5)
+    loads = np.geomspace(1e-4, 1e-2, 3)
+    kept = {}
+    bem.contact_curve(z[::2, ::2], 2 / 128, loads=loads, periodic=True, mirror=True,
+                      callback=lambda index, solution: kept.__setitem__(index, solution.pressure))
+    options = dict(periodic=True, mirror=True, coarse_pressures=kept)
+    cpu = bem.contact_curve(z, 1 / 128, loads=loads, **options)
+    gpu = bem.contact_curve(z, 1 / 128, loads=loads, device="gpu", **options)
+    for name in ("area", "separation"):
+        np.testing.assert_allclose(getattr(gpu, name), getattr(cpu, name), rtol=1e-9)
+
+
 def _cupy_or_skip():
     try:
         return array_module("gpu")
