@@ -277,7 +277,8 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
         return 0.0
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
-        pressure = _solve_pressure(matrix, rhs, cells, periodic)
+        pressure = _solve_pressure(matrix, rhs, cells, periodic,
+                                   lambda p: _dissipation(p, faces, boundary))
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=2)

@@ -276,15 +276,16 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     used = []
     original = bem.flow._solve_pressure
 
-    def spy(matrix, rhs, cells, periodic):
+    def spy(matrix, rhs, cells, periodic, dissipation):
         used.append(bem.flow_solver.multigrid_levels(int(np.count_nonzero(cells))))
-        return original(matrix, rhs, cells, periodic)
+        return original(matrix, rhs, cells, periodic, dissipation)
 
     monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
     multigrid = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
     assert used == [2 if coarsest > 40 * 40 else 3] * 2 and min(direct) > 0
-    # the pixel blocks stop at a residual of 1e-7 (1e-6 left 6e-6 here), the algebraic
-    # multigrid of a periodic gap at 1e-9
+    # the pixel blocks stop once the dissipation's estimated error is 1e-7 and the residual
+    # 1e-6 (the residual alone at 1e-6 left 6e-6 here), the algebraic multigrid of a periodic
+    # gap at a residual of 1e-9
     np.testing.assert_allclose(multigrid, direct, rtol=1e-8 if periodic else 1e-7)
 
 
@@ -344,7 +345,8 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 48 * 48)
     monkeypatch.setattr(bem.flow_solver, "MULTIGRID_MAX_ITERATIONS", 1)
-    with pytest.warns(bem.ConvergenceWarning, match="multigrid solve of 9216 cells stopped"):
+    with pytest.warns(bem.ConvergenceWarning,
+                      match="multigrid solve of 9216 cells did not converge in 1 iterations"):
         value = hydraulic_aperture(gap, 1.0)
     assert value > 0 and np.isfinite(value)
 
@@ -379,3 +381,45 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     blocked = hydraulic_aperture(gap, 1.0)
     assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
     assert converted == pytest.approx(blocked, rel=1e-12)
+
+
+def test_the_energy_left_is_the_geometric_tail_of_the_last_decrements():
+    from bem.flow_solver import ESTIMATE_STEPS, _remaining
+
+    geometric = [2.0 * 0.5**k for k in range(ESTIMATE_STEPS + 3)]
+    assert _remaining(geometric) == pytest.approx(geometric[-1])   # rho / (1 - rho) = 1
+    assert _remaining(geometric[:ESTIMATE_STEPS]) == np.inf        # too few to tell
+    assert _remaining(geometric[:-1] + [geometric[-2] * 1.1]) == np.inf   # one grew
+    # the largest recent ratio rules: a slow step makes the tail longer
+    mixed = geometric[:-1] + [geometric[-2] * 0.9]
+    assert _remaining(mixed) == pytest.approx(mixed[-1] * 0.9 / 0.1)
+
+
+def test_the_conjugate_gradients_stop_when_the_dissipation_is_known():
+    """On a system whose energy minimum is known (a conductance chain with leaks to ground,
+    random conductances), the iteration stops with the energy within its tolerance, long before
+    the residual reaches rounding; without the energy it stops at the residual asked for."""
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    from bem.flow_solver import DISSIPATION_TOLERANCE, _conjugate_gradients
+
+    rng = np.random.default_rng(4)
+    t = 10.0 ** rng.uniform(-1, 0, 401)
+    main = t[:-1] + t[1:] + 0.05
+    matrix = scipy.sparse.diags([main, -t[1:-1], -t[1:-1]], [0, 1, -1], format="csr")
+    rhs = rng.uniform(0.0, 1.0, 400)
+    solution = scipy.sparse.linalg.spsolve(matrix.tocsc(), rhs)
+    lowest = float(rhs @ solution)               # the minimum of x.A x - 2 b.x + 2 b.A^-1 b
+
+    def dissipation(x):
+        return float(x @ (matrix @ x) - 2.0 * rhs @ x) + 2.0 * lowest
+
+    identity = scipy.sparse.identity(400, format="csr")
+    x, iterations, settled = _conjugate_gradients(matrix, rhs, identity, dissipation, 1e-6)
+    _, exact_iterations, _ = _conjugate_gradients(matrix, rhs, identity, None, 1e-12)
+    assert settled and iterations < exact_iterations
+    assert 0.0 <= dissipation(x) / lowest - 1.0 <= DISSIPATION_TOLERANCE
+    assert np.linalg.norm(rhs - matrix @ x) <= 1e-6 * np.linalg.norm(rhs)
+    x, _, settled = _conjugate_gradients(matrix, rhs, identity, None, 1e-12)
+    assert settled and dissipation(x) == pytest.approx(lowest, rel=1e-12)
