@@ -259,7 +259,8 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     -----
     Cost (one core, benchmarks/bench_leakage.py): a sparse LU factorisation up to
     :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells (0.2-0.5 s at 256^2), above it the
-    multigrid-preconditioned solve: 0.6-1.4 s at 512^2, 3-6 s and under 1 GB at 1024^2.
+    multigrid-preconditioned solve: 0.3-0.9 s at 512^2, 2-12 s and under 1 GB at 1024^2
+    (the longest on rough gaps at heavy contact).
     """
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)

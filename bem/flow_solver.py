@@ -21,8 +21,9 @@ __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DISSI
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
 #: conjugate gradients (:func:`_solve_pressure`). At 256^2 both take a few tenths of a second; at
-#: 512^2 the multigrid took 0.4-1.4 s against 0.7-2.1 s, at 1024^2 3.5-5.8 s against 4-13 s and
-#: 0.5 GB against 1.5 GB (one core; docs/guide/benchmarks.md, "The leakage reference").
+#: 512^2 the multigrid took 0.3-0.9 s against 0.6-1.9 s, at 1024^2 2.3-12 s against 3.8-10 s
+#: and 0.5 GB against 1.5 GB (one core; the LU faster only on rough gaps at heavy contact;
+#: docs/guide/benchmarks.md, "The leakage reference").
 DIRECT_SOLVE_LIMIT = 256 * 256
 #: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
