@@ -19,6 +19,7 @@ from bem import checks
 from bem.background import BackgroundCall, running
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.fft_threads import default_threads
+from bem.nested_grid import checked_coarse_pressures
 from bem.path import contact_curve
 from bem.solver import ContactSolution
 
@@ -80,12 +81,14 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
         return contact_curve(heights, spacing, loads=loads, callback=callback, **options)
     positions = dealt(loads, parts)
 
-    coarse = options.pop("coarse_pressures", None) or {}
+    # checked here as a single path would (the sub-paths see only the points they solve)
+    coarse = checked_coarse_pressures(options.pop("coarse_pressures", None), np.shape(heights),
+                                      loads.size, options.get("preconditioned", True))
 
     def solve(where: np.ndarray) -> ContactCurve:
         report = (None if callback is None
                   else lambda index, solution: callback(int(where[index]), solution))
-        starts = {k: coarse[int(point)] for k, point in enumerate(where) if int(point) in coarse}
+        starts = {k: coarse[point] for k, point in enumerate(where.tolist()) if point in coarse}
         return contact_curve(heights, spacing, loads=loads[where], callback=report,
                              coarse_pressures=starts, **options)
 

@@ -13,10 +13,10 @@ import numpy as np
 
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS",
-           "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
-           "PERIODIC_DIRECT_SOLVE_LIMIT",
-           "PIXEL_MULTIGRID_LIMIT", "RESIDUAL_FLOOR", "multigrid_levels"]
+__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DISSIPATION_TOLERANCE",
+           "ESTIMATE_STEPS", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
+           "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT", "RESIDUAL_LIMIT",
+           "multigrid_levels"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -62,7 +62,7 @@ ALGEBRAIC_TOLERANCE = 1e-9
 #: stopping rule before the estimate, so no solve takes more iterations than it did. Its
 #: aperture error was within 1e-7 on the gaps of smooth scans, and up to 3.2e-6 on a rough gap
 #: of a noisy 1024^2 scan at 24 % contact.
-RESIDUAL_FLOOR = 1e-7
+RESIDUAL_LIMIT = 1e-7
 #: Decrements of the energy the error estimate looks back on.
 ESTIMATE_STEPS = 5
 #: Most conjugate-gradient iterations of the multigrid solve.
@@ -144,8 +144,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     percolation; periodic gaps are solved by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT`
     cells, and these and every gap above :data:`PIXEL_MULTIGRID_LIMIT` by algebraic coarsening:
     smoothed aggregation with the evolution strength of connection, which follows the thin necks
-    that carry the flow near percolation, with the same stopping rule. A multigrid solve that
-    stops short of it warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last
+    that carry the flow near percolation, to a relative residual of :data:`ALGEBRAIC_TOLERANCE`
+    alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last
     iterate.
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
@@ -200,7 +200,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     ``rho`` their largest ratio (none while a decrement grows); the iteration stops once that is
     at most :data:`DISSIPATION_TOLERANCE` of the dissipation (evaluated at the iterate, not
     accumulated, for the check) and the relative residual at most ``tolerance``, or once the
-    relative residual is :data:`RESIDUAL_FLOOR` (``tolerance`` if lower) whatever the
+    relative residual is :data:`RESIDUAL_LIMIT` (``tolerance`` if lower) whatever the
     estimate; without ``dissipation``, at the residual ``tolerance`` alone. Returns
     ``(x, iterations, settled)``, ``settled`` False after :data:`MULTIGRID_MAX_ITERATIONS`.
     """
@@ -210,7 +210,9 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     p = z.copy()
     rz = float(r @ z)
     norm = float(np.linalg.norm(rhs))
-    floor, enough = min(RESIDUAL_FLOOR, tolerance) * norm, tolerance * norm
+    enough = tolerance * norm
+    # stops whatever the estimate (and without one, the only rule)
+    limit = enough if dissipation is None else min(RESIDUAL_LIMIT, tolerance) * norm
     energy = dissipation(x) if dissipation is not None else math.nan
     decrements: list[float] = []
     for iteration in range(1, MULTIGRID_MAX_ITERATIONS + 1):
@@ -221,7 +223,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
         decrements.append(alpha * rz)
         energy -= alpha * rz
         residual = float(np.linalg.norm(r))
-        if residual <= floor or (dissipation is None and residual <= enough):
+        if residual <= limit:
             return x, iteration, True
         tail = _remaining(decrements) if dissipation is not None else math.inf
         if residual <= enough and tail <= DISSIPATION_TOLERANCE * abs(energy) \

@@ -107,6 +107,10 @@ def test_parts_follow_the_free_cpus(monkeypatch):
 @pytest.mark.parametrize("options, match", [
     ({"parts": 0}, "parts"), ({"error_estimate": True}, "error_estimate"),
     ({"separations": [0.1]}, "separations"), ({"callback": 3}, "callback"),
+    # checked before the points are dealt, as a single path checks them (64^2 has no coarse
+    # level: none may be given, even for a point no sub-path would have been dealt)
+    ({"parts": 2, "coarse_pressures": {99: np.zeros((32, 32))}}, "coarse_pressures"),
+    ({"parts": 2, "coarse_pressures": [np.zeros((32, 32))]}, "coarse_pressures"),
 ])
 def test_bad_arguments_are_named(heights, options, match):
     with pytest.raises((ValueError, TypeError), match=match):

@@ -38,7 +38,7 @@ def keeps_starts(task, grid: int) -> bool:
     finer grid, within ``[bem] max_grid``, may refine it (load paths only), and the grid has
     at least :data:`SMALLEST_KEPT_GRID` points per side (and the finer grid one the nested
     iteration halves)."""
-    max_grid = getattr(task.bem, "max_grid", None)
+    max_grid = task.bem.max_grid
     return (max_grid is not None and SMALLEST_KEPT_GRID <= grid and 2 * grid <= max_grid
             and _nestable((2 * grid, 2 * grid)) and task.loads.quantity == "load"
             and bool(task.bem.reference_error))
