@@ -13,6 +13,7 @@ verdicts.csv).
 Usage::
 
     python benchmarks/bench_check.py [--sizes 512,1024,2048] [--short-cutoff 8px] [--keep DIR]
+                                     [--device gpu]
 """
 
 from __future__ import annotations
@@ -59,6 +60,8 @@ def main(argv=None) -> int:
     parser.add_argument("--sizes", default="512,1024,2048")
     parser.add_argument("--short-cutoff", default=None)
     parser.add_argument("--keep", default=None, help="keep the scans and reports in DIR")
+    parser.add_argument("--device", default=None, choices=("cpu", "gpu"),
+                        help="where the reference's contact problems are solved (default: cpu)")
     args = parser.parse_args(argv)
     folder = pathlib.Path(args.keep or tempfile.mkdtemp(prefix="bench-check-"))
     folder.mkdir(parents=True, exist_ok=True)
@@ -70,6 +73,8 @@ def main(argv=None) -> int:
                    "--out", str(out), "--cache", str(cache), "--quiet"]
         if args.short_cutoff:
             command += ["--short-cutoff", args.short_cutoff]
+        if args.device:
+            command += ["--device", args.device]
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(command, check=True, env=dict(os.environ))

@@ -37,8 +37,11 @@ def double(monkeypatch):
     def module(device, name="device"):
         return device_double if check_device(device, name) == "gpu" else np
     import asperity.interaction
+    import validation.check.library
+    import validation.cli
 
-    for where in (bem.device, bem.halfspace, bem.preconditioner, asperity.interaction):
+    for where in (bem.device, bem.halfspace, bem.preconditioner, asperity.interaction,
+                  validation.check.library, validation.cli):
         monkeypatch.setattr(where, "array_module", module)
     return device_double
 
@@ -250,3 +253,32 @@ def test_cupy_interaction_sums_are_the_cpus():
     gpu = asperity.DiscreteAsperityModel(summits, method="fft", device="gpu").at_load(loads)
     for name in ("area", "separation", "stiffness"):
         np.testing.assert_allclose(getattr(gpu, name), getattr(cpu, name), rtol=1e-9)
+
+
+def _same_check(gpu, cpu):
+    # the finer reference's loads are one path on a GPU and sub-paths, one per core, on the CPU:
+    # their starts differ, so its points agree to the solver's tolerance, not to rounding
+    assert [t.field for t in gpu.tables] == [t.field for t in cpu.tables]
+    for g, c in zip(gpu.tables, cpu.tables):
+        np.testing.assert_allclose(g.reference, c.reference, rtol=1e-5, atol=1e-15)
+        np.testing.assert_allclose(g.band, c.band, rtol=1e-3, atol=1e-6 * np.max(c.reference))
+        for name in c.verdicts:
+            np.testing.assert_array_equal(g.verdicts[name], c.verdicts[name])
+
+
+def _check_of(heights, device):
+    from validation import check_scan
+
+    return check_scan(heights * 1e-9, spacing="1nm", e_star="115GPa", device=device, cache=False)
+
+
+def test_a_check_on_the_gpu_code_path_is_the_cpus(double):
+    heights = _surface(128, seed=11) * 128
+    _same_check(_check_of(heights, "gpu"), _check_of(heights, "cpu"))
+
+
+@pytest.mark.gpu
+def test_a_cupy_check_is_the_cpus():
+    _cupy_or_skip()
+    heights = _surface(256, seed=11) * 256
+    _same_check(_check_of(heights, "gpu"), _check_of(heights, "cpu"))

@@ -316,7 +316,9 @@ def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=Non
         Registered model names (each frame's reference is added).
     device : {"cpu", "gpu"}
         Where the reference's contact problems are solved: ``"gpu"`` needs CuPy and a CUDA
-        device (the ``gpu`` extra); the numbers are the CPU's (to rounding).
+        device (the ``gpu`` extra). A single solve gives the CPU's numbers to rounding; the
+        finer reference runs its loads as one path on a GPU and as one sub-path per core on
+        the CPU, whose starts differ, so its points agree within the solver's tolerance.
     cache : path, True/None or False
         The run cache folder; None or True: the command's default folder; False: none.
     progress : bool
