@@ -2,7 +2,7 @@
 largest difference between the two, and the GPU's peak memory.
 
 A periodic self-affine surface (H = 0.8, rms slope 0.1, ``validation.self_affine_surface``) at
-a mean pressure of 0.005 E* (about 10 % contact), load control, tol 1e-9, with its stiffness:
+a mean pressure of 0.005 E* (about 8 % contact), load control, tol 1e-9, with its stiffness:
 one solve per size and kind (periodic; a non-periodic window and a mirror quadrant up to
 ``--window-max``), then a 16-point load path (``bem.contact_curve``, periodic, with its error
 estimate, up to ``--path-max``), at ``--discrete-size`` the discrete model with interaction on

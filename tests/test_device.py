@@ -251,8 +251,10 @@ def test_cupy_interaction_sums_are_the_cpus():
     loads = np.geomspace(1e-4, 3e-3, 5)
     cpu = asperity.DiscreteAsperityModel(summits, method="fft").at_load(loads)
     gpu = asperity.DiscreteAsperityModel(summits, method="fft", device="gpu").at_load(loads)
+    # Newton's iteration stops at its tolerance (1e-10) from iterates that cuFFT's rounding
+    # moves: 2e-9 apart on an H200 at the heaviest load (FFTW against numpy's FFT: 1e-9 holds)
     for name in ("area", "separation", "stiffness"):
-        np.testing.assert_allclose(getattr(gpu, name), getattr(cpu, name), rtol=1e-9)
+        np.testing.assert_allclose(getattr(gpu, name), getattr(cpu, name), rtol=1e-8)
 
 
 def _same_check(gpu, cpu, n):
