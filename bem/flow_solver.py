@@ -114,7 +114,8 @@ def _compressed_rows(hierarchy) -> None:
 
 
 def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
-                    dissipation: Callable[[np.ndarray], float]) -> np.ndarray:
+                    dissipation: Callable[[np.ndarray], float],
+                    start: np.ndarray | None = None) -> np.ndarray:
     """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
     (a 2-D map of the grid's cells in the system, numbered in row-major order; ``periodic``:
     the system of a periodic gap, grounded at one cell per cluster). ``dissipation(p)`` is
@@ -146,7 +147,9 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     smoothed aggregation with the evolution strength of connection, which follows the thin necks
     that carry the flow near percolation, to a relative residual of :data:`ALGEBRAIC_TOLERANCE`
     alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last
-    iterate.
+    iterate. ``start`` (the pressure of each unknown, e.g. the solution of a neighbouring load's
+    gap) is where the conjugate gradients begin; the LU needs none. The stopping rule is the
+    same from any start (the residual relative to ``b``, the energy's decrements).
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
@@ -182,7 +185,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     solution, iterations, settled = _conjugate_gradients(
         scaled, rhs * scale, hierarchy.aspreconditioner(cycle="V"),
         None if algebraic else (lambda pressure: dissipation(pressure * scale)),
-        ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE)
+        ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE,
+        None if start is None else start / scale)
     if not settled:
         warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells did not "
                       f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=3)
@@ -191,9 +195,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
 
 def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          dissipation: Callable[[np.ndarray], float] | None,
-                         tolerance: float) -> tuple[np.ndarray, int, bool]:
-    """Preconditioned conjugate gradients for ``A x = b`` from ``x = 0``, stopped on the error
-    of the quantity the solve is for: ``dissipation(x)`` = ``x.A x - 2 b.x`` + const, the
+                         tolerance: float,
+                         start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
+    """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0),
+    stopped on the error of the quantity the solve is for: ``dissipation(x)`` = ``x.A x - 2 b.x`` + const, the
     energy the iteration minimises. Each step lowers it by ``alpha r.z`` (Hestenes and
     Stiefel), so its value is known along the way, and the error left is estimated from the
     last :data:`ESTIMATE_STEPS` decrements as a geometric tail, ``d_k rho / (1 - rho)`` with
@@ -204,8 +209,11 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     estimate; without ``dissipation``, at the residual ``tolerance`` alone. Returns
     ``(x, iterations, settled)``, ``settled`` False after :data:`MULTIGRID_MAX_ITERATIONS`.
     """
-    x = np.zeros_like(rhs)
-    r = rhs.copy()
+    if start is None:
+        x, r = np.zeros_like(rhs), rhs.copy()
+    else:
+        x = np.array(start, dtype=float)
+        r = rhs - matrix @ x
     z = preconditioner @ r
     p = z.copy()
     rz = float(r @ z)

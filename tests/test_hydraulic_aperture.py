@@ -238,9 +238,9 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     names = []
     original = bem.flow._apertures
 
-    def spy(gap, spacing, directions, periodic):
+    def spy(gap, spacing, directions, periodic, starts):
         names.append(directions)
-        return original(gap, spacing, directions, periodic)
+        return original(gap, spacing, directions, periodic, starts)
 
     monkeypatch.setattr(bem.flow, "_apertures", spy)
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
@@ -276,9 +276,9 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     used = []
     original = bem.flow._solve_pressure
 
-    def spy(matrix, rhs, cells, periodic, dissipation):
+    def spy(matrix, rhs, cells, periodic, dissipation, start=None):
         used.append(bem.flow_solver.multigrid_levels(int(np.count_nonzero(cells))))
-        return original(matrix, rhs, cells, periodic, dissipation)
+        return original(matrix, rhs, cells, periodic, dissipation, start)
 
     monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
     multigrid = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
@@ -423,3 +423,78 @@ def test_the_conjugate_gradients_stop_when_the_dissipation_is_known():
     assert np.linalg.norm(rhs - matrix @ x) <= 1e-6 * np.linalg.norm(rhs)
     x, _, settled = _conjugate_gradients(matrix, rhs, identity, None, 1e-12)
     assert settled and dissipation(x) == pytest.approx(lowest, rel=1e-12)
+
+
+def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch):
+    """Along a sequence of gaps each direction's iterative solve begins at the pressure the
+    previous gap's solve found (with the linear drop where that gap had no open cell); the
+    apertures are those of a solve from the linear drop, to the solver's tolerance."""
+    import bem.flow
+
+    rng = np.random.default_rng(8)
+    surface = scipy.ndimage.gaussian_filter(rng.standard_normal((264, 264)), 4, mode="wrap")
+    gaps = [np.clip(surface + level, 0.0, None) for level in (0.3, 0.2, 0.1)]
+    assert gaps[0].size > bem.flow_solver.DIRECT_SOLVE_LIMIT   # the multigrid's path
+    seen = []
+    original = bem.flow._flow_solution
+
+    def spy(gap, spacing, direction, periodic, start=None):
+        aperture, pressure = original(gap, spacing, direction, periodic, start)
+        seen.append((direction, start, pressure))
+        return aperture, pressure
+
+    monkeypatch.setattr(bem.flow, "_flow_solution", spy)
+    flow = BackgroundLeakage(1.0)
+    for key, gap in enumerate(gaps):
+        flow.submit(key, gap)
+    results = flow.results()
+    for direction in ("x", "y"):
+        solves = [(start, pressure) for d, start, pressure in seen if d == direction]
+        assert solves[0][0] is None
+        for (_, previous), (start, _) in zip(solves, solves[1:]):
+            assert start is previous
+    monkeypatch.setattr(bem.flow, "_flow_solution", original)
+    for key, gap in enumerate(gaps):
+        assert results[key] == pytest.approx(leakage_aperture(gap, 1.0), rel=1e-6)
+
+
+def test_the_start_of_a_flow_solve():
+    """The given pressure where it has a value, the linear drop (or zero, periodic) elsewhere;
+    a map of another grid is not used."""
+    from bem.flow import _start
+
+    cells = np.ones((2, 4), dtype=bool)
+    cells[0, 0] = False
+    linear = np.array([0.875, 0.625, 0.375, 0.125])
+    np.testing.assert_allclose(_start(None, cells, False), np.concatenate([linear[1:], linear]))
+    np.testing.assert_array_equal(_start(None, cells, True), np.zeros(7))
+    known = np.full((2, 4), np.nan)
+    known[1, 2] = 0.5
+    np.testing.assert_allclose(_start(known, cells, False),
+                               np.concatenate([linear[1:], [0.875, 0.625, 0.5, 0.125]]))
+    np.testing.assert_allclose(_start(np.zeros((3, 3)), cells, False),
+                               np.concatenate([linear[1:], linear]))
+
+
+def test_conjugate_gradients_from_a_start_reach_the_same_solution():
+    """The multigrid's conjugate gradients from any start stop at the same rule: the solution
+    of a system of known energy, from zero and from a start, within the tolerance."""
+    import scipy.sparse
+
+    from bem.flow_solver import _conjugate_gradients
+
+    n = 400
+    matrix = scipy.sparse.diags([-np.ones(n - 1), 2.0 * np.ones(n), -np.ones(n - 1)],
+                                [-1, 0, 1], format="csr")
+    rhs = np.zeros(n)
+    rhs[0] = 1.0
+    exact = scipy.sparse.linalg.spsolve(matrix.tocsc(), rhs)
+    identity = scipy.sparse.identity(n, format="csr")
+    energy = lambda x: float(x @ (matrix @ x) - 2 * rhs @ x)   # noqa: E731
+    cold, cold_steps, settled = _conjugate_gradients(matrix, rhs, identity, energy, 1e-10)
+    warm, warm_steps, settled_warm = _conjugate_gradients(
+        matrix, rhs, identity, energy, 1e-10, start=exact + 1e-3 * np.sin(np.arange(n)))
+    assert settled and settled_warm
+    np.testing.assert_allclose(cold, exact, rtol=1e-6, atol=1e-8)
+    np.testing.assert_allclose(warm, exact, rtol=1e-6, atol=1e-8)
+    assert warm_steps != cold_steps   # the start was used
