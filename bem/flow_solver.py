@@ -19,14 +19,12 @@ __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DISSI
            "multigrid_levels"]
 
 
-#: Gaps of up to this many cells, or with up to this many open cells, are solved by sparse LU,
-#: larger ones by multigrid-preconditioned conjugate gradients (:func:`_solve_pressure`). The
-#: 24 gaps of a 256^2 load path (x and y) took 2.8-2.9 s with the multigrid started from the
-#: previous load's pressure against 5.3-5.9 s by LU; at 512^2 the multigrid took 0.3-0.9 s
-#: against 0.6-1.9 s, at 1024^2 2.3-12 s against 3.8-10 s and 0.5 GB against 1.5 GB (one core;
-#: the LU faster only on rough gaps at heavy contact; docs/guide/benchmarks.md, "The leakage
-#: reference").
-DIRECT_SOLVE_LIMIT = 128 * 128
+#: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
+#: conjugate gradients (:func:`_solve_pressure`). At 256^2 both take a few tenths of a second; at
+#: 512^2 the multigrid took 0.3-0.9 s against 0.6-1.9 s, at 1024^2 2.3-12 s against 3.8-10 s
+#: and 0.5 GB against 1.5 GB (one core; the LU faster only on rough gaps at heavy contact;
+#: docs/guide/benchmarks.md, "The leakage reference").
+DIRECT_SOLVE_LIMIT = 256 * 256
 #: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
 #: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
@@ -36,7 +34,7 @@ PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: stalled at a relative residual of 1.3e-7 after 1000 iterations.
 PIXEL_MULTIGRID_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
-#: cells (after one halving at least), or at :data:`MULTIGRID_LEVELS` levels.
+#: cells, or at :data:`MULTIGRID_LEVELS` levels.
 COARSEST_LIMIT = 256 * 256
 #: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
 #: at three levels, 17-35 at four on the same 1024^2 gaps).
@@ -62,8 +60,8 @@ ALGEBRAIC_TOLERANCE = 1e-9
 #: Relative residual at which the multigrid's conjugate gradients stop whatever the estimate
 #: (whose decrements need not fall step after step where the convergence is irregular): the
 #: stopping rule before the estimate, so no solve takes more iterations than it did. Its
-#: aperture error was within 1e-7 on the gaps of smooth scans up to 14 % contact, 2.4e-6 at 28 %,
-#: and up to 3.2e-6 on a rough gap of a noisy 1024^2 scan at 24 % contact.
+#: aperture error was within 1e-7 on the gaps of smooth scans, and up to 3.2e-6 on a rough gap
+#: of a noisy 1024^2 scan at 24 % contact.
 RESIDUAL_LIMIT = 1e-7
 #: Decrements of the energy the error estimate looks back on.
 ESTIMATE_STEPS = 5
@@ -124,15 +122,14 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     the energy the system minimises (eq. T43; a grounded system adds the grounding's own
     term, which vanishes at the solution), which the multigrid's stopping rule follows.
 
-    Up to :data:`DIRECT_SOLVE_LIMIT` grid cells (or open cells) by sparse LU (SuperLU): fill-reducing order by
+    Up to :data:`DIRECT_SOLVE_LIMIT` grid cells by sparse LU (SuperLU): fill-reducing order by
     minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the fill of the default
     column order on these grids), no pivoting (``diag_pivot_thresh=0``: elimination of a
     symmetric positive definite matrix is stable in any order); exact whatever the contrast of
     g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
     as n^1.5 (7-13 s and 1.5 GB at 1024^2), and the system is solved by conjugate gradients
     preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
-    blocks of cells are the aggregates, level after level (:func:`multigrid_levels`, at least
-    two levels), with
+    blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
     piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
     aggregates and no prolongation smoothing: smoothing it took more time than it saved),
     one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
@@ -157,12 +154,11 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
     algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
-    unknowns = int(np.count_nonzero(cells))
-    # (few unknowns on a large grid: the LU is the whole solve)
+    levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
+    # (few unknowns on a large grid, one level: the LU is the whole solve)
     if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
-            or unknowns <= DIRECT_SOLVE_LIMIT:
+            or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
-    levels = 0 if algebraic else max(2, multigrid_levels(unknowns))
     import pyamg
 
     # D A D in place (no copies of a matrix of 20 million entries at 2048^2)

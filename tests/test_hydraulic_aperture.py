@@ -306,24 +306,15 @@ def test_gaps_above_the_pixel_multigrid_limit_get_the_direct_aperture(monkeypatc
 
 
 def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
-    """Above DIRECT_SOLVE_LIMIT grid cells but with at most DIRECT_SOLVE_LIMIT open cells the
-    sparse LU solves the (unscaled) system, exactly; with one open cell more, the multigrid,
-    at two levels although the open cells are fewer than COARSEST_LIMIT."""
-    import bem.flow
+    """Above DIRECT_SOLVE_LIMIT grid cells but with at most COARSEST_LIMIT unknowns the
+    multigrid has one level: the sparse LU solves the (unscaled) system, exactly."""
     import bem.flow_solver
 
     gap = _random_gap(96, 2)
     direct = hydraulic_aperture(gap, 1.0)
-    cells = bem.flow.spanning_cells(gap > 0)
-    used = []
-    monkeypatch.setattr(bem.flow_solver, "_conjugate_gradients",
-                        lambda *a, _cg=bem.flow_solver._conjugate_gradients, **k:
-                        used.append(1) or _cg(*a, **k))
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", int(np.count_nonzero(cells)))
-    assert hydraulic_aperture(gap, 1.0) == pytest.approx(direct, rel=1e-12) and not used
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", int(np.count_nonzero(cells)) - 1)
-    assert bem.flow_solver.multigrid_levels(int(np.count_nonzero(cells))) == 1
-    assert hydraulic_aperture(gap, 1.0) == pytest.approx(direct, rel=1e-7) and used
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", gap.size)
+    assert hydraulic_aperture(gap, 1.0) == pytest.approx(direct, rel=1e-12)
 
 
 def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
