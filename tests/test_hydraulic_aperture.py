@@ -498,3 +498,28 @@ def test_conjugate_gradients_from_a_start_reach_the_same_solution():
     np.testing.assert_allclose(cold, exact, rtol=1e-6, atol=1e-8)
     np.testing.assert_allclose(warm, exact, rtol=1e-6, atol=1e-8)
     assert warm_steps != cold_steps   # the start was used
+
+
+def test_the_v_cycle_is_pyamgs():
+    """The multigrid preconditioner's own V-cycle applies pyAMG's cycle (same smoothers,
+    interpolations and coarse solve from a zero guess): the same vector as pyAMG's
+    preconditioner, which also evaluates residual norms around it."""
+    import pyamg
+
+    from bem.flow_solver import _aggregates, _VCycle
+
+    cells = np.ones((32, 32), dtype=bool)
+    matrix = pyamg.gallery.poisson((32, 32), format="csr")
+    aggregates, mask = [], cells
+    for _ in range(2):
+        operator, mask = _aggregates(mask)
+        aggregates.append(("predefined", {"AggOp": operator}))
+    hierarchy = pyamg.smoothed_aggregation_solver(
+        matrix, aggregate=aggregates, smooth=None, max_levels=3, max_coarse=1,
+        improve_candidates=None, presmoother=("gauss_seidel", {"sweep": "forward"}),
+        postsmoother=("gauss_seidel", {"sweep": "backward"}), coarse_solver="splu")
+    assert len(hierarchy.levels) == 3
+    residual = np.random.default_rng(2).standard_normal(32 * 32)
+    np.testing.assert_allclose(_VCycle(hierarchy) @ residual,
+                               hierarchy.aspreconditioner(cycle="V") @ residual,
+                               rtol=1e-12, atol=1e-12)
