@@ -270,7 +270,8 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
     """:func:`hydraulic_aperture` and the pressure it solved for: a map of the grid oriented
     along the flow (the transpose for ``"y"``), NaN off the spanning cells (None where nothing
     was solved). ``start``, such a map of a neighbouring gap of the same grid and direction
-    (e.g. the previous load's), is where the iterative solve begins (:func:`_start`)."""
+    (e.g. the previous load's), is where the iterative solve begins
+    (:func:`bem.flow_solver._solve_pressure`)."""
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
     checks.positive("spacing", spacing)
@@ -288,8 +289,7 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
         pressure = _solve_pressure(matrix, rhs, cells, periodic,
-                                   lambda p: _dissipation(p, faces, boundary),
-                                   _start(start, cells, periodic))
+                                   lambda p: _dissipation(p, faces, boundary), start)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=3)
@@ -298,21 +298,6 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
     solved = np.full(cells.shape, np.nan)
     solved[cells] = pressure
     return largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows)), solved
-
-
-def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray | None:
-    """The pressure of each unknown of ``cells`` to begin the iterative solve with: the map
-    ``start`` where it has a value, elsewhere (and without one) the linear drop from inlet to
-    outlet, or zero when periodic (the fluctuation's mean)."""
-    if periodic:
-        guess = np.zeros(cells.shape)
-    else:
-        columns = cells.shape[1]
-        guess = np.broadcast_to(1.0 - (np.arange(columns) + 0.5) / columns, cells.shape).copy()
-    if start is not None and start.shape == cells.shape:
-        known = np.isfinite(start)
-        guess[known] = start[known]
-    return guess[cells]
 
 
 def _mean_leak(apertures) -> float:

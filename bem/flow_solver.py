@@ -147,10 +147,11 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     cells, and these and every gap above :data:`PIXEL_MULTIGRID_LIMIT` by algebraic coarsening:
     smoothed aggregation with the evolution strength of connection, which follows the thin necks
     that carry the flow near percolation, to a relative residual of :data:`ALGEBRAIC_TOLERANCE`
-    alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns (:class:`bem.warnings.ConvergenceWarning`) and returns its last
-    iterate. ``start`` (the pressure of each unknown, e.g. the solution of a neighbouring load's
-    gap) is where the conjugate gradients begin; the LU needs none. The stopping rule is the
-    same from any start (the residual relative to ``b``, the energy's decrements).
+    alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns
+    (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, a pressure map of the grid (NaN off its cells; e.g. the solution of a
+    neighbouring load's gap), is where the conjugate gradients begin (:func:`_start`); the LU
+    needs none. The stopping rule is the same from any start (the residual relative to ``b``,
+    the energy's decrements).
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
@@ -187,11 +188,26 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
         scaled, rhs * scale, _VCycle(hierarchy),
         None if algebraic else (lambda pressure: dissipation(pressure * scale)),
         ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE,
-        None if start is None else start / scale)
+        _start(start, cells, periodic) / scale)
     if not settled:
         warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells did not "
                       f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=3)
     return solution * scale
+
+
+def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray:
+    """The pressure of each unknown of ``cells`` to begin the iterative solve with: the map
+    ``start`` where it has a value, elsewhere (and without one) the linear drop from inlet to
+    outlet, or zero when periodic (the fluctuation's mean)."""
+    if periodic:
+        guess = np.zeros(cells.shape)
+    else:
+        columns = cells.shape[1]
+        guess = np.broadcast_to(1.0 - (np.arange(columns) + 0.5) / columns, cells.shape).copy()
+    if start is not None and start.shape == cells.shape:
+        known = np.isfinite(start)
+        guess[known] = start[known]
+    return guess[cells]
 
 
 class _VCycle:
@@ -226,8 +242,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          tolerance: float,
                          start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
     """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0),
-    stopped on the error of the quantity the solve is for: ``dissipation(x)`` = ``x.A x - 2 b.x`` + const, the
-    energy the iteration minimises. Each step lowers it by ``alpha r.z`` (Hestenes and
+    stopped on the error of the quantity the solve is for: ``dissipation(x)`` =
+    ``x.A x - 2 b.x`` + const, the energy the iteration minimises. Each step lowers it by ``alpha r.z`` (Hestenes and
     Stiefel), so its value is known along the way, and the error left is estimated from the
     last :data:`ESTIMATE_STEPS` decrements as a geometric tail, ``d_k rho / (1 - rho)`` with
     ``rho`` their largest ratio (none while a decrement grows); the iteration stops once that is

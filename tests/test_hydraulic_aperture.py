@@ -461,7 +461,7 @@ def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch
 def test_the_start_of_a_flow_solve():
     """The given pressure where it has a value, the linear drop (or zero, periodic) elsewhere;
     a map of another grid is not used."""
-    from bem.flow import _start
+    from bem.flow_solver import _start
 
     cells = np.ones((2, 4), dtype=bool)
     cells[0, 0] = False
