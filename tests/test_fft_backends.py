@@ -194,3 +194,38 @@ def test_idle_cpus_refuses_a_bad_interval(interval):
 
     with pytest.raises((ValueError, TypeError), match="interval"):
         idle_cpus(interval)
+
+
+@pytest.mark.parametrize("backend", ["scipy", pytest.param("pyfftw", marks=needs_pyfftw)])
+def test_cosine_pair_is_the_dft_of_the_mirror_extension(backend):
+    # The type-II cosine transform of a quadrant is, up to the half-pixel phase, the real DFT
+    # of its even extension (the field and its mirror images about the lines half a pixel
+    # beyond its edges); the inverse returns 4 N M times the input.
+    from bem.fft import CosineTransform2
+
+    rng = np.random.default_rng(7)
+    block = rng.normal(size=(6, 10))
+    rows, columns = block.shape
+    extended = np.block([[block, block[:, ::-1]], [block[::-1], block[::-1, ::-1]]])
+    phase = np.exp(-1j * np.pi * np.arange(rows) / (2 * rows))[:, None] \
+        * np.exp(-1j * np.pi * np.arange(columns) / (2 * columns))[None, :]
+    expected = (np.fft.fft2(extended)[:rows, :columns] * phase).real
+    fft = CosineTransform2(block.shape, backend=backend)
+    fft.real_buffer[...] = block
+    fft.execute_forward()
+    np.testing.assert_allclose(fft.spectrum_buffer, expected, rtol=0,
+                               atol=1e-12 * np.abs(expected).max())
+    fft.execute_inverse()
+    np.testing.assert_allclose(fft.output_buffer / fft.size, block, rtol=0, atol=1e-13)
+
+
+@needs_pyfftw
+def test_cosine_transforms_use_fftw_on_large_grids_only():
+    from bem.fft import COSINE_FFTW_LIMIT, CosineTransform2
+
+    side = int(np.sqrt(COSINE_FFTW_LIMIT))
+    assert CosineTransform2((side, side), planner_effort="FFTW_ESTIMATE").backend == "scipy"
+    assert CosineTransform2((side, side + 1),
+                            planner_effort="FFTW_ESTIMATE").backend == "pyfftw"
+    assert CosineTransform2((8, 8), backend="pyfftw").backend == "pyfftw"
+    assert CosineTransform2((side, side + 1), backend="scipy").backend == "scipy"
