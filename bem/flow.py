@@ -53,7 +53,7 @@ import numpy as np
 
 from bem import checks
 from bem.background import BackgroundCall
-from bem.flow_solver import _solve_pressure
+from bem.flow_solver import FlowStart, _solve_pressure
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT", "BackgroundLeakage",
@@ -266,12 +266,12 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
 
 
 def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
-                   start: np.ndarray | None = None) -> tuple[float, np.ndarray | None]:
-    """:func:`hydraulic_aperture` and the pressure it solved for: a map of the grid oriented
-    along the flow (the transpose for ``"y"``), NaN off the spanning cells (None where nothing
-    was solved). ``start``, such a map of a neighbouring gap of the same grid and direction
-    (e.g. the previous load's), is where the iterative solve begins
-    (:func:`bem.flow_solver._solve_pressure`)."""
+                   start: FlowStart | None = None) -> tuple[float, FlowStart | None]:
+    """:func:`hydraulic_aperture` and how it was solved (None where nothing was): the
+    pressure, a map of the grid oriented along the flow (the transpose for ``"y"``) with NaN
+    off the spanning cells, and the multigrid's iterations. ``start``, that of a neighbouring
+    gap of the same grid and direction (e.g. the previous load's), is where the iterative solve
+    begins and chooses the solver (:func:`bem.flow_solver._solve_pressure`)."""
     gap = checks.height_map("gap", gap, minimum=2)
     gap = checks.real_array("gap", gap, minimum=0.0)
     checks.positive("spacing", spacing)
@@ -288,8 +288,8 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
         return 0.0, None
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
-        pressure = _solve_pressure(matrix, rhs, cells, periodic,
-                                   lambda p: _dissipation(p, faces, boundary), start)
+        pressure, iterations = _solve_pressure(matrix, rhs, cells, periodic,
+                                               lambda p: _dissipation(p, faces, boundary), start)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=3)
@@ -297,7 +297,8 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
     rows, columns = conductivity.shape
     solved = np.full(cells.shape, np.nan)
     solved[cells] = pressure
-    return largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows)), solved
+    return (largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows)),
+            FlowStart(solved, iterations))
 
 
 def _mean_leak(apertures) -> float:
@@ -331,8 +332,8 @@ PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 
 
 def _apertures(gap, spacing: float, directions: tuple[str, ...], periodic: bool,
-               starts: dict) -> list[tuple[str, float, np.ndarray | None]]:
-    """``(direction, aperture, pressure)`` of ``gap`` along each of ``directions``, one after
+               starts: dict) -> list[tuple[str, float, FlowStart | None]]:
+    """``(direction, aperture, solved)`` of ``gap`` along each of ``directions``, one after
     the other, each solve started from ``starts[direction]`` (:func:`_flow_solution`)."""
     return [(direction, *_flow_solution(gap, spacing, direction, periodic, starts.get(direction)))
             for direction in directions]
@@ -351,7 +352,9 @@ class BackgroundLeakage:
     (:class:`bem.background.BackgroundCall`): a caller interrupted by Ctrl-C does not wait.
     Each direction's iterative solve starts from the pressure of the last gap collected (the
     previous load's, along a path): the same stopping rule, in fewer iterations (a 1024^2 scan's
-    gaps 16 % less time, those of a 512^2 path 15 %).
+    gaps 16 % less time, those of a 512^2 path 15 %); once that solve's multigrid took many
+    iterations (near percolation) the direction goes on by sparse LU
+    (:data:`bem.flow_solver.DIRECT_SWITCH_ITERATIONS`).
 
     Parameters
     ----------
@@ -369,7 +372,7 @@ class BackgroundLeakage:
         self.pending = checks.integer("pending", pending, minimum=1)
         self._running: dict[object, list[BackgroundCall]] = {}
         self._results: dict[object, float] = {}
-        self._starts: dict[str, np.ndarray] = {}   # direction -> the last pressure solved
+        self._starts: dict[str, FlowStart] = {}   # direction -> the last solve's pressure
 
     def submit(self, key, gap) -> None:
         """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
@@ -385,8 +388,8 @@ class BackgroundLeakage:
     def _collect(self, key) -> None:
         solved = [entry for solve in self._running.pop(key) for entry in solve.result()]
         self._results[key] = _mean_leak([aperture for _, aperture, _ in solved])
-        self._starts.update({direction: pressure for direction, _, pressure in solved
-                             if pressure is not None})
+        self._starts.update({direction: start for direction, _, start in solved
+                             if start is not None})
 
     def results(self) -> dict:
         """Every submitted gap's h_eff [length] by key (waits for the solves still running)."""

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -14,8 +15,8 @@ import numpy as np
 from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DISSIPATION_TOLERANCE",
-           "ESTIMATE_STEPS", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
+__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DIRECT_SWITCH_ITERATIONS",
+           "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
            "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT", "RESIDUAL_LIMIT",
            "multigrid_levels"]
 
@@ -64,6 +65,14 @@ ALGEBRAIC_TOLERANCE = 1e-9
 #: aperture error was within 1e-7 on the gaps of smooth scans, and up to 3.2e-6 on a rough gap
 #: of a noisy 1024^2 scan at 24 % contact.
 RESIDUAL_LIMIT = 1e-7
+#: A gap whose previous neighbour along a path (:class:`FlowStart`) took at least this many
+#: multigrid iterations, or was itself solved by LU in its place, is solved by sparse LU up to
+#: :data:`PIXEL_MULTIGRID_LIMIT` cells. Near percolation the pixel blocks converge slowly while
+#: the factor gets cheaper (fewer open cells): on an interferometer map's 960^2 gaps at 18 % and
+#: 30 % contact the multigrid took 126-239 iterations, 10-18 s, from the previous load's
+#: pressure, the LU 3.6-6.7 s and 0.8-1.3 GB (1024^2); the iterations grow along a path
+#: (13, 22, 42, 126, 150 there), and a multigrid solve costs about the LU's time at 50.
+DIRECT_SWITCH_ITERATIONS = 40
 #: Decrements of the energy the error estimate looks back on.
 ESTIMATE_STEPS = 5
 #: Most conjugate-gradient iterations of the multigrid solve.
@@ -71,6 +80,18 @@ MULTIGRID_MAX_ITERATIONS = 1000
 
 _LU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                    options={"SymmetricMode": True})
+
+
+@dataclass(frozen=True)
+class FlowStart:
+    """What a Reynolds solve hands the next one along a path (the same grid and direction):
+    its pressure, a map of the grid oriented along the flow with NaN off the solved cells, where
+    the next iterative solve begins (:func:`_start`), and its multigrid ``iterations`` (None:
+    solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`).
+    """
+
+    pressure: np.ndarray
+    iterations: int | None
 
 
 def multigrid_levels(cells: int) -> int:
@@ -116,7 +137,7 @@ def _compressed_rows(hierarchy) -> None:
 
 def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
                     dissipation: Callable[[np.ndarray], float],
-                    start: np.ndarray | None = None) -> np.ndarray:
+                    start: FlowStart | None = None) -> tuple[np.ndarray, int | None]:
     """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
     (a 2-D map of the grid's cells in the system, numbered in row-major order; ``periodic``:
     the system of a periodic gap, grounded at one cell per cluster). ``dissipation(p)`` is
@@ -148,19 +169,25 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     smoothed aggregation with the evolution strength of connection, which follows the thin necks
     that carry the flow near percolation, to a relative residual of :data:`ALGEBRAIC_TOLERANCE`
     alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns
-    (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, a pressure map of the grid (NaN off its cells; e.g. the solution of a
-    neighbouring load's gap), is where the conjugate gradients begin (:func:`_start`); the LU
-    needs none. The stopping rule is the same from any start (the residual relative to ``b``,
-    the energy's decrements).
+    (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
+    :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
+    conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the
+    residual relative to ``b``, the energy's decrements) and, when that solve took
+    :data:`DIRECT_SWITCH_ITERATIONS` or more, or was itself switched to the LU, this gap is
+    solved by the LU (up to :data:`PIXEL_MULTIGRID_LIMIT` cells, not periodic): the gaps of a
+    load path close towards percolation, where the pixel blocks converge slowly. Returns the
+    pressure of the unknowns and the multigrid's iterations (None for the LU).
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
     algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
     levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
     # (few unknowns on a large grid, one level: the LU is the whole solve)
+    switched = not algebraic and start is not None and (
+        start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
     if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
-            or levels == 1:
-        return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs)
+            or levels == 1 or switched:
+        return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
     import pyamg
 
     # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
@@ -177,8 +204,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
         for _ in range(levels - 1):
             operator, mask = _aggregates(mask)
             aggregates.append(("predefined", {"AggOp": operator}))
+        # (strength=None: the given aggregates need no strength of connection, which pyAMG
+        # would compute on every level all the same)
         hierarchy = pyamg.smoothed_aggregation_solver(
-            scaled, B=near_null, aggregate=aggregates, smooth=None,
+            scaled, B=near_null, strength=None, aggregate=aggregates, smooth=None,
             max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
             presmoother=("gauss_seidel", {"sweep": "forward"}),
             postsmoother=("gauss_seidel", {"sweep": "backward"}),
@@ -188,11 +217,11 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
         scaled, rhs * scale, _VCycle(hierarchy),
         None if algebraic else (lambda pressure: dissipation(pressure * scale)),
         ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE,
-        _start(start, cells, periodic) / scale)
+        _start(None if start is None else start.pressure, cells, periodic) / scale)
     if not settled:
         warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells did not "
                       f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=3)
-    return solution * scale
+    return solution * scale, iterations
 
 
 def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray:

@@ -523,3 +523,30 @@ def test_the_v_cycle_is_pyamgs():
     np.testing.assert_allclose(_VCycle(hierarchy) @ residual,
                                hierarchy.aspreconditioner(cycle="V") @ residual,
                                rtol=1e-12, atol=1e-12)
+
+
+def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
+    """A gap whose neighbour's multigrid took DIRECT_SWITCH_ITERATIONS or more (or was itself
+    solved by the LU) is solved by the LU, with the LU's aperture to rounding; below that, and
+    on gaps the pixel multigrid does not serve (periodic, above its limit), by the iteration."""
+    import bem.flow
+    import bem.flow_solver
+    from bem.flow_solver import DIRECT_SWITCH_ITERATIONS, FlowStart
+
+    gap = _random_gap(96, 3)
+    direct, solved = bem.flow._flow_solution(gap, 1.0, "x", False)
+    assert solved.iterations is None   # (96^2 is below DIRECT_SOLVE_LIMIT)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 40 * 40)   # (two levels)
+    previous = solved.pressure
+    for iterations, switched in ((None, True), (DIRECT_SWITCH_ITERATIONS, True),
+                                 (DIRECT_SWITCH_ITERATIONS - 1, False), (0, False)):
+        aperture, now = bem.flow._flow_solution(gap, 1.0, "x", False,
+                                                FlowStart(previous, iterations))
+        assert (now.iterations is None) == switched
+        assert aperture == pytest.approx(direct, rel=1e-12 if switched else 1e-6)
+    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    periodic = bem.flow._flow_solution(gap, 1.0, "x", True, FlowStart(previous, None))[1]
+    monkeypatch.setattr(bem.flow_solver, "PIXEL_MULTIGRID_LIMIT", 0)
+    algebraic = bem.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
+    assert periodic.iterations is not None and algebraic.iterations is not None
