@@ -15,8 +15,9 @@ import numpy as np
 from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT", "DIRECT_SWITCH_ITERATIONS",
-           "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
+__all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
+           "DIRECT_SWITCH_ITERATIONS", "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart",
+           "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
            "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT", "RESIDUAL_LIMIT",
            "multigrid_levels"]
 
