@@ -67,8 +67,8 @@ ALGEBRAIC_TOLERANCE = 1e-9
 #: Relative residual at which the multigrid's conjugate gradients stop whatever the estimate
 #: (whose decrements need not fall step after step where the convergence is irregular): the
 #: stopping rule before the estimate, so no solve takes more iterations than it did. Its
-#: aperture error was within 1e-7 on the gaps of smooth scans, and up to 3.2e-6 on a rough gap
-#: of a noisy 1024^2 scan at 24 % contact.
+#: aperture error was within 2e-7 on the gaps of a smooth 512^2 scan's path up to 14 % contact,
+#: 1.8e-6 along y at 28 %, and up to 3.2e-6 on a rough gap of a noisy 1024^2 scan at 24 %.
 RESIDUAL_LIMIT = 1e-7
 #: A gap whose previous neighbour along a path (:class:`FlowStart`) took at least this many
 #: multigrid iterations, or was itself solved by LU in its place, is solved by sparse LU up to
@@ -187,9 +187,9 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
 
     algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
     levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
-    # (few unknowns on a large grid, one level: the LU is the whole solve)
     switched = not algebraic and start is not None and (
         start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
+    # (few unknowns on a large grid, one level: the LU is the whole solve)
     if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
             or levels == 1 or switched:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
@@ -277,10 +277,11 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
     """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0),
     stopped on the error of the quantity the solve is for: ``dissipation(x)`` =
-    ``x.A x - 2 b.x`` + const, the energy the iteration minimises. Each step lowers it by ``alpha r.z`` (Hestenes and
-    Stiefel), so its value is known along the way, and the error left is estimated from the
-    last :data:`ESTIMATE_STEPS` decrements as a geometric tail, ``d_k rho / (1 - rho)`` with
-    ``rho`` their largest ratio (none while a decrement grows); the iteration stops once that is
+    ``x.A x - 2 b.x`` + const, the energy the iteration minimises. Each step lowers it by
+    ``alpha r.z`` (Hestenes and Stiefel), so its value is known along the way, and the error
+    left is estimated from the last :data:`ESTIMATE_STEPS` decrements as a geometric tail,
+    ``d_k rho / (1 - rho)`` with ``rho`` their largest ratio (none while a decrement grows);
+    the iteration stops once that is
     at most :data:`DISSIPATION_TOLERANCE` of the dissipation (evaluated at the iterate, not
     accumulated, for the check) and the relative residual at most ``tolerance``, or once the
     relative residual is :data:`RESIDUAL_LIMIT` (``tolerance`` if lower) whatever the
