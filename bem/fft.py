@@ -203,7 +203,10 @@ class CosineTransform2:
     (``X[k] = 2 sum_n x[n] cos(pi k (2n + 1) / 2N)``, FFTW's REDFT10); ``execute_inverse``:
     ``output_block = DCT-III(spectrum_buffer)`` (REDFT01), which returns ``size = 4 N M``
     times the input of the forward transform. The attributes are those of :class:`RealFFT2`
-    (``spectrum_buffer`` is real), so a half-space operator can use either.
+    (``spectrum_buffer`` is real), so a half-space operator can use either. The mirror
+    operator uses it on grids with an odd side; on even ones one real FFT pair of the
+    reordered grid computes its product in 0.4-0.7 of the time
+    (:class:`bem.mirror_product.MirrorProduct`).
     """
 
     def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,

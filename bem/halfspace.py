@@ -17,9 +17,11 @@ the displacement ``u = K * p`` is positive into the body (a point force P lowers
 * Mirror (``periodic=True, mirror=True``): the grid is one quadrant of the period 2L x 2L of
   its even (mirror) extension (:func:`bem.interface.mirror_extension`), on the periodic
   half-space below. An even pressure field has an even displacement, and the product is one of
-  type-II cosine transforms of the quadrant (:class:`bem.fft.CosineTransform2`), the
-  wavevectors ``q = pi (k_x / L_x, k_y / L_y)`` of the extension's modes: the periodic solution
-  of the extension at a quarter of its points.
+  type-II cosine transforms of the quadrant, the wavevectors ``q = pi (k_x / L_x, k_y / L_y)``
+  of the extension's modes: the periodic solution of the extension at a quarter of its points.
+  On even grids it is computed by one real FFT pair of the reordered quadrant
+  (:class:`bem.mirror_product.MirrorProduct`), on odd ones by cosine transforms
+  (:class:`bem.fft.CosineTransform2`); on the GPU by CuPy's cosine transforms.
 * Periodic (``periodic=True``): the grid is one period L x L of a periodic surface and
   ``u_hat(q) = 2 p_hat(q) / (E* |q|)`` for ``q != 0`` with ``q = 2 pi (k_x / L_x, k_y / L_y)``
   the wavevector of the discrete Fourier mode. At ``q = 0`` we set ``u_hat(0) = 0``: the mean
@@ -140,11 +142,18 @@ class HalfSpace:
         if planner_effort is None:
             large = self.convolution_shape[0] * self.convolution_shape[1] >= 1024 * 1024
             planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
+        # a mirror quadrant's product by one real FFT pair where its sides are even
+        self._folded = self.mirror and self.device != "gpu" and ny % 2 == 0 and nx % 2 == 0
         if self.device == "gpu":
             from bem.fft_device import device_transform
 
             self._fft = device_transform(self.xp, self.shape, periodic=self.periodic,
                                          mirror=self.mirror)
+        elif self._folded:
+            from bem.mirror_product import MirrorProduct   # (numba: imported where used)
+
+            self._fft = MirrorProduct(self.shape, backend=backend, threads=threads,
+                                      planner_effort=planner_effort)
         elif self.mirror:
             self._fft = CosineTransform2(self.shape, backend=backend, threads=threads,
                                          planner_effort=planner_effort)
@@ -257,15 +266,11 @@ class HalfSpace:
 
     def _apply(self, pressure: np.ndarray, out: np.ndarray) -> None:
         """``out[...] = K * pressure`` without checks or allocations (the solvers' hot path)."""
-        fft = self._fft
         # non-periodic: the padding around input_block is zero since construction and the
         # transforms only read it
-        fft.input_block[...] = pressure
-        fft.execute_forward()
-        spectrum = fft.spectrum_buffer.view(np.float64)
-        np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
-        fft.execute_inverse()
-        out[...] = fft.output_block
+        self._fft.input_block[...] = pressure
+        self._transform_direction()
+        out[...] = self._fft.output_block
 
     def _direction_buffers(self) -> tuple[np.ndarray, np.ndarray]:
         """The FFT input and output blocks, views of ``shape``, for :meth:`_transform_direction`.
@@ -282,6 +287,9 @@ class HalfSpace:
     def _transform_direction(self) -> None:
         """Output block = K * input block, in the FFT buffers (no copies)."""
         fft = self._fft
+        if self._folded:   # the mirror product by a real FFT pair (bem.mirror_product)
+            fft.execute(self._scaled_spectrum)
+            return
         fft.execute_forward()
         spectrum = fft.spectrum_buffer.view(np.float64)
         np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
