@@ -364,12 +364,18 @@ class BackgroundLeakage:
         As in :func:`hydraulic_aperture`.
     pending : int
         Gaps in flight at most (>= 1).
+    parallel : bool, optional
+        Whether a gap's two directions run in two threads: by default up to
+        :data:`PARALLEL_DIRECTIONS_LIMIT` cells; True for any size, where the caller has the
+        cores and the memory of two solves at once (nothing else running).
     """
 
-    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1):
+    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1,
+                 parallel: bool | None = None):
         self.spacing = checks.positive("spacing", spacing)
         self.periodic = checks.flag("periodic", periodic)
         self.pending = checks.integer("pending", pending, minimum=1)
+        self.parallel = None if parallel is None else checks.flag("parallel", parallel)
         self._running: dict[object, list[BackgroundCall]] = {}
         self._results: dict[object, float] = {}
         self._starts: dict[str, FlowStart] = {}   # direction -> the last solve's pressure
@@ -378,7 +384,8 @@ class BackgroundLeakage:
         """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
         while len(self._running) >= self.pending:
             self._collect(next(iter(self._running)))
-        together = np.size(gap) > PARALLEL_DIRECTIONS_LIMIT
+        together = (np.size(gap) > PARALLEL_DIRECTIONS_LIMIT if self.parallel is None
+                    else not self.parallel)
         groups = (FLOW_DIRECTIONS,) if together else tuple((d,) for d in FLOW_DIRECTIONS)
         starts = dict(self._starts)
         self._running[key] = [BackgroundCall(_apertures, gap, self.spacing, group, self.periodic,

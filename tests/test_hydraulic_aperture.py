@@ -221,7 +221,8 @@ def test_background_leakage_reports_a_bad_gap_and_bad_options():
     with pytest.raises(ValueError, match="gap"):
         flow.results()
     for keywords, match in (({"pending": 0}, "pending"),
-                            ({"periodic": "yes"}, "periodic")):
+                            ({"periodic": "yes"}, "periodic"),
+                            ({"parallel": 1}, "parallel")):
         with pytest.raises((ValueError, TypeError), match=match):
             BackgroundLeakage(1.0, **keywords)
     with pytest.raises(ValueError, match="spacing"):
@@ -248,6 +249,17 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    flow.submit("small", gap)
+    assert flow.results()["small"] == leakage_aperture(gap, 1.0)
+    assert sorted(names) == [("x",), ("x", "y"), ("y",)]
+    # asked for: at once above the limit, in turn below it
+    names.clear()
+    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    flow = BackgroundLeakage(1.0, parallel=True)
+    flow.submit("large", gap)
+    assert flow.results()["large"] == leakage_aperture(gap, 1.0)
+    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    flow = BackgroundLeakage(1.0, parallel=False)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]

@@ -31,6 +31,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.fft_threads import default_threads
 from bem.flow import BackgroundLeakage
 from bem.interface import method_error
 from bem.path import error_estimates
@@ -336,7 +337,9 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
                              parts=1 if task.bem.device == "gpu" else None)
     pressures.store(cache, starts_key(task, grid, job.extension))
     if leaky:
-        flow = BackgroundLeakage(spacing, periodic=periodic and not mirror)
+        # the path done, its cores and memory free: both directions at once where two cores
+        flow = BackgroundLeakage(spacing, periodic=periodic and not mirror,
+                                 parallel=default_threads() > 1)
         for index in sorted(gaps):
             flow.submit(index, gaps.pop(index))
         leakage = np.full(len(job.points), np.nan)
