@@ -205,8 +205,8 @@ class CosineTransform2:
     times the input of the forward transform. The attributes are those of :class:`RealFFT2`
     (``spectrum_buffer`` is real), so a half-space operator can use either. The mirror
     operator uses it on grids with an odd side; on even ones one real FFT pair of the
-    reordered grid computes its product in 0.4-0.7 of the time
-    (:class:`bem.mirror_product.MirrorProduct`).
+    reordered grid computes its product in 0.5-0.9 of the time at 512^2 to 2048^2
+    (:class:`bem.mirror_product.MirrorProduct`, ``benchmarks/bench_mirror_product.py``).
     """
 
     def __init__(self, shape: tuple[int, int], *, backend: str = "auto", threads: int | None = None,

@@ -365,9 +365,8 @@ class BackgroundLeakage:
     pending : int
         Gaps in flight at most (>= 1).
     parallel : bool, optional
-        Whether a gap's two directions run in two threads: by default up to
-        :data:`PARALLEL_DIRECTIONS_LIMIT` cells; True for any size, where the caller has the
-        cores and the memory of two solves at once (nothing else running).
+        A gap's two directions in two threads: by default up to :data:`PARALLEL_DIRECTIONS_LIMIT`
+        cells; True at any size (the caller has cores and memory for two solves at once).
     """
 
     def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1,

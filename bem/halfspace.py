@@ -18,10 +18,8 @@ the displacement ``u = K * p`` is positive into the body (a point force P lowers
   its even (mirror) extension (:func:`bem.interface.mirror_extension`), on the periodic
   half-space below. An even pressure field has an even displacement, and the product is one of
   type-II cosine transforms of the quadrant, the wavevectors ``q = pi (k_x / L_x, k_y / L_y)``
-  of the extension's modes: the periodic solution of the extension at a quarter of its points.
-  On even grids it is computed by one real FFT pair of the reordered quadrant
-  (:class:`bem.mirror_product.MirrorProduct`), on odd ones by cosine transforms
-  (:class:`bem.fft.CosineTransform2`); on the GPU by CuPy's cosine transforms.
+  of the extension's modes: the periodic solution of the extension at a quarter of its points
+  (even grids: :class:`bem.mirror_product.MirrorProduct`; odd ones and the GPU: cosine transforms).
 * Periodic (``periodic=True``): the grid is one period L x L of a periodic surface and
   ``u_hat(q) = 2 p_hat(q) / (E* |q|)`` for ``q != 0`` with ``q = 2 pi (k_x / L_x, k_y / L_y)``
   the wavevector of the discrete Fourier mode. At ``q = 0`` we set ``u_hat(0) = 0``: the mean
@@ -142,7 +140,6 @@ class HalfSpace:
         if planner_effort is None:
             large = self.convolution_shape[0] * self.convolution_shape[1] >= 1024 * 1024
             planner_effort = "FFTW_MEASURE" if large else "FFTW_ESTIMATE"
-        # a mirror quadrant's product by one real FFT pair where its sides are even
         self._folded = self.mirror and self.device != "gpu" and ny % 2 == 0 and nx % 2 == 0
         if self.device == "gpu":
             from bem.fft_device import device_transform
@@ -287,7 +284,7 @@ class HalfSpace:
     def _transform_direction(self) -> None:
         """Output block = K * input block, in the FFT buffers (no copies)."""
         fft = self._fft
-        if self._folded:   # the mirror product by a real FFT pair (bem.mirror_product)
+        if self._folded:   # the mirror product of an even grid, by a real FFT pair
             fft.execute(self._scaled_spectrum)
             return
         fft.execute_forward()

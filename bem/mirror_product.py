@@ -40,12 +40,19 @@ __all__ = ["MirrorProduct"]
 
 
 @numba.njit(nogil=True, cache=True)
+def _folded_index(index: int, size: int) -> int:   # pragma: no cover (compiled)
+    """Where sample ``index`` of an axis of even ``size`` goes: ``2n -> n``,
+    ``2n + 1 -> size - 1 - n``."""
+    return index // 2 if index % 2 == 0 else size - 1 - index // 2
+
+
+@numba.njit(nogil=True, cache=True)
 def _fold(block: np.ndarray, folded: np.ndarray) -> None:   # pragma: no cover (compiled)
     """``folded`` = ``block`` with each axis reordered even samples first, odd ones reversed."""
     rows, columns = block.shape
     half = columns // 2
     for j in range(rows):
-        row = j // 2 if j % 2 == 0 else rows - 1 - j // 2
+        row = _folded_index(j, rows)
         for i in range(half):
             folded[row, i] = block[j, 2 * i]
             folded[row, columns - 1 - i] = block[j, 2 * i + 1]
@@ -57,7 +64,7 @@ def _unfold(folded: np.ndarray, block: np.ndarray) -> None:   # pragma: no cover
     rows, columns = block.shape
     half = columns // 2
     for j in range(rows):
-        row = j // 2 if j % 2 == 0 else rows - 1 - j // 2
+        row = _folded_index(j, rows)
         for i in range(half):
             block[j, 2 * i] = folded[row, i]
             block[j, 2 * i + 1] = folded[row, columns - 1 - i]

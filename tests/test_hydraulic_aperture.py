@@ -252,7 +252,7 @@ def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeyp
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
-    # asked for: at once above the limit, in turn below it
+    # parallel=True splits a gap above the limit, parallel=False keeps one below it together
     names.clear()
     monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0, parallel=True)
