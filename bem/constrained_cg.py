@@ -8,10 +8,15 @@ Molinari 2017). Conventions: :mod:`bem.solver`.
 Preconditioning (:mod:`bem.preconditioner`): the gap on the contact set C is multiplied by
 ``P_C M P_C`` with M the inverse symbol ``(E*/2)|q|`` of the half-space, P_C the restriction to C
 (and, in load control, the projection to zero sum on C), so the conjugate gradients on C see a
-nearly grid-independent spectrum; when pixels enter C the direction is kept (t is zero on them)
-rather than restarted, and it restarts from the preconditioned gradient whenever it is not a
-descent direction. The plain Polonsky-Keer iteration (``preconditioner=None``) restarts from
-steepest descent whenever pixels enter.
+nearly grid-independent spectrum. Pixels off C that overlap (negative gap) join C at zero
+pressure at the start of an iteration, before the gap is preconditioned: C is then the free set
+of the projected gradient, and the preconditioned direction and its line search size the
+pressure the joining pixels take (the plain iteration's rule, entering after the step with the
+pressure ``-tau g``, took 1.2-2.2x the iterations at 11-76 % contact with the preconditioner,
+measured on 512^2 and 1024^2 scans). The direction is kept across changes of C (t is zero on
+the pixels that joined) and restarts from the preconditioned gradient whenever it is not a
+descent direction. The plain Polonsky-Keer iteration (``preconditioner=None``) enters pixels
+after the step and restarts from steepest descent whenever they enter.
 """
 
 from __future__ import annotations
@@ -145,23 +150,21 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
 
     ``total`` is the target ``sum p`` (load control; p must already sum to it), or
     ``separation`` is d (separation control). Returns with ``ws.u = K p`` exact. With a
-    ``preconditioner`` the direction is built from ``P M gc`` instead of the contact gap gc
-    (module docstring); entering pixels then get the pressure ``-tau_e g`` with
-    ``tau_e = tau (gc . P M gc) / (gc . gc)``, the step length expressed per unit gap as in the
-    plain iteration, where ``tau_e = tau``.
+    ``preconditioner`` the direction is built from ``P M gc`` instead of the contact gap gc,
+    and overlapping pixels join C before the step (module docstring).
 
     Implementation notes: the pressure, the gap on C, the search direction t, its
     preconditioned version and the product r = K t on C are kept compressed, one value per
     contact pixel (C is a few per cent of the grid on most of a load path), and written into or
     read from the FFT buffers at C's positions only (:class:`_Scatter`). Full-grid passes are
-    left only where the whole grid matters: the gap ``u - z`` and its sign (pixels entering C),
+    left only where the whole grid matters: the gap ``u - z`` and its sign (pixels joining C),
     and the update of u. The iteration is the same as on full arrays.
     """
     load_control = total is not None
     xp = operator.xp
     u, g, flag = ws.u, ws.g, ws.flag
     columns = z.shape[1]
-    flat_g, flat_flag, flat_p = g.reshape(-1), flag.reshape(-1), p.reshape(-1)
+    flat_g, flat_p = g.reshape(-1), p.reshape(-1)
     op_in_flat, op_out_flat, op_stride = operator._flat_direction_buffers()
     operator_in = _Scatter(op_in_flat, op_stride, columns)
     operator_out = _Scatter(op_out_flat, op_stride, columns)
@@ -206,19 +209,31 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         np.subtract(u, z, out=g)
         gc = flat_g[indices]
         shift = -float(gc.mean()) if load_control else separation
+        joined = 0
+        if preconditioner is not None:
+            # the free set of the projected gradient: pixels off C that overlap join C at zero
+            # pressure before the step, which the preconditioned direction then sizes
+            joining = _overlapping(g, shift, flag, indices)
+            joined = int(joining.size)
+            if joined:
+                indices = np.concatenate((indices, joining))
+                pressure = np.concatenate((pressure, xp.zeros(joined)))
+                direction = np.concatenate((direction, xp.zeros(joined)))
+                contact.set(indices)
+                gc = flat_g[indices]
+                shift = -float(gc.mean()) if load_control else separation
         gc += shift
         if preconditioner is None:
             g_norm = _dot(gc, gc)
             descent = gc
         else:
-            g_square = _dot(gc, gc)
             preconditioner_in.write(contact.at_preconditioner, gc)
             preconditioner.execute()
             descent = preconditioner_out[contact.at_preconditioner]
             if load_control:
                 descent -= descent.mean()
             g_norm = _dot(gc, descent)
-        # conjugate search direction on the contact set (t is zero on pixels that just entered
+        # conjugate search direction on the contact set (t is zero on pixels that just joined
         # and was dropped on those that left)
         if reset or g_norm_old == 0.0:
             direction = descent.copy()
@@ -229,7 +244,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             t_sum = float(direction.sum()) if load_control else 0.0
         g_norm_old = g_norm
         slope = _dot(gc, direction)
-        if slope < 0.0:  # not a descent direction (a kept direction after entering pixels)
+        if slope < 0.0:  # not a descent direction (a kept direction after joining pixels)
             direction = descent.copy()
             t_sum = 0.0
             slope = g_norm
@@ -239,15 +254,11 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
         if load_control and t_sum != 0.0:
             rt -= float(r_contact.sum()) / contact.size * t_sum
         if rt > 0.0 and math.isfinite(rt):
-            tau = slope / rt
-            # pressure per unit overlap for entering pixels: tau itself without preconditioner
-            tau_fallback = (tau if preconditioner is None or g_square == 0.0
-                            else tau * g_norm / g_square)
-            tau_enter = tau_fallback
+            tau = tau_fallback = slope / rt
         else:  # t = 0: the contact set is solved exactly; only new contacts may remain
             if tau_fallback is None:
                 tau_fallback = 1.0 / operator.self_influence
-            tau = tau_enter = tau_fallback
+            tau = tau_fallback
         step = direction * tau
         pressure -= step
         # project on p >= 0: pixels with negative pressure leave C
@@ -260,13 +271,12 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             kept = ~negative
             indices, pressure, direction = indices[kept], pressure[kept], direction[kept]
             step = step[kept]
-        # points outside the contact set that overlap enter it: g < 0 off C
-        np.less(g, -shift, out=flag)
-        flat_flag[indices] = False
-        entered = int(np.count_nonzero(flag))
+        # plain iteration: points outside the contact set that overlap enter it (g < 0 off C)
+        # with the pressure the step gives them
+        entering = None if preconditioner is not None else _overlapping(g, shift, flag, indices)
+        entered = 0 if entering is None else int(entering.size)
         if entered:
-            entering = np.flatnonzero(flag)
-            values = -tau_enter * (flat_g[entering] + shift)
+            values = -tau * (flat_g[entering] + shift)
             sources.append((entering, values))
             indices = np.concatenate((indices, entering))
             pressure = np.concatenate((pressure, values))
@@ -299,14 +309,14 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             refresh()
             reset = True
             continue
-        # Polonsky-Keer restart from steepest descent when pixels enter; the preconditioned
-        # iteration keeps its direction (t is zero on the entering pixels): restarting made it
-        # fix the boundary of the contact set one oscillating pixel per iteration, in a number of
-        # iterations growing with n (measured; a non-descent direction still restarts, above)
-        reset = entered > 0 and preconditioner is None
+        # Polonsky-Keer restart from steepest descent when pixels enter (the preconditioned
+        # iteration keeps its direction, zero on the pixels that joined; a non-descent direction
+        # still restarts, above)
+        reset = entered > 0
         # displacement of the new pressure, u = scale (u - tau K t + K e) with e the changes
-        # made by the projection and the entering points: by direct sums when they are few,
-        # otherwise (and every _REFRESH_INTERVAL iterations) by a full product
+        # made by the projection and the entering points (pixels that joined at zero pressure
+        # change nothing): by direct sums when they are few, otherwise (and every
+        # _REFRESH_INTERVAL iterations) by a full product
         since_refresh += 1
         if (clipped > direct_limit or clipped + entered > direct_limit
                 or since_refresh >= _REFRESH_INTERVAL):
@@ -319,7 +329,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
                 operator._add_sources(source_indices, values, u, ws.work)
             if scale != 1.0:
                 u *= scale
-        if clipped or entered:
+        if clipped or entered or joined:
             continue  # the contact set changed: not converged
         # stopping rule: relative pressure change; with an unchanged contact set the new
         # pressure is scale (p_old - tau t), so p - p_old = (1 - 1/scale) p - tau t
@@ -339,6 +349,14 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
               if math.isfinite(residual) else "the contact set changed at every iteration")
     return _Outcome(_scattered(p, contact, pressure), False, max_iter, residual,
                     f"not converged after {max_iter} iterations ({change})")
+
+
+def _overlapping(g: np.ndarray, shift: float, flag: np.ndarray, indices: np.ndarray) -> np.ndarray:
+    """Flat indices of the pixels off the contact set (``indices``) whose gap ``g + shift`` is
+    negative; ``flag`` is scratch of g's shape."""
+    np.less(g, -shift, out=flag)
+    flag.reshape(-1)[indices] = False
+    return np.flatnonzero(flag)
 
 
 def _scattered(p: np.ndarray, contact: _ContactSet, pressure: np.ndarray) -> np.ndarray:
