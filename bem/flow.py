@@ -52,12 +52,10 @@ import warnings
 import numpy as np
 
 from bem import checks
-from bem.background import BackgroundCall
 from bem.flow_solver import FlowStart, _solve_pressure
 from bem.warnings import ConvergenceWarning
 
-__all__ = ["FLOW_DIRECTIONS", "PARALLEL_DIRECTIONS_LIMIT", "BackgroundLeakage",
-           "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
+__all__ = ["FLOW_DIRECTIONS", "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
 
 #: Directions of the pressure drop: along x (columns, axis 1) or y (rows, axis 0) of ``gap[j, i]``.
 FLOW_DIRECTIONS = ("x", "y")
@@ -323,82 +321,3 @@ def leakage_aperture(gap, spacing: float, *, periodic: bool = False) -> float:
     """
     return _mean_leak([hydraulic_aperture(gap, spacing, direction=direction, periodic=periodic)
                        for direction in FLOW_DIRECTIONS])
-
-
-#: Gaps of more cells than this have their two directions solved one after the other, not
-#: at once: the multigrid solve of a 1024^2 gap peaks at 0.6-0.9 GB, of a 2048^2 gap at 2 GB
-#: and more.
-PARALLEL_DIRECTIONS_LIMIT = 768 * 768
-
-
-def _apertures(gap, spacing: float, directions: tuple[str, ...], periodic: bool,
-               starts: dict) -> list[tuple[str, float, FlowStart | None]]:
-    """``(direction, aperture, solved)`` of ``gap`` along each of ``directions``, one after
-    the other, each solve started from ``starts[direction]`` (:func:`_flow_solution`)."""
-    return [(direction, *_flow_solution(gap, spacing, direction, periodic, starts.get(direction)))
-            for direction in directions]
-
-
-class BackgroundLeakage:
-    """:func:`leakage_aperture` of a sequence of gaps, solved in background threads while the
-    caller goes on (e.g. solves the next contact problem of a load path).
-
-    The two flow directions of a gap (one thread each; one thread for both above
-    :data:`PARALLEL_DIRECTIONS_LIMIT` cells, so that one solve's memory is held at a time) run
-    beside the caller's own work: the sparse LU releases the GIL, the multigrid of larger gaps
-    in its vector operations but not in its Gauss-Seidel sweeps. At most
-    ``pending`` gaps are in flight (:meth:`submit` waits for the oldest beyond that), which
-    bounds the memory held by gaps and factors. The threads are daemons
-    (:class:`bem.background.BackgroundCall`): a caller interrupted by Ctrl-C does not wait.
-    Each direction's iterative solve starts from the pressure of the last gap collected (the
-    previous load's, along a path): the same stopping rule, in fewer iterations (a 1024^2 scan's
-    gaps 16 % less time, those of a 512^2 path 15 %); once that solve's multigrid took many
-    iterations (near percolation) the direction goes on by sparse LU
-    (:data:`bem.flow_solver.DIRECT_SWITCH_ITERATIONS`).
-
-    Parameters
-    ----------
-    spacing : float
-        Grid step h [length] of every gap.
-    periodic : bool
-        As in :func:`hydraulic_aperture`.
-    pending : int
-        Gaps in flight at most (>= 1).
-    parallel : bool, optional
-        A gap's two directions in two threads: by default up to :data:`PARALLEL_DIRECTIONS_LIMIT`
-        cells; True at any size (the caller has cores and memory for two solves at once).
-    """
-
-    def __init__(self, spacing: float, *, periodic: bool = False, pending: int = 1,
-                 parallel: bool | None = None):
-        self.spacing = checks.positive("spacing", spacing)
-        self.periodic = checks.flag("periodic", periodic)
-        self.pending = checks.integer("pending", pending, minimum=1)
-        self.parallel = None if parallel is None else checks.flag("parallel", parallel)
-        self._running: dict[object, list[BackgroundCall]] = {}
-        self._results: dict[object, float] = {}
-        self._starts: dict[str, FlowStart] = {}   # direction -> the last solve's pressure
-
-    def submit(self, key, gap) -> None:
-        """Start the leakage of ``gap`` (both directions), to be read as ``results()[key]``."""
-        while len(self._running) >= self.pending:
-            self._collect(next(iter(self._running)))
-        together = (np.size(gap) > PARALLEL_DIRECTIONS_LIMIT if self.parallel is None
-                    else not self.parallel)
-        groups = (FLOW_DIRECTIONS,) if together else tuple((d,) for d in FLOW_DIRECTIONS)
-        starts = dict(self._starts)
-        self._running[key] = [BackgroundCall(_apertures, gap, self.spacing, group, self.periodic,
-                                             starts, name=f"leakage-{''.join(group)}")
-                              for group in groups]
-
-    def _collect(self, key) -> None:
-        solved = [entry for solve in self._running.pop(key) for entry in solve.result()]
-        self._results[key] = _mean_leak([aperture for _, aperture, _ in solved])
-        self._starts.update({direction: start for direction, _, start in solved
-                             if start is not None})
-
-    def results(self) -> dict:
-        """Every submitted gap's h_eff [length] by key (waits for the solves still running)."""
-        for key in list(self._running):
-            self._collect(key)
-        return dict(self._results)

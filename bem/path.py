@@ -9,7 +9,7 @@ import numpy as np
 
 from bem.area import AREA_ESTIMATORS, DEFAULT_AREA_ESTIMATOR, contact_area, contact_edges
 from bem.curve import ContactCurve, check_quantities
-from bem.flow import BackgroundLeakage
+from bem.background_flow import QUEUED_CELLS, BackgroundLeakage
 from bem.halfspace import HalfSpace
 from bem.nested_grid import _nestable, _prolonged, checked_coarse_pressures
 from bem import checks
@@ -170,7 +170,7 @@ def contact_curve(
         on the contact set), the mean leak rate of flow along x and along y
         (:func:`bem.flow.leakage_aperture`), periodic or not as the contact problem; two
         sparse Reynolds solves per point, only when asked for, run in background threads
-        (:class:`bem.flow.BackgroundLeakage`) while the next point is solved.
+        (:class:`bem.background_flow.BackgroundLeakage`) while the next points are solved.
     e_star, periodic, tol, max_iter, operator, preconditioned
         As in :func:`bem.solve_contact`.
     callback : callable, optional
@@ -281,9 +281,11 @@ def contact_curve(
     z_device = operator.xp.asarray(z)   # (numpy: z itself)
     starts = _PathStarts(operator, z_device, tol=tol, max_iter=int(max_iter), nested=preconditioned,
                          coarse_pressures=coarse_pressures)
-    # The Reynolds solves of each point run in background threads while the next point's contact
-    # problem is solved (bem.flow.BackgroundLeakage).
-    flow = BackgroundLeakage(spacing, periodic=wraps) if want_leakage else None
+    # The Reynolds solves of each point run in a background thread while the next points' contact
+    # problems are solved (bem.background_flow): the path runs ahead of them by up to
+    # QUEUED_CELLS of waiting gaps.
+    flow = (BackgroundLeakage(spacing, periodic=wraps, pending=max(1, QUEUED_CELLS // z.size))
+            if want_leakage else None)
     for index in order:
         target = float(targets[index])
         problem = {"load": target if loads is not None else None,

@@ -12,7 +12,8 @@ import scipy.ndimage
 import scipy.stats
 
 import bem
-from bem.flow import BackgroundLeakage, hydraulic_aperture, leakage_aperture, spanning_cells
+from bem.background_flow import BackgroundLeakage
+from bem.flow import hydraulic_aperture, leakage_aperture, spanning_cells
 
 BOTH = pytest.mark.parametrize("periodic", [False, True])
 
@@ -232,37 +233,79 @@ def test_background_leakage_reports_a_bad_gap_and_bad_options():
 def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeypatch):
     """Above the size limit one thread solves both directions (one factor in memory at a
     time); the aperture is the same."""
-    import bem.flow
+    import bem.background_flow
 
     gap = np.clip(scipy.ndimage.gaussian_filter(
         np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
     names = []
-    original = bem.flow._apertures
+    original = bem.background_flow._apertures
 
     def spy(gap, spacing, directions, periodic, starts):
         names.append(directions)
         return original(gap, spacing, directions, periodic, starts)
 
-    monkeypatch.setattr(bem.flow, "_apertures", spy)
-    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.background_flow, "_apertures", spy)
+    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 0)
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0)
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
     # parallel=True splits a gap above the limit, parallel=False keeps one below it together
     names.clear()
-    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0, parallel=True)
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
     flow = BackgroundLeakage(1.0, parallel=False)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
+
+
+def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(monkeypatch):
+    """Up to ``pending`` gaps wait while the caller goes on (the submits return before any
+    solve has ended); the gaps still waiting when results() is called have their two
+    directions solved at once where two CPUs may be used, up to FINAL_PARALLEL_LIMIT cells."""
+    import threading
+
+    import bem.background_flow
+
+    gap = np.clip(scipy.ndimage.gaussian_filter(
+        np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
+    release, events = threading.Event(), []
+    original = bem.background_flow._apertures
+
+    def held(gap, spacing, directions, periodic, starts):
+        release.wait(30)
+        events.append(directions)
+        return original(gap, spacing, directions, periodic, starts)
+
+    monkeypatch.setattr(bem.background_flow, "_apertures", held)
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    flow = BackgroundLeakage(1.0, pending=3)
+    for key in range(3):
+        flow.submit(key, gap)
+    assert events == []   # three submits returned, no solve has ended
+    release.set()
+    assert flow.results() == {key: leakage_aperture(gap, 1.0) for key in range(3)}
+    # which gaps are split: by size while the caller works, up to the final limit once the
+    # caller waits and two CPUs are there, never with parallel=False
+    large = np.zeros((40, 40))
+    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 2)
+    assert flow._together(large)
+    flow._finishing = True
+    assert not flow._together(large)
+    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
+    assert flow._together(large)
+    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 1)
+    assert flow._together(large)
+    assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)))
 
 
 @BOTH
@@ -442,21 +485,22 @@ def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch
     """Along a sequence of gaps each direction's iterative solve begins at the pressure the
     previous gap's solve found (with the linear drop where that gap had no open cell); the
     apertures are those of a solve from the linear drop, to the solver's tolerance."""
-    import bem.flow
+    import bem.background_flow
+    import bem.flow_solver
 
     rng = np.random.default_rng(8)
     surface = scipy.ndimage.gaussian_filter(rng.standard_normal((264, 264)), 4, mode="wrap")
     gaps = [np.clip(surface + level, 0.0, None) for level in (0.3, 0.2, 0.1)]
     assert gaps[0].size > bem.flow_solver.DIRECT_SOLVE_LIMIT   # the multigrid's path
     seen = []
-    original = bem.flow._flow_solution
+    original = bem.background_flow._flow_solution
 
     def spy(gap, spacing, direction, periodic, start=None):
         aperture, pressure = original(gap, spacing, direction, periodic, start)
         seen.append((direction, start, pressure))
         return aperture, pressure
 
-    monkeypatch.setattr(bem.flow, "_flow_solution", spy)
+    monkeypatch.setattr(bem.background_flow, "_flow_solution", spy)
     flow = BackgroundLeakage(1.0)
     for key, gap in enumerate(gaps):
         flow.submit(key, gap)
@@ -466,7 +510,7 @@ def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch
         assert solves[0][0] is None
         for (_, previous), (start, _) in zip(solves, solves[1:]):
             assert start is previous
-    monkeypatch.setattr(bem.flow, "_flow_solution", original)
+    monkeypatch.setattr(bem.background_flow, "_flow_solution", original)
     for key, gap in enumerate(gaps):
         assert results[key] == pytest.approx(leakage_aperture(gap, 1.0), rel=1e-6)
 

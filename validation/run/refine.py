@@ -32,7 +32,7 @@ import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.fft_threads import default_threads
-from bem.flow import BackgroundLeakage
+from bem.background_flow import BackgroundLeakage
 from bem.interface import method_error
 from bem.path import error_estimates
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
