@@ -68,11 +68,12 @@ class _PathStarts:
     Nested (the preconditioned solver): each point starts from the same load or separation
     solved on every other grid point, that coarse solve warm-started from the previous point's
     coarse pressure. A start from the previous fine pressure rescaled to the new load needed
-    more fine iterations (647 against 539 on a 12-point WM path at 1024 x 1024, 5 % more FFT
-    work with the coarse solves counted; docs/guide/benchmarks.md, "Boundary-element solver"): it overshoots the
-    approach of the plane, and the contact set then takes about 20 steps to settle, pixels
-    entering and leaving, while the coarse solve of the new load places the spots' edges to
-    within a coarse pixel. Without nesting (odd or small grids, the plain iteration) the
+    more fine iterations (527 against 448 on a 12-point WM path at 1024 x 1024, loads 1e-3 to
+    3e-2): it overshoots the approach of the plane, and the contact set then takes longer to
+    settle, while the coarse solve of the new load places the spots' edges to within a coarse
+    pixel. Counting the coarse solves the two cost about the same (46.0 against 49.4 s on two
+    shared cores); where the coarse pressures are at hand (``coarse_pressures``, below) the
+    nested start is the cheaper. Without nesting (odd or small grids, the plain iteration) the
     previous fine pressure is the start.
 
     ``coarse_pressures`` (index -> pressure on every other grid point) are coarse solutions

@@ -35,10 +35,11 @@ Grid-independent iteration counts (default, ``preconditioned=True``): the gap on
 is preconditioned by the inverse half-space symbol ``(E*/2)|q|`` restricted to the contact set
 (:mod:`bem.preconditioner`, one N x M FFT pair per iteration), overlapping pixels join the
 contact set at zero pressure before each step (:mod:`bem.constrained_cg`), and a cold start is
-the pressure of the same problem on every other grid point, solved the same way down to 64 x 64 and repeated
-on 2 x 2 pixels (nested iteration; ``HalfSpace.coarse`` keeps the coarse operators). On a WM
-surface (D = 2.5) at 4 / 18 / 44 % contact the iterations went from 76 / 109 / 228 (N = 256) and
-244 / 475 / 1026 (N = 1024) to 24 / 36 / 56 and 31 / 48 / 70 (benchmarks/bench_bem.py). The
+the pressure of the same problem on every other grid point, solved the same way down to 64 x 64
+and repeated on 2 x 2 pixels (nested iteration; ``HalfSpace.coarse`` keeps the coarse
+operators). On a WM surface (D = 2.5) at 4 / 18 / 44 % contact the iterations went from 76 /
+109 / 228 (N = 256) and 244 / 475 / 1026 (N = 1024) to 24 / 33 / 43 and 30 / 40 / 54
+(benchmarks/bench_bem.py). The
 stopping rule and hence the converged state are the same as the plain iteration's
 (``preconditioned=False``): tests/test_bem_preconditioned.py checks identical contact sets and
 area, load, separation and stiffness to 1e-6.
