@@ -49,10 +49,11 @@ __all__ = ["MAX_LEAKAGE_GRID", "REFINED", "SOLVER_ERROR", "SOLVER_SHARE", "STIFF
            "refined_extension", "refined_heights",
            "refine_points", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
 
-#: Bound on the solver error of area, conductance (relative) and separation, mean gap (in units
-#: of sigma) per unit of the solver tolerance (T25): twice the largest ratio error / tol, 0.047,
-#: measured against tol = 1e-12 on WM surfaces (D = 2.05 and 2.95, 128 x 128, Load 1e-5 to 1e-2,
-#: tol 1e-3 to 1e-8; benchmarks/bench_solver_tolerance.py, docs/theory.md eq. T40).
+#: Bound on the solver error of conductance (relative) and separation, mean gap (in units of
+#: sigma) per unit of the solver tolerance (T25): about three times the largest ratio error / tol,
+#: 0.035, measured against tol = 1e-12 on WM surfaces (D = 2.05 and 2.95, 256 x 256, Load 1e-5
+#: to 1e-2, tol 1e-3 to 1e-8; benchmarks/bench_solver_tolerance.py). The area's error is a few
+#: edge pixels instead, not proportional to tol (docs/theory.md eq. T40).
 SOLVER_ERROR = 0.1
 #: Share of the expected band the solver may spend (eq. T40).
 SOLVER_SHARE = 0.01
