@@ -263,17 +263,14 @@ class HalfSpace:
 
     def _apply(self, pressure: np.ndarray, out: np.ndarray) -> None:
         """``out[...] = K * pressure`` without checks or allocations (the solvers' hot path)."""
-        # non-periodic: the padding around input_block is zero since construction and the
-        # transforms only read it
+        # (non-periodic: the padding around input_block stays zero; the transforms only read it)
         self._fft.input_block[...] = pressure
         self._transform_direction()
         out[...] = self._fft.output_block
 
     def _direction_buffers(self) -> tuple[np.ndarray, np.ndarray]:
-        """The FFT input and output blocks, views of ``shape``, for :meth:`_transform_direction`.
-
-        Any other product overwrites both.
-        """
+        """The FFT input and output blocks (views of ``shape``) for :meth:`_transform_direction`;
+        any other product overwrites both."""
         return self._fft.input_block, self._fft.output_block
 
     def _flat_direction_buffers(self) -> tuple[np.ndarray, np.ndarray, int]:
@@ -285,8 +282,7 @@ class HalfSpace:
         """Output block = K * input block, in the FFT buffers (no copies)."""
         fft = self._fft
         if self._folded:   # the mirror product of an even grid, by a real FFT pair
-            fft.execute(self._scaled_spectrum)
-            return
+            return fft.execute(self._scaled_spectrum)
         fft.execute_forward()
         spectrum = fft.spectrum_buffer.view(np.float64)
         np.multiply(spectrum, self._scaled_spectrum, out=spectrum)
