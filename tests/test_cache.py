@@ -1,5 +1,9 @@
 """The on-disk result cache."""
 
+import gc
+import sys
+import threading
+
 import numpy as np
 
 from validation.run.cache import Cache, cache_key
@@ -116,3 +120,45 @@ def test_check_directory_names_what_is_wrong(tmp_path):
         check_directory(blocker, "--cache")
     with pytest.raises(ValueError, match="--out '/proc/nope' is not a writable directory"):
         check_directory("/proc/nope", "--out")
+
+
+class _Cyclic:
+    """Garbage in a reference cycle whose finaliser runs Python code: a collection inside the
+    AST constructor then lets another thread run (how the CPython 3.11 race shows itself)."""
+
+    def __init__(self):
+        self.itself = self
+
+    def __del__(self):
+        sum(range(20))
+
+
+def test_entries_are_read_by_several_threads_at_once(tmp_path):
+    cache = Cache(tmp_path)
+    stored = {"a": np.zeros(3), "b": np.ones(4), "c": np.arange(5.0)}
+    cache.store("k", stored)
+    errors, loaded = [], []
+
+    def read():
+        try:
+            for _ in range(300):
+                loaded.append(cache.load("k"))
+                [_Cyclic() for _ in range(5)]
+        except Exception as error:  # noqa: BLE001 -- the test reports what a thread raised
+            errors.append(error)
+
+    interval, thresholds = sys.getswitchinterval(), gc.get_threshold()
+    sys.setswitchinterval(1e-6)
+    gc.set_threshold(5)
+    try:
+        threads = [threading.Thread(target=read) for _ in range(4)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+    finally:
+        sys.setswitchinterval(interval)
+        gc.set_threshold(*thresholds)
+    assert errors == []
+    assert len(loaded) == 1200
+    assert all(entry is not None and np.array_equal(entry["c"], stored["c"]) for entry in loaded)

@@ -27,6 +27,7 @@ import os
 import pathlib
 import shutil
 import tempfile
+import threading
 import time
 import warnings
 import zipfile
@@ -46,6 +47,11 @@ _CHECKSUM = "__checksum__"
 _KEY = "__key__"
 #: Age [s] after which a temporary file is taken to be left by a killed writer.
 STALE_SECONDS = 3600.0
+# numpy reads an archive member's header with ``ast.literal_eval``; CPython 3.11 keeps the AST
+# constructor's recursion depth in state shared by all threads, so two threads of one process
+# reading at once (the models computed beside the reference) can fail with "SystemError: AST
+# constructor recursion depth mismatch" (python/cpython#106905). Reads take turns.
+_READING = threading.Lock()
 #: What a broken entry or a decoder of one may raise: all mean "recompute".
 _UNREADABLE = (OSError, ValueError, KeyError, IndexError, TypeError, EOFError,
                zipfile.BadZipFile)
@@ -182,7 +188,7 @@ class Cache:
         if not path.exists():
             return None
         try:
-            with np.load(path, allow_pickle=False) as data:
+            with _READING, np.load(path, allow_pickle=False) as data:
                 arrays = {name: data[name] for name in data.files}
             stored = str(arrays.pop(_CHECKSUM))
             if stored != _checksum(arrays):
