@@ -15,8 +15,10 @@ pressure the joining pixels take (the plain iteration's rule, entering after the
 pressure ``-tau g``, took 1.2-2.2x the iterations at 11-76 % contact with the preconditioner,
 measured on 512^2 and 1024^2 scans). The direction is kept across changes of C (t is zero on
 the pixels that joined) and restarts from the preconditioned gradient whenever it is not a
-descent direction. The plain Polonsky-Keer iteration (``preconditioner=None``) enters pixels
-after the step and restarts from steepest descent whenever they enter.
+descent direction. On grids of at least :data:`bem.coarse_correction.TWO_LEVEL_GRID` points
+M gets a coarse correction once C has settled (:class:`bem.coarse_correction.SettlingCorrection`).
+The plain Polonsky-Keer iteration (``preconditioner=None``) enters pixels after the step and
+restarts from steepest descent whenever they enter.
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from bem.coarse_correction import TWO_LEVEL_GRID, SettlingCorrection
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
 
@@ -178,6 +181,10 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     contact = _ContactSet(np.flatnonzero(flat_p > 0.0), operator_in, operator_out,
                           preconditioner_in)
     pressure = flat_p[contact.indices]
+    two_level = (SettlingCorrection(operator, lambda at: _uniform_energy(operator, at))
+                 if preconditioner is not None and xp is np and z.size >= TWO_LEVEL_GRID
+                 else None)
+    clipped = 0
 
     def product(values: np.ndarray) -> np.ndarray:
         """K applied to ``values`` on C: the full-grid displacement (the operator's output)."""
@@ -227,9 +234,16 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             g_norm = _dot(gc, gc)
             descent = gc
         else:
-            preconditioner_in.write(contact.at_preconditioner, gc)
+            if two_level is not None and two_level.update(indices, joined + clipped):
+                operator_in.forget()   # (its product wrote the whole operator input)
+                reset = True
+            correction = None if two_level is None else two_level.correction
+            projected, sums = (gc, None) if correction is None else correction.before(gc)
+            preconditioner_in.write(contact.at_preconditioner, projected)
             preconditioner.execute()
             descent = preconditioner_out[contact.at_preconditioner]
+            if correction is not None:
+                descent = correction.after(descent, sums)
             if load_control:
                 descent -= descent.mean()
             g_norm = _dot(gc, descent)
@@ -357,6 +371,13 @@ def _overlapping(g: np.ndarray, shift: float, flag: np.ndarray, indices: np.ndar
     np.less(g, -shift, out=flag)
     flag.reshape(-1)[indices] = False
     return np.flatnonzero(flag)
+
+
+def _uniform_energy(operator: HalfSpace, indices: np.ndarray) -> float:
+    """``1_C^T K 1_C`` of the contact set ``indices`` (one product)."""
+    uniform = np.zeros(operator.shape)
+    uniform.reshape(-1)[indices] = 1.0
+    return float(operator.displacement(uniform).reshape(-1)[indices].sum())
 
 
 def _scattered(p: np.ndarray, contact: _ContactSet, pressure: np.ndarray) -> np.ndarray:

@@ -12,6 +12,7 @@ import warnings
 
 import numpy as np
 
+from bem.coarse_correction import TWO_LEVEL_GRID, CoarseCorrection
 from bem.constrained_cg import _dot, _Scatter
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
@@ -25,7 +26,9 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
 
     With ``preconditioner`` M, the residual is preconditioned by ``P_C M P_C`` (symmetric
     positive definite on C; :mod:`bem.preconditioner`), which keeps the iteration count nearly
-    independent of the grid. Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
+    independent of the grid; on grids of at least :data:`bem.coarse_correction.TWO_LEVEL_GRID`
+    points (on the host) with the coarse correction of :mod:`bem.coarse_correction`, which
+    takes a third to a half of the iterations away where C is many patches. Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
     (S, converged, iterations).
 
     The fields live on C only (one value per contact pixel), written into and read from the
@@ -60,12 +63,19 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
         operator._transform_direction()
         return op_out_flat[at_out]
 
+    coarse: CoarseCorrection | None = None
+
     def precondition(source: np.ndarray) -> np.ndarray:
         if preconditioner is None:
             return source
-        preconditioner_in.write(indices, source)
+        if coarse is None:
+            preconditioner_in.write(indices, source)
+            preconditioner.execute()
+            return preconditioner_out[indices]
+        without_means, sums = coarse.before(source)
+        preconditioner_in.write(indices, without_means)
         preconditioner.execute()
-        return preconditioner_out[indices]
+        return coarse.after(preconditioner_out[indices], sums)
 
     # start: uniform on C, scaled to minimise the energy q.Kq/2 - q.1 along it (no extra
     # product: K q is needed for the residual anyway; about 10 % fewer iterations than the
@@ -73,6 +83,10 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     q = operator.xp.full(n_contact, 1.0 / operator.self_influence)
     kq = product(q)
     curvature = _dot(q, kq)
+    if (preconditioner is not None and operator.xp is np and contact.size >= TWO_LEVEL_GRID
+            and curvature > 0.0):
+        coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
+        operator_in.forget()   # its first build uses the operator's buffers
     if curvature > 0.0:
         scaling = float(q.sum()) / curvature
         q *= scaling
