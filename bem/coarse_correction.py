@@ -36,7 +36,6 @@ from __future__ import annotations
 
 import math
 import weakref
-from typing import Callable
 
 import numba
 import numpy as np
@@ -122,6 +121,22 @@ def _shifted(values: np.ndarray, block: np.ndarray, shift: np.ndarray, out: np.n
         out[i] = values[i] + shift[block[i]]
 
 
+@numba.njit(nogil=True, cache=True)
+def _blocks_of(indices: np.ndarray, columns: int, block: int, cells_x: int, place: np.ndarray,
+               out: np.ndarray, counts: np.ndarray) -> bool:
+    """``out[i]``: the place of pixel ``indices[i]``'s block among E's (``place`` per coarse
+    cell, -1 where E has none), ``counts`` per place; False at the first pixel without one."""
+    counts[:] = 0.0
+    for i in range(indices.size):
+        row, column = divmod(indices[i], columns)
+        where = place[(row // block) * cells_x + column // block]
+        if where < 0:
+            return False
+        out[i] = where
+        counts[where] += 1.0
+    return True
+
+
 _COARSE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -204,14 +219,14 @@ class CoarseCorrection:
     def follow(self, indices: np.ndarray) -> bool:
         """Keep E and move Z to the contact set ``indices`` (a few pixels joined or left):
         False, and nothing changed, when a pixel lies in a block E does not have."""
-        rows, columns = np.divmod(indices, self._columns)
-        place = self._place[(rows // self._block_size) * self._cells_x
-                            + columns // self._block_size]
-        if place.size and place.min() < 0:
+        block = np.empty(indices.size, dtype=np.int32)
+        counts = np.empty(self._counts.size)
+        if not _blocks_of(indices, self._columns, self._block_size, self._cells_x, self._place,
+                          block, counts):
             return False
-        self._block = place.astype(np.int32)
+        self._block = block
         # a block left without contact keeps a count of one: its sums are zero anyway
-        self._counts = np.maximum(np.bincount(place, minlength=self._counts.size), 1).astype(float)
+        self._counts = np.maximum(counts, 1.0)
         return True
 
     def before(self, residual: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -239,15 +254,14 @@ class SettlingCorrection:
     """The coarse correction of a contact iteration, whose set C changes: built once C has
     settled (at most :data:`SETTLED_CHANGE` of its pixels joined or left in each of two
     iterations in a row), dropped for the rest of the solve if C then churns
-    (:data:`CHURNING_CHANGE`), moved
-    along with C (:meth:`CoarseCorrection.follow`) and built again once :data:`REBUILD_CHANGE`
-    of C has changed since, or C reaches a block E does not have.
-
-    ``uniform_energy(indices)`` returns ``1_C^T K 1_C`` for the set ``indices`` (one product).
+    (:data:`CHURNING_CHANGE`), moved along with C (:meth:`CoarseCorrection.follow`) and built
+    again once :data:`REBUILD_CHANGE` of C has changed since, or C reaches a block E does not
+    have. Each build costs one product more (``1_C^T K 1_C``); it writes the operator's
+    buffers.
     """
 
-    def __init__(self, operator, uniform_energy: Callable[[np.ndarray], float]) -> None:
-        self._operator, self._uniform_energy = operator, uniform_energy
+    def __init__(self, operator) -> None:
+        self._operator = operator
         self.correction: CoarseCorrection | None = None
         self._changed = 0
         self._dropped = False
@@ -270,7 +284,9 @@ class SettlingCorrection:
         elif self._changed <= REBUILD_CHANGE * indices.size and (
                 changed == 0 or self.correction.follow(indices)):
             return False
-        self.correction = CoarseCorrection(self._operator, indices,
-                                           self._uniform_energy(indices))
+        uniform = np.zeros(self._operator.shape)
+        uniform.reshape(-1)[indices] = 1.0
+        energy = float(self._operator.displacement(uniform).reshape(-1)[indices].sum())
+        self.correction = CoarseCorrection(self._operator, indices, energy)
         self._changed = 0
         return True

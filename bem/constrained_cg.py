@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem.coarse_correction import TWO_LEVEL_GRID, SettlingCorrection
+from bem.coarse_correction import TWO_LEVEL_GRID, CoarseCorrection, SettlingCorrection
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
 
@@ -47,6 +47,7 @@ class _Workspace:
         self.flag = xp.empty(shape, dtype=bool)
         self._inverse_kernel: InverseKernel | None = None
         self.preconditioned = True  # whether the last solve used the preconditioner
+        self.correction: CoarseCorrection | None = None  # its coarse correction at the end
 
     @property
     def u(self) -> np.ndarray:
@@ -181,8 +182,8 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
     contact = _ContactSet(np.flatnonzero(flat_p > 0.0), operator_in, operator_out,
                           preconditioner_in)
     pressure = flat_p[contact.indices]
-    two_level = (SettlingCorrection(operator, lambda at: _uniform_energy(operator, at))
-                 if preconditioner is not None and xp is np and z.size >= TWO_LEVEL_GRID
+    ws.correction = None
+    two_level = (SettlingCorrection(operator) if preconditioner is not None and xp is np and z.size >= TWO_LEVEL_GRID
                  else None)
     clipped = 0
 
@@ -237,7 +238,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             if two_level is not None and two_level.update(indices, joined + clipped):
                 operator_in.forget()   # (its product wrote the whole operator input)
                 reset = True
-            correction = None if two_level is None else two_level.correction
+            correction = ws.correction = None if two_level is None else two_level.correction
             projected, sums = (gc, None) if correction is None else correction.before(gc)
             preconditioner_in.write(contact.at_preconditioner, projected)
             preconditioner.execute()
@@ -371,13 +372,6 @@ def _overlapping(g: np.ndarray, shift: float, flag: np.ndarray, indices: np.ndar
     np.less(g, -shift, out=flag)
     flag.reshape(-1)[indices] = False
     return np.flatnonzero(flag)
-
-
-def _uniform_energy(operator: HalfSpace, indices: np.ndarray) -> float:
-    """``1_C^T K 1_C`` of the contact set ``indices`` (one product)."""
-    uniform = np.zeros(operator.shape)
-    uniform.reshape(-1)[indices] = 1.0
-    return float(operator.displacement(uniform).reshape(-1)[indices].sum())
 
 
 def _scattered(p: np.ndarray, contact: _ContactSet, pressure: np.ndarray) -> np.ndarray:

@@ -359,7 +359,8 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
     if stiffness:
         stiffness_value, stiffness_converged, stiffness_iterations = _stiffness(
             operator, contact, tol=max(_STIFFNESS_SHARE * tol, _STIFFNESS_FLOOR), max_iter=max(1000, 10 * max(z.shape)),
-            preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None)
+            preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None,
+            correction=ws.correction if ws.preconditioned else None)
         if not stiffness_converged:
             converged = False
             message += f"; stiffness solve not converged after {stiffness_iterations} iterations"

@@ -20,7 +20,8 @@ from bem.warnings import ConvergenceWarning
 
 
 def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter: int,
-               preconditioner: InverseKernel | None = None) -> tuple[float, bool, int]:
+               preconditioner: InverseKernel | None = None,
+               correction: CoarseCorrection | None = None) -> tuple[float, bool, int]:
     """Solve ``K_CC q = 1`` on the contact set C by (preconditioned) conjugate gradients;
     ``S = h^2 sum q``.
 
@@ -28,7 +29,8 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     positive definite on C; :mod:`bem.preconditioner`), which keeps the iteration count nearly
     independent of the grid; on grids of at least :data:`bem.coarse_correction.TWO_LEVEL_GRID`
     points (on the host) with the coarse correction of :mod:`bem.coarse_correction`, which
-    takes a third to a half of the iterations away where C is many patches. Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
+    takes a third to a half of the iterations away where C is many patches (``correction``: the
+    contact iteration's, kept if it covers C). Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
     (S, converged, iterations).
 
     The fields live on C only (one value per contact pixel), written into and read from the
@@ -83,7 +85,9 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     q = operator.xp.full(n_contact, 1.0 / operator.self_influence)
     kq = product(q)
     curvature = _dot(q, kq)
-    if (preconditioner is not None and operator.xp is np and contact.size >= TWO_LEVEL_GRID
+    if preconditioner is not None and correction is not None and correction.follow(indices):
+        coarse = correction   # the contact iteration's, on (nearly) this set
+    elif (preconditioner is not None and operator.xp is np and contact.size >= TWO_LEVEL_GRID
             and curvature > 0.0):
         coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
         operator_in.forget()   # its first build uses the operator's buffers
