@@ -13,7 +13,7 @@ import scipy.ndimage
 import bem.constrained_cg
 import bem.stiffness
 from bem import HalfSpace, solve_contact
-from bem.coarse_correction import CoarseCorrection, _coarse
+from bem.coarse_correction import CoarseCorrection, SettlingCorrection, _coarse
 from bem.preconditioner import InverseKernel
 from bem.stiffness import _stiffness
 
@@ -107,3 +107,26 @@ def test_contact_iteration_reaches_the_same_state_in_fewer_iterations(monkeypatc
     assert two_level.stiffness == pytest.approx(one_level.stiffness, rel=1e-6)
     # (measured: 32 -> 24 iterations)
     assert two_level.iterations <= 0.85 * one_level.iterations
+
+
+def test_the_contact_iterations_correction_waits_for_a_settled_set_and_leaves_a_churning_one():
+    operator = HalfSpace((64, 64), 1.0, periodic=True)
+    indices = np.flatnonzero(_patches(64, 0.4))
+    size = indices.size
+    settling = SettlingCorrection(operator)
+    assert not settling.update(indices, changed=size // 2)      # churning: not built
+    assert not settling.update(indices, changed=0)               # settled once: not yet
+    assert settling.update(indices, changed=0)                   # twice in a row: built
+    built = settling.correction
+    assert built is not None and built.usable
+    assert not settling.update(indices[1:], changed=1)           # a pixel left: followed
+    assert settling.correction is built
+    step = int(0.03 * size)   # below CHURNING_CHANGE, adding up past REBUILD_CHANGE
+    assert not any(settling.update(indices, changed=step) for _ in range(3))
+    assert settling.correction is built
+    assert settling.update(indices, changed=step)                # 12 % since: built again
+    assert settling.correction is not built and settling.correction is not None
+    assert settling.update(indices, changed=size // 4)           # churns with it: dropped
+    assert settling.correction is None
+    assert not settling.update(indices, changed=0) and not settling.update(indices, changed=0)
+    assert settling.correction is None                           # for the rest of the solve
