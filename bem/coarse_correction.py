@@ -42,12 +42,12 @@ import numpy as np
 import scipy.fft
 import scipy.linalg
 
-__all__ = ["COARSE_CELLS", "REBUILD_CHANGE", "SETTLED_CHANGE", "SMALLEST_BLOCK",
+__all__ = ["CHURNING_CHANGE", "COARSE_CELLS", "REBUILD_CHANGE", "SETTLED_CHANGE", "SMALLEST_BLOCK",
            "TWO_LEVEL_GRID", "CoarseCorrection", "SettlingCorrection"]
 
 #: Blocks per side of the window at most: the block is ``ceil(side / COARSE_CELLS)`` pixels, so
-#: the coarse space has at most 1024 unknowns (a Cholesky factor of 8 MB, a few milliseconds). On
-#: the noisy 512^2 scan 32 x 32 blocks took 21-23 iterations, 16 x 16 blocks 25-29.
+#: the coarse space has at most 1024 unknowns (a Cholesky factor of 8 MB, 30-70 ms). On the
+#: noisy 512^2 scan's stiffness solves 32 x 32 blocks took 22-24 iterations, 16 x 16 blocks 25-30.
 COARSE_CELLS = 32
 #: Grids of at least this many points use the coarse correction (:mod:`bem.stiffness`). At
 #: 1024^2 it took the stiffness solve on a noisy scan's contact sets (21 and 76 % contact) from
@@ -165,7 +165,8 @@ class CoarseCorrection:
     Attributes
     ----------
     usable : bool
-        False where E could not be factorised (then :meth:`apply` adds nothing).
+        False where E could not be factorised: then the correction must not be used (Pi M Pi
+        alone removes the block means).
     """
 
     def __init__(self, operator, indices: np.ndarray, uniform_energy: float) -> None:
@@ -205,7 +206,7 @@ class CoarseCorrection:
         cells_y, cells_x = coarse.cells
         energies = np.zeros(cells_y * cells_x)
         rows_of_block = rows // b
-        for band in np.unique(rows_of_block):   # one band of blocks at a time: bounded memory
+        for band in np.flatnonzero(np.bincount(rows_of_block)):   # a band at a time: bounded memory
             here = rows_of_block == band
             tiles = np.zeros((cells_x, 2 * b, 2 * b))
             tiles[columns[here] // b, rows[here] % b, columns[here] % b] = 1.0
@@ -288,5 +289,7 @@ class SettlingCorrection:
         uniform.reshape(-1)[indices] = 1.0
         energy = float(self._operator.displacement(uniform).reshape(-1)[indices].sum())
         self.correction = CoarseCorrection(self._operator, indices, energy)
+        if not self.correction.usable:
+            self.correction, self._dropped = None, True
         self._changed = 0
         return True

@@ -91,6 +91,7 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
             and curvature > 0.0):
         coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
         operator_in.forget()   # its first build uses the operator's buffers
+        coarse = coarse if coarse.usable else None
     if curvature > 0.0:
         scaling = float(q.sum()) / curvature
         q *= scaling
