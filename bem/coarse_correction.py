@@ -42,14 +42,15 @@ import numpy as np
 import scipy.fft
 import scipy.linalg
 
-__all__ = ["CHURNING_CHANGE", "COARSE_CELLS", "REBUILD_CHANGE", "SETTLED_CHANGE", "SMALLEST_BLOCK",
-           "TWO_LEVEL_GRID", "CoarseCorrection", "SettlingCorrection"]
+__all__ = ["CHURNING_CHANGE", "COARSE_CELLS", "REBUILD_CHANGE", "SETTLED_CHANGE", "SLOW_RATE",
+           "SMALLEST_BLOCK", "TWO_LEVEL_GRID", "CoarseCorrection", "SettlingCorrection"]
 
 #: Blocks per side of the window at most: the block is ``ceil(side / COARSE_CELLS)`` pixels, so
 #: the coarse space has at most 1024 unknowns (a Cholesky factor of 8 MB, 30-70 ms). On the
 #: noisy 512^2 scan's stiffness solves 32 x 32 blocks took 22-24 iterations, 16 x 16 blocks 25-30.
 COARSE_CELLS = 32
-#: Grids of at least this many points use the coarse correction (:mod:`bem.stiffness`). At
+#: Grids of at least this many points use the coarse correction (:mod:`bem.constrained_cg`,
+#: and the stiffness solve after it). At
 #: 1024^2 it took the stiffness solve on a noisy scan's contact sets (21 and 76 % contact) from
 #: 1.29-1.37 / 2.69-2.84 s to 1.18 / 1.88 s (the mirrored operator) and from 1.86-2.03 /
 #: 3.05-3.09 s to 1.36 / 1.73 s (non-periodic); at 512^2 its cost per contact set (block
@@ -58,6 +59,11 @@ TWO_LEVEL_GRID = 1024 * 1024
 #: The contact iteration builds the correction once at most this share of C joined or left it
 #: in one iteration (before, C churns and each build would be spent on a passing set) ...
 SETTLED_CHANGE = 0.01
+#: ... if ``g.Mg`` fell by less than this factor per iteration over the last three (on a
+#: smooth WM surface, periodic, 1024^2 at 18 and 44 % contact, M alone gave 0.27-0.30 and the
+#: correction no fewer iterations; on the noisy scan 0.55 and 47 against 34 iterations, the
+#: same surface non-periodic at 44 % 0.5 and 54 against 41) ...
+SLOW_RATE = 0.4
 #: ... and builds it again once this share of C has changed since (in between, E is kept and Z
 #: follows C).
 REBUILD_CHANGE = 0.1
@@ -254,7 +260,7 @@ class CoarseCorrection:
 class SettlingCorrection:
     """The coarse correction of a contact iteration, whose set C changes: built once C has
     settled (at most :data:`SETTLED_CHANGE` of its pixels joined or left in each of two
-    iterations in a row), dropped for the rest of the solve if C then churns
+    iterations in a row) where M alone converges slowly (:data:`SLOW_RATE`), dropped for the rest of the solve if C then churns
     (:data:`CHURNING_CHANGE`), moved along with C (:meth:`CoarseCorrection.follow`) and built
     again once :data:`REBUILD_CHANGE` of C has changed since, or C reaches a block E does not
     have. Each build costs one product more (``1_C^T K 1_C``); it writes the operator's
@@ -267,11 +273,14 @@ class SettlingCorrection:
         self._changed = 0
         self._dropped = False
         self._settled = False
+        self._norms: list[float] = []
 
-    def update(self, indices: np.ndarray, changed: int) -> bool:
-        """Follow C after ``changed`` pixels joined or left it; True when the correction was
-        (re)built (the preconditioner changed: the caller restarts its direction)."""
+    def update(self, indices: np.ndarray, changed: int, gradient_norm: float) -> bool:
+        """Follow C after ``changed`` pixels joined or left it; ``gradient_norm`` is the last
+        iteration's ``g.Mg``. True when the correction was (re)built (the preconditioner
+        changed: the caller restarts its direction)."""
         self._changed += changed
+        self._norms = (self._norms + [gradient_norm])[-4:]
         if self._dropped:
             return False
         if self.correction is None:
@@ -279,6 +288,8 @@ class SettlingCorrection:
             self._settled, was_settled = settled, self._settled
             if not (settled and was_settled):   # two iterations in a row: not a first step's
                 return False
+            if len(self._norms) < 4 or self._norms[-1] <= SLOW_RATE**3 * self._norms[0]:
+                return False   # M alone converges fast: the correction would only cost
         elif changed > CHURNING_CHANGE * indices.size:
             self.correction, self._dropped = None, True   # C churns with it: M alone
             return True

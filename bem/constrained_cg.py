@@ -235,7 +235,7 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
             g_norm = _dot(gc, gc)
             descent = gc
         else:
-            if two_level is not None and two_level.update(indices, joined + clipped):
+            if two_level is not None and two_level.update(indices, joined + clipped, g_norm_old):
                 operator_in.forget()   # (its product wrote the whole operator input)
                 reset = True
             correction = ws.correction = None if two_level is None else two_level.correction

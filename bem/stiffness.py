@@ -12,7 +12,7 @@ import warnings
 
 import numpy as np
 
-from bem.coarse_correction import TWO_LEVEL_GRID, CoarseCorrection
+from bem.coarse_correction import CoarseCorrection
 from bem.constrained_cg import _dot, _Scatter
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
@@ -27,11 +27,10 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
 
     With ``preconditioner`` M, the residual is preconditioned by ``P_C M P_C`` (symmetric
     positive definite on C; :mod:`bem.preconditioner`), which keeps the iteration count nearly
-    independent of the grid; on grids of at least :data:`bem.coarse_correction.TWO_LEVEL_GRID`
-    points (on the host) with the coarse correction of :mod:`bem.coarse_correction`, which
-    takes a third to a half of the iterations away where C is many patches (``correction``: the
-    contact iteration's, kept if it covers C). Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns
-    (S, converged, iterations).
+    independent of the grid; with ``correction``, the contact iteration's coarse correction
+    (:mod:`bem.coarse_correction`, built where M alone converged slowly), moved to C or built
+    anew on C, which takes a third to a half of the iterations away where C is many patches.
+    Stops when ``||1 - (K q)_C|| <= tol sqrt(|C|)``. Returns (S, converged, iterations).
 
     The fields live on C only (one value per contact pixel), written into and read from the
     FFT buffers of the operator and the preconditioner at C's positions: no full-grid pass but
@@ -85,13 +84,11 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     q = operator.xp.full(n_contact, 1.0 / operator.self_influence)
     kq = product(q)
     curvature = _dot(q, kq)
-    if preconditioner is not None and correction is not None and correction.follow(indices):
-        coarse = correction   # the contact iteration's, on (nearly) this set
-    elif (preconditioner is not None and operator.xp is np and contact.size >= TWO_LEVEL_GRID
-            and curvature > 0.0):
-        coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
-        operator_in.forget()   # its first build uses the operator's buffers
-        coarse = coarse if coarse.usable else None
+    if preconditioner is not None and correction is not None and curvature > 0.0:
+        coarse = correction   # the contact iteration's, on (nearly) this set, or a new one
+        if not correction.follow(indices):
+            coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
+            coarse = coarse if coarse.usable else None
     if curvature > 0.0:
         scaling = float(q.sum()) / curvature
         q *= scaling

@@ -76,16 +76,18 @@ def test_the_two_level_preconditioner_is_symmetric_positive_definite(kind, fract
 
 
 @pytest.mark.parametrize("kind", ["non-periodic", "mirror"])
-def test_stiffness_is_the_same_in_fewer_iterations(kind, monkeypatch):
+def test_stiffness_is_the_same_in_fewer_iterations(kind):
     n = 256
     operator = HalfSpace((n, n), 1.0, periodic=kind == "mirror", mirror=kind == "mirror")
     preconditioner = InverseKernel((n, n), 1.0)
     contact = _patches(n, 0.7)   # (measured: 33 -> 20 iterations non-periodic, 38 -> 27 mirror)
     one_level = _stiffness(operator, contact, tol=1e-9, max_iter=500,
                            preconditioner=preconditioner)
-    monkeypatch.setattr(bem.stiffness, "TWO_LEVEL_GRID", 0)
+    indices = np.flatnonzero(contact)
+    uniform = float(operator.displacement(contact.astype(float)).reshape(-1)[indices].sum())
     two_level = _stiffness(operator, contact, tol=1e-9, max_iter=500,
-                           preconditioner=preconditioner)
+                           preconditioner=preconditioner,
+                           correction=CoarseCorrection(operator, indices, uniform))
     assert one_level[1] and two_level[1]
     assert two_level[0] == pytest.approx(one_level[0], rel=1e-8)
     assert two_level[2] <= 0.8 * one_level[2]
@@ -99,7 +101,6 @@ def test_contact_iteration_reaches_the_same_state_in_fewer_iterations(monkeypatc
     load = 0.1 * 1e9 * (n * 1e-6) ** 2   # 37 % contact
     one_level = solve_contact(heights, 1e-6, load=load, e_star=1e9, tol=1e-6, stiffness=True)
     monkeypatch.setattr(bem.constrained_cg, "TWO_LEVEL_GRID", 0)
-    monkeypatch.setattr(bem.stiffness, "TWO_LEVEL_GRID", 0)
     two_level = solve_contact(heights, 1e-6, load=load, e_star=1e9, tol=1e-6, stiffness=True)
     assert one_level.converged and two_level.converged
     np.testing.assert_array_equal(two_level.pressure > 0, one_level.pressure > 0)
@@ -114,19 +115,29 @@ def test_the_contact_iterations_correction_waits_for_a_settled_set_and_leaves_a_
     indices = np.flatnonzero(_patches(64, 0.4))
     size = indices.size
     settling = SettlingCorrection(operator)
-    assert not settling.update(indices, changed=size // 2)      # churning: not built
-    assert not settling.update(indices, changed=0)               # settled once: not yet
-    assert settling.update(indices, changed=0)                   # twice in a row: built
+    assert not settling.update(indices, size // 2, 1.0)      # churning: not built
+    assert not settling.update(indices, 0, 0.8)                  # settled once: not yet
+    assert not settling.update(indices, 0, 0.64)                 # twice, too few norms
+    assert settling.update(indices, 0, 0.5)                      # slow (0.8 per iteration): built
     built = settling.correction
     assert built is not None and built.usable
-    assert not settling.update(indices[1:], changed=1)           # a pixel left: followed
+    assert not settling.update(indices[1:], 1, 0.4)           # a pixel left: followed
     assert settling.correction is built
     step = int(0.03 * size)   # below CHURNING_CHANGE, adding up past REBUILD_CHANGE
-    assert not any(settling.update(indices, changed=step) for _ in range(3))
+    assert not any(settling.update(indices, step, 0.3) for _ in range(3))
     assert settling.correction is built
-    assert settling.update(indices, changed=step)                # 12 % since: built again
+    assert settling.update(indices, step, 0.2)                   # 12 % since: built again
     assert settling.correction is not built and settling.correction is not None
-    assert settling.update(indices, changed=size // 4)           # churns with it: dropped
+    assert settling.update(indices, size // 4, 0.1)           # churns with it: dropped
     assert settling.correction is None
-    assert not settling.update(indices, changed=0) and not settling.update(indices, changed=0)
+    assert not settling.update(indices, 0, 0.1) and not settling.update(indices, 0, 0.1)
     assert settling.correction is None                           # for the rest of the solve
+
+
+def test_no_correction_where_the_inverse_symbol_alone_converges_fast():
+    operator = HalfSpace((64, 64), 1.0, periodic=True)
+    indices = np.flatnonzero(_patches(64, 0.4))
+    settling = SettlingCorrection(operator)
+    for norm in (1.0, 0.25, 0.06, 0.015, 0.004, 0.001):   # 0.25 per iteration: fast
+        assert not settling.update(indices, 0, norm)
+    assert settling.correction is None
