@@ -183,7 +183,8 @@ def _constrained_cg(operator: HalfSpace, z: np.ndarray, p: np.ndarray, *, total:
                           preconditioner_in)
     pressure = flat_p[contact.indices]
     ws.correction = None
-    two_level = (SettlingCorrection(operator) if preconditioner is not None and xp is np and z.size >= TWO_LEVEL_GRID
+    two_level = (SettlingCorrection(operator)
+                 if preconditioner is not None and xp is np and z.size >= TWO_LEVEL_GRID
                  else None)
     clipped = 0
 
