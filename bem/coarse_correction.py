@@ -15,13 +15,14 @@ The preconditioner is the symmetric two-level additive one
 
 (Pi removes each block's mean on C; Z sums over the blocks' contact pixels; docs/theory.md,
 eq. T26a), symmetric positive definite on C whenever E is. The Galerkin coarse matrix
-``Z^T K Z`` would need one operator product per block; E approximates it by the interaction of whole blocks -- a coarse half-space of
-the same kind (periodic, mirrored or not) with one pixel per block -- scaled on both sides so
-that its diagonal is exact, ``E = S (K_coarse + gamma 1 1^T) S``, ``S_ii = sqrt(e_i / K_coarse,ii)``
-with ``e_i = z_i^T K z_i`` (each block's own contact pixels, computed at once for all blocks by
-an FFT of each block doubled), and ``gamma >= 0`` the least that gives the uniform pressure
-on C its exact energy ``1_C^T K 1_C`` (the periodic kernels have none in their mean: with every
-block in contact, ``K_coarse`` alone is singular). Both terms keep E symmetric positive definite.
+``Z^T K Z`` would need one operator product per block; E approximates it by the interaction of
+whole blocks -- a coarse half-space of the same kind (periodic, mirrored or not) with one pixel
+per block -- scaled on both sides so that its diagonal is exact,
+``E = S (K_coarse + gamma 1 1^T) S``, ``S_ii = sqrt(e_i / K_coarse,ii)`` with
+``e_i = z_i^T K z_i`` (each block's own contact pixels, computed at once for all blocks by an
+FFT of each block doubled), and ``gamma >= 0`` the least that gives the uniform pressure on C
+its exact energy ``1_C^T K 1_C`` (the periodic kernels have none in their mean: with every block
+in contact, ``K_coarse`` alone is singular). Both terms keep E symmetric positive definite.
 
 Measured (``K_CC q = 1`` to 1e-6 on the contact sets of a noisy scan at 21 / 47 / 76 %
 contact, the mirrored periodic operator): 512^2, 32 / 38 / 42 iterations with M alone, 22 / 24
@@ -50,8 +51,7 @@ __all__ = ["CHURNING_CHANGE", "COARSE_CELLS", "REBUILD_CHANGE", "SETTLED_CHANGE"
 #: noisy 512^2 scan's stiffness solves 32 x 32 blocks took 22-24 iterations, 16 x 16 blocks 25-30.
 COARSE_CELLS = 32
 #: Grids of at least this many points use the coarse correction (:mod:`bem.constrained_cg`,
-#: and the stiffness solve after it). At
-#: 1024^2 it took the stiffness solve on a noisy scan's contact sets (21 and 76 % contact) from
+#: and the stiffness solve after it). At 1024^2 it took the stiffness solve on a noisy scan's contact sets (21 and 76 % contact) from
 #: 1.29-1.37 / 2.69-2.84 s to 1.18 / 1.88 s (the mirrored operator) and from 1.86-2.03 /
 #: 3.05-3.09 s to 1.36 / 1.73 s (non-periodic); at 512^2 its cost per contact set (block
 #: energies, factorisation) and per iteration ate what the fewer iterations saved.
@@ -176,19 +176,16 @@ class CoarseCorrection:
     """
 
     def __init__(self, operator, indices: np.ndarray, uniform_energy: float) -> None:
-        coarse = _coarse(operator)
-        b = coarse.block
-        rows, columns = divmod(indices, operator.shape[1])
-        cell = (rows // b) * coarse.cells[1] + columns // b
+        self._coarse = coarse = _coarse(operator)
+        self._columns = operator.shape[1]
+        rows, columns = divmod(indices, self._columns)
+        cell = (rows // coarse.block) * coarse.cells[1] + columns // coarse.block
         counts = np.bincount(cell, minlength=coarse.cells[0] * coarse.cells[1])
         used = np.flatnonzero(counts)
         self._place = np.cumsum(counts > 0) - 1   # a used block's place among the used ones
         self._place[counts == 0] = -1
-        self._columns = operator.shape[1]
-        self._block_size = b
-        self._cells_x = coarse.cells[1]
-        self._block = self._place[cell].astype(np.int32)
-        self._counts = counts[used].astype(float)
+        self._counts = np.empty(used.size)
+        self.follow(indices)   # Z: each pixel's block, the blocks' counts
         own = self._own_energies(coarse, rows, columns, used)
         between = coarse.matrix[np.ix_(used, used)]
         scale = np.sqrt(own / np.diag(between))
@@ -228,8 +225,8 @@ class CoarseCorrection:
         False, and nothing changed, when a pixel lies in a block E does not have."""
         block = np.empty(indices.size, dtype=np.int32)
         counts = np.empty(self._counts.size)
-        if not _blocks_of(indices, self._columns, self._block_size, self._cells_x, self._place,
-                          block, counts):
+        if not _blocks_of(indices, self._columns, self._coarse.block, self._coarse.cells[1],
+                          self._place, block, counts):
             return False
         self._block = block
         # a block left without contact keeps a count of one: its sums are zero anyway
@@ -250,9 +247,8 @@ class CoarseCorrection:
         residual from M's output and :meth:`before`'s sums."""
         own = np.empty(self._counts.size)
         _block_sums(preconditioned, self._block, own)
-        shift = -own / self._counts
-        if self.usable:
-            shift += scipy.linalg.cho_solve(self._factor, sums, check_finite=False)
+        shift = scipy.linalg.cho_solve(self._factor, sums, check_finite=False)
+        shift -= own / self._counts
         _shifted(preconditioned, self._block, shift, preconditioned)
         return preconditioned
 
@@ -260,11 +256,11 @@ class CoarseCorrection:
 class SettlingCorrection:
     """The coarse correction of a contact iteration, whose set C changes: built once C has
     settled (at most :data:`SETTLED_CHANGE` of its pixels joined or left in each of two
-    iterations in a row) where M alone converges slowly (:data:`SLOW_RATE`), dropped for the rest of the solve if C then churns
-    (:data:`CHURNING_CHANGE`), moved along with C (:meth:`CoarseCorrection.follow`) and built
-    again once :data:`REBUILD_CHANGE` of C has changed since, or C reaches a block E does not
-    have. Each build costs one product more (``1_C^T K 1_C``); it writes the operator's
-    buffers.
+    iterations in a row) where M alone converges slowly (:data:`SLOW_RATE`), dropped for the
+    rest of the solve if C then churns (:data:`CHURNING_CHANGE`) or E cannot be factorised,
+    moved along with C (:meth:`CoarseCorrection.follow`) and built again once
+    :data:`REBUILD_CHANGE` of C has changed since, or C reaches a block E does not have. Each
+    build costs one product more (``1_C^T K 1_C``); it writes the operator's buffers.
     """
 
     def __init__(self, operator) -> None:

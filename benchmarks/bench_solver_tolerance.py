@@ -9,8 +9,8 @@ tolerance: the constant ``validation.run.refine.SOLVER_ERROR`` bounds it for the
 mean gap and conductance, so that a refined solve at tolerance ``0.01 band / SOLVER_ERROR``
 spends at most 1 % of its band on the solver (docs/theory.md, eq. T40); the area's error is a
 pixel or two at the contact edge instead, not proportional to the tolerance (a ratio up to
-0.81 at tol 1e-4 here), and T40 says how large. The last column is the wall time of the path against that at the
-scene default 1e-8 (shared cores: read it as indicative).
+0.81 at tol 1e-4 here), and T40 says how large. The last column is the wall time of the path
+against that at the scene default 1e-8 (shared cores: read it as indicative).
 
 Usage: ``nice python benchmarks/bench_solver_tolerance.py [--n 256]``
 """

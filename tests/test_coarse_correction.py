@@ -18,10 +18,16 @@ from bem.preconditioner import InverseKernel
 from bem.stiffness import _stiffness
 
 
-def _patches(n: int, fraction: float, seed: int = 3) -> np.ndarray:
-    """A contact set of many patches: the highest ``fraction`` of a rough surface."""
+def _rough(n: int, seed: int = 3) -> np.ndarray:
+    """A rough periodic surface of unit rms height, correlated over a few pixels."""
     heights = scipy.ndimage.gaussian_filter(np.random.default_rng(seed).normal(size=(n, n)),
                                             2.0, mode="wrap")
+    return heights / heights.std()
+
+
+def _patches(n: int, fraction: float) -> np.ndarray:
+    """A contact set of many patches: the highest ``fraction`` of a rough surface."""
+    heights = _rough(n)
     return heights >= np.quantile(heights, 1.0 - fraction)
 
 
@@ -95,9 +101,7 @@ def test_stiffness_is_the_same_in_fewer_iterations(kind):
 
 def test_contact_iteration_reaches_the_same_state_in_fewer_iterations(monkeypatch):
     n = 256
-    heights = scipy.ndimage.gaussian_filter(np.random.default_rng(3).normal(size=(n, n)), 2.0,
-                                            mode="wrap")
-    heights *= 1e-6 / heights.std()
+    heights = 1e-6 * _rough(n)
     load = 0.1 * 1e9 * (n * 1e-6) ** 2   # 37 % contact
     one_level = solve_contact(heights, 1e-6, load=load, e_star=1e9, tol=1e-6, stiffness=True)
     monkeypatch.setattr(bem.constrained_cg, "TWO_LEVEL_GRID", 0)
@@ -115,23 +119,23 @@ def test_the_contact_iterations_correction_waits_for_a_settled_set_and_leaves_a_
     indices = np.flatnonzero(_patches(64, 0.4))
     size = indices.size
     settling = SettlingCorrection(operator)
-    assert not settling.update(indices, size // 2, 1.0)      # churning: not built
-    assert not settling.update(indices, 0, 0.8)                  # settled once: not yet
-    assert not settling.update(indices, 0, 0.64)                 # twice, too few norms
-    assert settling.update(indices, 0, 0.5)                      # slow (0.8 per iteration): built
+    assert not settling.update(indices, size // 2, 1.0)    # churning: not built
+    assert not settling.update(indices, 0, 0.8)            # settled once: not yet
+    assert not settling.update(indices, 0, 0.64)           # twice, too few norms
+    assert settling.update(indices, 0, 0.5)                # slow (0.8 per iteration): built
     built = settling.correction
     assert built is not None and built.usable
-    assert not settling.update(indices[1:], 1, 0.4)           # a pixel left: followed
+    assert not settling.update(indices[1:], 1, 0.4)        # a pixel left: followed
     assert settling.correction is built
     step = int(0.03 * size)   # below CHURNING_CHANGE, adding up past REBUILD_CHANGE
     assert not any(settling.update(indices, step, 0.3) for _ in range(3))
     assert settling.correction is built
-    assert settling.update(indices, step, 0.2)                   # 12 % since: built again
+    assert settling.update(indices, step, 0.2)             # 12 % since: built again
     assert settling.correction is not built and settling.correction is not None
-    assert settling.update(indices, size // 4, 0.1)           # churns with it: dropped
+    assert settling.update(indices, size // 4, 0.1)        # churns with it: dropped
     assert settling.correction is None
     assert not settling.update(indices, 0, 0.1) and not settling.update(indices, 0, 0.1)
-    assert settling.correction is None                           # for the rest of the solve
+    assert settling.correction is None                     # for the rest of the solve
 
 
 def test_no_correction_where_the_inverse_symbol_alone_converges_fast():
