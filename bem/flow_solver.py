@@ -13,12 +13,13 @@ from typing import Callable
 import numpy as np
 
 from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
+from bem.gauss_seidel import backward_sweep, forward_sweep
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
-           "DIRECT_SWITCH_ITERATIONS", "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart",
+           "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart",
            "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
-           "PERIODIC_DIRECT_SOLVE_LIMIT", "PIXEL_MULTIGRID_LIMIT", "RESIDUAL_LIMIT",
+           "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT",
            "multigrid_levels"]
 
 
@@ -32,16 +33,20 @@ DIRECT_SOLVE_LIMIT = 256 * 256
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
 #: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
 PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
-#: Gaps of more cells than this are solved with algebraic coarsening, not the pixel blocks: on a
-#: 2048^2 gap of a check near percolation the pixel blocks (three levels, the coarsest 512^2)
-#: stalled at a relative residual of 1.3e-7 after 1000 iterations.
-PIXEL_MULTIGRID_LIMIT = 1024 * 1024
+#: A gap is switched to the sparse LU after a slow multigrid neighbour
+#: (:data:`DIRECT_SWITCH_ITERATIONS`) up to this many cells only (a 2048^2 factor would hold
+#: several GB); above it a multigrid solve of the pixel blocks that stops short of its rule goes
+#: on from its last iterate with algebraic coarsening (:func:`_solve_pressure`).
+DIRECT_SWITCH_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
 #: cells, or at :data:`MULTIGRID_LEVELS` levels.
 COARSEST_LIMIT = 256 * 256
 #: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
-#: at three levels, 17-35 at four on the same 1024^2 gaps).
-MULTIGRID_LEVELS = 3
+#: at three levels, 17-35 at four on the same 1024^2 gaps), so a 1024^2 grid gets three (the
+#: coarsest 256^2) and a 2048^2 grid four (the coarsest 256^2 again: with three, a 512^2 factor
+#: per cycle, and the iteration stalled at a relative residual of 1.3e-7 after 1000 iterations
+#: on a gap near percolation).
+MULTIGRID_LEVELS = 4
 #: Relative error of the dissipation (the aperture's cubed: three times its relative error) at
 #: which the multigrid's conjugate gradients may stop (:func:`_conjugate_gradients`), the
 #: residual permitting: an aperture error of about 3e-7, a thousandth of the smallest leakage
@@ -59,7 +64,8 @@ DISSIPATION_TOLERANCE = 1e-6
 #: 6e-6 in the aperture of the test gap).
 MULTIGRID_TOLERANCE = 1e-6
 #: Relative residual of the algebraic multigrid (periodic gaps above
-#: :data:`PERIODIC_DIRECT_SOLVE_LIMIT`, every gap above :data:`PIXEL_MULTIGRID_LIMIT`), which
+#: :data:`PERIODIC_DIRECT_SOLVE_LIMIT`; a gap above :data:`DIRECT_SWITCH_LIMIT` on which the
+#: pixel blocks stopped short), which
 #: stops on it alone: at 1e-7 it left 1.8e-7 in the aperture of the test gap, at 1e-8 3e-6 on one
 #: whose g^3 spans more decades, and the estimate of :data:`DISSIPATION_TOLERANCE` with a residual
 #: of 1e-6 left 7e-6 there.
@@ -72,7 +78,7 @@ ALGEBRAIC_TOLERANCE = 1e-9
 RESIDUAL_LIMIT = 1e-7
 #: A gap whose previous neighbour along a path (:class:`FlowStart`) took at least this many
 #: multigrid iterations, or was itself solved by LU in its place, is solved by sparse LU up to
-#: :data:`PIXEL_MULTIGRID_LIMIT` cells. Near percolation the pixel blocks converge slowly while
+#: :data:`DIRECT_SWITCH_LIMIT` cells. Near percolation the pixel blocks converge slowly while
 #: the factor gets cheaper (fewer open cells): on an interferometer map's 960^2 gaps at 18 % and
 #: 30 % contact the multigrid took 126-239 iterations, 10-18 s, from the previous load's
 #: pressure, the LU 3.6-6.7 s and 0.8-1.3 GB (1024^2); the iterations grow along a path
@@ -131,8 +137,8 @@ def _compressed_rows(hierarchy) -> None:
     place: smoothed aggregation with one near-null vector builds them as BSR of 1 x 1 blocks,
     whose Gauss-Seidel sweep and products are several times slower per unknown than CSR's (a
     sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
-    in CSR the solve took 20 % less, the same iterates). The smoothers take the operator of
-    their level at each call, so they follow."""
+    in CSR the solve took 20 % less, the same iterates); the compiled sweeps of
+    :class:`_VCycle` take CSR only."""
     for level in hierarchy.levels:
         level.A = level.A.tocsr()
         for name in ("P", "R"):
@@ -166,42 +172,66 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     in place). The geometric aggregates
     follow the pixels whatever their conductance, which algebraic coarsening (smoothed
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
-    their setup alone took as long as this whole solve. On a periodic gap these aggregates
+    their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
+    contact) 54-69 s against 13 s and more than 300 s against 195 s, at 2.8-3.0 GB against
+    1.3-1.8 GB. On a periodic gap these aggregates
     converge slowly (the pressure fluctuation has no fixed edge: 200-600 iterations at three
-    levels on 1024^2), and above :data:`PIXEL_MULTIGRID_LIMIT` cells they stalled on a gap near
-    percolation; periodic gaps are solved by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT`
-    cells, and these and every gap above :data:`PIXEL_MULTIGRID_LIMIT` by algebraic coarsening:
-    smoothed aggregation with the evolution strength of connection, which follows the thin necks
-    that carry the flow near percolation, to a relative residual of :data:`ALGEBRAIC_TOLERANCE`
-    alone (the estimate was fooled there). A multigrid solve that stops short of its rule warns
+    levels on 1024^2); periodic gaps are solved by the LU up to
+    :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above it by algebraic coarsening: smoothed
+    aggregation with the evolution strength of connection, which follows the thin necks that
+    carry the flow near percolation, with a symmetric Gauss-Seidel sweep on either side, to a
+    relative residual of :data:`ALGEBRAIC_TOLERANCE`
+    alone (the estimate was fooled there). A solve of the pixel blocks of more than
+    :data:`DIRECT_SWITCH_LIMIT` cells that stops short of its rule goes on from its last
+    iterate so; a multigrid solve that stops short of its rule otherwise warns
     (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
     :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
     conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the
     residual relative to ``b``, the energy's decrements) and, when that solve took
     :data:`DIRECT_SWITCH_ITERATIONS` or more, or was itself switched to the LU, this gap is
-    solved by the LU (up to :data:`PIXEL_MULTIGRID_LIMIT` cells, not periodic): the gaps of a
+    solved by the LU (up to :data:`DIRECT_SWITCH_LIMIT` cells, not periodic): the gaps of a
     load path close towards percolation, where the pixel blocks converge slowly. Returns the
     pressure of the unknowns and the multigrid's iterations (None for the LU).
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
-    algebraic = periodic or cells.size > PIXEL_MULTIGRID_LIMIT
+    algebraic = periodic
     levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
-    switched = not algebraic and start is not None and (
+    switched = not algebraic and cells.size <= DIRECT_SWITCH_LIMIT and start is not None and (
         start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
     # (few unknowns on a large grid, one level: the LU is the whole solve)
     if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
             or levels == 1 or switched:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
-    import pyamg
-
     # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
     scaled = matrix.tocsr()
     scale = 1.0 / np.sqrt(scaled.diagonal())
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
+    guess = _start(None if start is None else start.pressure, cells, periodic) / scale
+    if not algebraic:
+        solution, iterations, settled = _conjugate_gradients(
+            scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, levels)),
+            lambda pressure: dissipation(pressure * scale), MULTIGRID_TOLERANCE, guess)
+        if settled or cells.size <= DIRECT_SWITCH_LIMIT:
+            _warn_unsettled(settled, cells.size, iterations)
+            return solution * scale, iterations
+        guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
+    more, extra, settled = _conjugate_gradients(
+        scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
+        ALGEBRAIC_TOLERANCE, guess)
+    _warn_unsettled(settled, cells.size, extra + (0 if algebraic else iterations))
+    return more * scale, extra + (0 if algebraic else iterations)
+
+
+def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):
+    """The pyAMG hierarchy of the Jacobi-scaled matrix ``scaled`` (``scale`` = ``D``, the
+    near-null space ``1/D``), in CSR: ``levels`` levels of the pixel grid's 2 x 2 blocks of
+    ``cells``, or for ``levels = 0`` algebraic coarsening (:func:`_solve_pressure`)."""
+    import pyamg
+
     near_null = (1.0 / scale)[:, None]
-    if algebraic:
+    if not levels:
         hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
                                                       coarse_solver=("splu", _LU_OPTIONS))
     else:
@@ -218,15 +248,15 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
             postsmoother=("gauss_seidel", {"sweep": "backward"}),
             coarse_solver=("splu", _LU_OPTIONS))
     _compressed_rows(hierarchy)
-    solution, iterations, settled = _conjugate_gradients(
-        scaled, rhs * scale, _VCycle(hierarchy),
-        None if algebraic else (lambda pressure: dissipation(pressure * scale)),
-        ALGEBRAIC_TOLERANCE if algebraic else MULTIGRID_TOLERANCE,
-        _start(None if start is None else start.pressure, cells, periodic) / scale)
+    return hierarchy
+
+
+def _warn_unsettled(settled: bool, cells: int, iterations: int) -> None:
+    """The warning of a multigrid solve that stopped short of its rule (its last iterate is
+    returned)."""
     if not settled:
-        warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells.size} cells did not "
-                      f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=3)
-    return solution * scale, iterations
+        warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells} cells did not "
+                      f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=4)
 
 
 def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray:
@@ -246,13 +276,19 @@ def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.nd
 
 class _VCycle:
     """One V-cycle of a pyAMG hierarchy from a zero guess, as ``cycle @ residual``: its levels'
-    smoothers, interpolations and coarse solver, in pyAMG's order, without the residual norms
-    that pyAMG's own preconditioner computes around each cycle for its stopping test (two
-    products with the finest matrix and three norms per application, a tenth of a 1024^2
+    interpolations and coarse solver, in pyAMG's order, and its Gauss-Seidel smoothing by the
+    compiled sweeps of :mod:`bem.gauss_seidel`, which release the GIL (pyAMG's hold it, and
+    the contact path beside the leakage waits on every sweep): one forward sweep before the
+    coarse correction and one backward after it, or with ``symmetric`` a forward and a
+    backward sweep on either side (pyAMG's smoothed-aggregation default). Without the residual
+    norms that pyAMG's own preconditioner computes around each cycle for its stopping test
+    (two products with the finest matrix and three norms per application, a tenth of a 1024^2
     solve, and BLAS calls whose threads then spin on the path's cores)."""
 
-    def __init__(self, hierarchy) -> None:
+    def __init__(self, hierarchy, *, symmetric: bool = False) -> None:
         self.levels, self.coarse_solver = hierarchy.levels, hierarchy.coarse_solver
+        self.before = (forward_sweep, backward_sweep) if symmetric else (forward_sweep,)
+        self.after = (forward_sweep, backward_sweep) if symmetric else (backward_sweep,)
 
     def __matmul__(self, residual: np.ndarray) -> np.ndarray:
         return self._cycle(0, residual)
@@ -260,14 +296,16 @@ class _VCycle:
     def _cycle(self, index: int, right: np.ndarray) -> np.ndarray:
         level = self.levels[index]
         x = np.zeros_like(right)
-        level.presmoother(level.A, x, right)
+        for sweep in self.before:
+            sweep(level.A, x, right)
         coarse = level.R @ (right - level.A @ x)
         if index == len(self.levels) - 2:
             correction = self.coarse_solver(self.levels[-1].A, coarse)
         else:
             correction = self._cycle(index + 1, coarse)
         x += level.P @ correction
-        level.postsmoother(level.A, x, right)
+        for sweep in self.after:
+            sweep(level.A, x, right)
         return x
 
 

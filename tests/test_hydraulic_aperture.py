@@ -345,20 +345,43 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
                                rtol=1e-8 if periodic else bem.flow_solver.DISSIPATION_TOLERANCE)
 
 
-def test_gaps_above_the_pixel_multigrid_limit_get_the_direct_aperture(monkeypatch):
-    """Above PIXEL_MULTIGRID_LIMIT cells the multigrid coarsens algebraically (evolution
-    strength) instead of by pixel blocks; forced on a small gap it gives the LU's aperture."""
-    import bem.flow_solver
+def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeypatch):
+    """Above DIRECT_SWITCH_LIMIT cells, a solve of the pixel blocks that stops short of its
+    rule goes on from its last iterate with algebraic coarsening (no warning), to the LU's
+    aperture (here from the very start: the algebraic solve alone), its iterations counted
+    with the first's; up to the limit it warns and returns its iterate."""
+    import warnings
 
-    gap = _random_gap(96, 2)
-    gap[gap > 0] **= 3
-    direct = [hydraulic_aperture(gap, 1.0, direction=d) for d in "xy"]
+    import bem.flow
+    import bem.flow_solver
+    from bem.warnings import ConvergenceWarning
+
+    gap = _random_gap(96, 4)
+    direct = hydraulic_aperture(gap, 1.0)
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "PIXEL_MULTIGRID_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "_aggregates", None)   # never the pixel blocks
-    algebraic = [hydraulic_aperture(gap, 1.0, direction=d) for d in "xy"]
-    assert min(direct) > 0
-    np.testing.assert_allclose(algebraic, direct, rtol=1e-8)
+    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 40 * 40)
+    original, calls = bem.flow_solver._conjugate_gradients, []
+
+    def stalled_first(matrix, rhs, preconditioner, dissipation, tolerance, start=None):
+        calls.append(preconditioner)
+        if len(calls) == 1:   # the pixel blocks: their start back, after "1000 iterations"
+            return np.array(start), 1000, False
+        return original(matrix, rhs, preconditioner, dissipation, tolerance, start)
+
+    monkeypatch.setattr(bem.flow_solver, "_conjugate_gradients", stalled_first)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        aperture, solved = bem.flow._flow_solution(gap, 1.0, "x", False)
+    # the pixel blocks' one-sided sweeps, then the algebraic hierarchy's symmetric ones
+    assert len(calls) == 2 and len(calls[0].before) == 1 and len(calls[1].before) == 2
+    assert solved.iterations > 1000
+    assert aperture == pytest.approx(direct, rel=1e-8)
+    calls.clear()
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size)
+    with pytest.warns(ConvergenceWarning, match="did not converge in 1000 iterations"):
+        bem.flow._flow_solution(gap, 1.0, "x", False)
+    assert len(calls) == 1
 
 
 def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
@@ -380,7 +403,8 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     assert multigrid_levels(COARSEST_LIMIT + 1) == 2
     assert multigrid_levels(4 * COARSEST_LIMIT) == 2
     assert multigrid_levels(16 * COARSEST_LIMIT) == 3
-    assert multigrid_levels(1024 * COARSEST_LIMIT) == MULTIGRID_LEVELS == 3
+    assert multigrid_levels(64 * COARSEST_LIMIT) == 4
+    assert multigrid_levels(4096 * COARSEST_LIMIT) == MULTIGRID_LEVELS == 4
 
 
 def test_the_aggregates_are_the_grids_two_by_two_blocks():
@@ -409,7 +433,7 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
 
 def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     """Smoothed aggregation builds its coarse levels as 1 x 1 BSR; they are converted to CSR
-    (a faster Gauss-Seidel sweep) and the solve gives the aperture of the BSR hierarchy."""
+    (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
     import pyamg
     import scipy.sparse
 
@@ -432,11 +456,12 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
                for level in built[-1].levels)
     assert all(getattr(level, name).format == "csr" for level in built[-1].levels[:-1]
                for name in ("P", "R"))
+    assert converted > 0.0
+    # pyAMG builds the coarse levels in blocks of 1 x 1, which the compiled sweeps refuse
     monkeypatch.setattr(bem.flow_solver, "_compressed_rows", lambda hierarchy: None)
-    assert built[0].levels[1].A.format == "csr"
-    blocked = hydraulic_aperture(gap, 1.0)
+    with pytest.raises(TypeError, match="CSR"):
+        hydraulic_aperture(gap, 1.0)
     assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
-    assert converted == pytest.approx(blocked, rel=1e-12)
 
 
 def test_the_energy_left_is_the_geometric_tail_of_the_last_decrements():
@@ -560,10 +585,12 @@ def test_conjugate_gradients_from_a_start_reach_the_same_solution():
 def test_the_v_cycle_is_pyamgs():
     """The multigrid preconditioner's own V-cycle applies pyAMG's cycle (same smoothers,
     interpolations and coarse solve from a zero guess): the same vector as pyAMG's
-    preconditioner, which also evaluates residual norms around it."""
+    preconditioner, which also evaluates residual norms around it; its compiled sweeps give
+    pyAMG's Gauss-Seidel iterates, the pixel hierarchy's one-sided sweeps and the algebraic
+    hierarchy's symmetric ones alike."""
     import pyamg
 
-    from bem.flow_solver import _aggregates, _VCycle
+    from bem.flow_solver import _aggregates, _compressed_rows, _VCycle
 
     cells = np.ones((32, 32), dtype=bool)
     matrix = pyamg.gallery.poisson((32, 32), format="csr")
@@ -575,17 +602,30 @@ def test_the_v_cycle_is_pyamgs():
         matrix, aggregate=aggregates, smooth=None, max_levels=3, max_coarse=1,
         improve_candidates=None, presmoother=("gauss_seidel", {"sweep": "forward"}),
         postsmoother=("gauss_seidel", {"sweep": "backward"}), coarse_solver="splu")
+    _compressed_rows(hierarchy)   # (as the solver holds it: the sweeps take CSR only)
     assert len(hierarchy.levels) == 3
     residual = np.random.default_rng(2).standard_normal(32 * 32)
     np.testing.assert_allclose(_VCycle(hierarchy) @ residual,
                                hierarchy.aspreconditioner(cycle="V") @ residual,
                                rtol=1e-12, atol=1e-12)
+    # the algebraic hierarchy: pyAMG's default smoother, symmetric sweeps on either side
+    conductance = np.random.default_rng(3).uniform(0.1, 10.0, matrix.nnz)
+    varied = matrix.copy()
+    varied.data *= conductance
+    varied = (varied + varied.T).tocsr()
+    algebraic = pyamg.smoothed_aggregation_solver(varied, max_coarse=10, coarse_solver="splu")
+    _compressed_rows(algebraic)
+    assert len(algebraic.levels) >= 3
+    expected = algebraic.aspreconditioner(cycle="V") @ residual
+    np.testing.assert_allclose(_VCycle(algebraic, symmetric=True) @ residual, expected,
+                               rtol=1e-12, atol=1e-12)
+    assert not np.allclose(_VCycle(algebraic) @ residual, expected, rtol=1e-6)
 
 
 def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
     """A gap whose neighbour's multigrid took DIRECT_SWITCH_ITERATIONS or more (or was itself
     solved by the LU) is solved by the LU, with the LU's aperture to rounding; below that, and
-    on gaps the pixel multigrid does not serve (periodic, above its limit), by the iteration."""
+    on periodic gaps and above DIRECT_SWITCH_LIMIT cells, by the iteration."""
     import bem.flow
     import bem.flow_solver
     from bem.flow_solver import DIRECT_SWITCH_ITERATIONS, FlowStart
@@ -604,6 +644,6 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
         assert aperture == pytest.approx(direct, rel=1e-12 if switched else 1e-6)
     monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     periodic = bem.flow._flow_solution(gap, 1.0, "x", True, FlowStart(previous, None))[1]
-    monkeypatch.setattr(bem.flow_solver, "PIXEL_MULTIGRID_LIMIT", 0)
-    algebraic = bem.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
-    assert periodic.iterations is not None and algebraic.iterations is not None
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size - 1)
+    large = bem.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
+    assert periodic.iterations is not None and large.iterations is not None
