@@ -28,7 +28,7 @@ __all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "QUEUED_CELLS",
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
 #: at once, while the caller works beside them: the multigrid solve of a 1024^2 gap peaks at
-#: 0.6-0.9 GB, of a 2048^2 gap at 2 GB and more.
+#: 0.6-0.9 GB, of a 2048^2 gap 1.3-1.8 GB.
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 #: Once the caller waits for the results (:meth:`BackgroundLeakage.results`), gaps of up to
 #: this many cells still waiting have their two directions solved at once where the process
