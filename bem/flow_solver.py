@@ -17,9 +17,9 @@ from bem.gauss_seidel import backward_sweep, forward_sweep
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
-           "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE", "ESTIMATE_STEPS", "FlowStart",
-           "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
-           "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT",
+           "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE",
+           "ESTIMATE_STEPS", "FlowStart", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
+           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT",
            "multigrid_levels"]
 
 
@@ -174,14 +174,13 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
     their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
     contact) 54-69 s against 13 s and more than 300 s against 195 s, at 2.8-3.0 GB against
-    1.3-1.8 GB. On a periodic gap these aggregates
-    converge slowly (the pressure fluctuation has no fixed edge: 200-600 iterations at three
-    levels on 1024^2); periodic gaps are solved by the LU up to
+    1.3-1.8 GB. On a periodic gap these aggregates converge slowly (the pressure fluctuation
+    has no fixed edge: 200-600 iterations at three levels on 1024^2); periodic gaps are solved by the LU up to
     :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above it by algebraic coarsening: smoothed
     aggregation with the evolution strength of connection, which follows the thin necks that
     carry the flow near percolation, with a symmetric Gauss-Seidel sweep on either side, to a
-    relative residual of :data:`ALGEBRAIC_TOLERANCE`
-    alone (the estimate was fooled there). A solve of the pixel blocks of more than
+    relative residual of :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled
+    there). A solve of the pixel blocks of more than
     :data:`DIRECT_SWITCH_LIMIT` cells that stops short of its rule goes on from its last
     iterate so; a multigrid solve that stops short of its rule otherwise warns
     (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
