@@ -208,6 +208,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     guess = _start(None if start is None else start.pressure, cells, periodic) / scale
+    iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
             scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, levels)),
@@ -216,11 +217,12 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
         guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
-    more, extra, settled = _conjugate_gradients(
+    solution, extra, settled = _conjugate_gradients(
         scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
         ALGEBRAIC_TOLERANCE, guess)
-    _warn_unsettled(settled, cells.size, extra + (0 if algebraic else iterations))
-    return more * scale, extra + (0 if algebraic else iterations)
+    iterations += extra
+    _warn_unsettled(settled, cells.size, iterations)
+    return solution * scale, iterations
 
 
 def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):

@@ -87,6 +87,8 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
     if preconditioner is not None and correction is not None and curvature > 0.0:
         coarse = correction   # the contact iteration's, on (nearly) this set, or a new one
         if not correction.follow(indices):
+            # (the operator's coarse data exist since the contact iteration built its
+            # correction: this build writes none of the operator's buffers)
             coarse = CoarseCorrection(operator, indices, curvature / float(q[0]) ** 2)
             coarse = coarse if coarse.usable else None
     if curvature > 0.0:
