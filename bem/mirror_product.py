@@ -75,28 +75,54 @@ def _couple(spectrum: np.ndarray, symbol: np.ndarray, twiddle_rows: np.ndarray,
             twiddle_columns: np.ndarray) -> None:   # pragma: no cover (compiled)
     """``spectrum`` (the half spectrum of the folded block) times the cosine-domain ``symbol``
     (already holding the 1/4 and the inverse's normalisation), in place (module docstring);
-    ``twiddle_rows[k] = exp(i pi k / N1)``, ``twiddle_columns[k] = exp(i pi k / N2)``."""
+    ``twiddle_rows[k] = exp(i pi k / N1)``, ``twiddle_columns[k] = exp(i pi k / N2)``: row
+    ``k1`` with row ``-k1`` (:func:`_couple_rows`), row 0 without ``S10``."""
     rows, columns = symbol.shape
+    no_row = np.zeros(columns)
     for k1 in range(rows // 2 + 1):
         m1 = (rows - k1) % rows
-        t1, u1 = twiddle_rows[k1], twiddle_rows[m1]
-        for k2 in range(spectrum.shape[1]):
-            s00 = symbol[k1, k2]
-            s10 = symbol[m1, k2] if k1 > 0 else 0.0
-            s01 = symbol[k1, columns - k2] if k2 > 0 else 0.0
-            s11 = symbol[m1, columns - k2] if k1 > 0 and k2 > 0 else 0.0
-            even, odd = s00 + s10, s00 - s10
-            even_reflected, odd_reflected = s01 + s11, s01 - s11
-            a, b = spectrum[k1, k2], spectrum[m1, k2]
-            t2 = twiddle_columns[k2]
-            spectrum[k1, k2] = ((even + even_reflected) * a + (odd + odd_reflected) * t1 * b
-                                + (even - even_reflected) * t2 * b.conjugate()
-                                + (odd - odd_reflected) * t1 * t2 * a.conjugate())
-            if m1 != k1:
-                spectrum[m1, k2] = ((even + even_reflected) * b
-                                    - (odd + odd_reflected) * u1 * a
-                                    + (even - even_reflected) * t2 * a.conjugate()
-                                    - (odd - odd_reflected) * u1 * t2 * b.conjugate())
+        _couple_rows(spectrum, symbol, k1, m1, no_row, twiddle_rows[k1], twiddle_rows[m1],
+                     twiddle_columns)
+
+
+@numba.njit(nogil=True, cache=True)
+def _couple_rows(spectrum: np.ndarray, symbol: np.ndarray, k1: int, m1: int,
+                 no_row: np.ndarray, t1: complex, u1: complex,
+                 twiddle_columns: np.ndarray) -> None:   # pragma: no cover (compiled)
+    """Rows ``k1`` and ``m1 = -k1`` of :func:`_couple` (``m1`` written only where it is
+    another row), in real arithmetic, which compiles to vector instructions (1.5-1.8 times
+    faster than complex arithmetic from 512^2 to 2048^2):
+    ``a' = c0 a + c1 t1 b + c2 t2 conj(b) + c3 t1 t2 conj(a)`` and
+    ``b' = c0 b - c1 u1 a + c2 t2 conj(a) - c3 u1 t2 conj(b)`` for ``a``, ``b`` the spectrum
+    at ``(k1, k2)``, ``(m1, k2)``, with ``c0, c1, c2, c3`` the sums of ``S00 +- S10`` and
+    ``S01 +- S11`` (module docstring)."""
+    columns = symbol.shape[1]
+    upper, lower = symbol[k1], symbol[m1] if k1 > 0 else no_row
+    a_row, b_row = spectrum[k1], spectrum[m1]
+    t1r, t1i, u1r, u1i = t1.real, t1.imag, u1.real, u1.imag
+    pair = m1 != k1
+    for k2 in range(spectrum.shape[1]):
+        reflected = columns - k2 if k2 > 0 else 0
+        s00, s10 = upper[k2], lower[k2]
+        s01 = upper[reflected] if k2 > 0 else 0.0
+        s11 = lower[reflected] if k2 > 0 else 0.0
+        even, odd = s00 + s10, s00 - s10
+        even_reflected, odd_reflected = s01 + s11, s01 - s11
+        c0, c1 = even + even_reflected, odd + odd_reflected
+        c2, c3 = even - even_reflected, odd - odd_reflected
+        a, b = a_row[k2], b_row[k2]
+        ar, ai, br, bi = a.real, a.imag, b.real, b.imag
+        t2 = twiddle_columns[k2]
+        t2r, t2i = t2.real, t2.imag
+        xr, xi = t2r * br + t2i * bi, t2i * br - t2r * bi   # t2 conj(b)
+        yr, yi = t2r * ar + t2i * ai, t2i * ar - t2r * ai   # t2 conj(a)
+        new_ar = c0 * ar + c1 * (t1r * br - t1i * bi) + c2 * xr + c3 * (t1r * yr - t1i * yi)
+        new_ai = c0 * ai + c1 * (t1r * bi + t1i * br) + c2 * xi + c3 * (t1r * yi + t1i * yr)
+        if pair:
+            b_row[k2] = complex(
+                c0 * br - c1 * (u1r * ar - u1i * ai) + c2 * yr - c3 * (u1r * xr - u1i * xi),
+                c0 * bi - c1 * (u1r * ai + u1i * ar) + c2 * yi - c3 * (u1r * xi + u1i * xr))
+        a_row[k2] = complex(new_ar, new_ai)
 
 
 class MirrorProduct:
