@@ -647,3 +647,42 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size - 1)
     large = bem.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
     assert periodic.iterations is not None and large.iterations is not None
+
+
+@BOTH
+@pytest.mark.parametrize("shape", [(2, 2), (2, 5), (3, 2), (9, 7), (40, 31)])
+def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
+    """The CSR rows assembled slot by slot equal the definition: one 2 x 2 block
+    ``T [[1, -1], [-1, 1]]`` per open face and the boundary half-faces on the diagonal, summed
+    from coordinate triplets (where a periodic side of two cells joins two cells twice)."""
+    import scipy.sparse
+
+    from bem.flow import _flow_system
+
+    rng = np.random.default_rng(sum(shape))
+    for _ in range(4):
+        gap = np.maximum(rng.standard_normal(shape) + 0.4, 0.0)
+        k = (gap / gap.max()) ** 3
+        cells = spanning_cells(k > 0, periodic=periodic)
+        if not cells.any():
+            continue
+        matrix, _, faces, boundary = _flow_system(k, cells, periodic)
+        n = int(cells.sum())
+        tail = np.concatenate([f[0] for f in faces])
+        head = np.concatenate([f[1] for f in faces])
+        t = np.concatenate([f[2] for f in faces])
+        expected = scipy.sparse.coo_array(
+            (np.concatenate([t, t, -t, -t, boundary[1]]),
+             (np.concatenate([tail, head, tail, head, boundary[0]]),
+              np.concatenate([tail, head, head, tail, boundary[0]]))), shape=(n, n)).toarray()
+        assembled = matrix.toarray()
+        if periodic:   # one grounded cell per cluster: its diagonal doubled
+            grounded = np.flatnonzero(~np.isclose(np.diag(assembled), np.diag(expected),
+                                                  rtol=1e-12, atol=0.0))
+            np.testing.assert_allclose(np.diag(assembled)[grounded],
+                                       2 * np.diag(expected)[grounded], rtol=1e-12)
+            np.fill_diagonal(assembled, np.diag(expected))
+            assert grounded.size >= 1
+        np.testing.assert_allclose(assembled, expected, rtol=1e-12, atol=1e-15)
+        assert matrix.has_canonical_format   # sorted columns, no duplicates
+        assert np.all(np.diff(matrix.indptr) <= 5)
