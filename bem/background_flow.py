@@ -22,18 +22,24 @@ from bem import checks
 from bem.background import BackgroundCall
 from bem.fft_threads import default_threads
 from bem.flow import FLOW_DIRECTIONS, FlowStart, _flow_solution, _mean_leak
+from bem.flow_solver import solved_directly
 
-__all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "QUEUED_CELLS",
-           "BackgroundLeakage"]
+__all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "PARALLEL_FACTOR_LIMIT",
+           "QUEUED_CELLS", "BackgroundLeakage"]
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
 #: at once, while the caller works beside them: the multigrid solve of a 1024^2 gap peaks at
-#: 0.6-0.9 GB, of a 2048^2 gap 1.3-1.8 GB.
+#: 0.6-0.9 GB, of a 2048^2 gap at 1.45 GB (1.8 % contact).
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 #: Once the caller waits for the results (:meth:`BackgroundLeakage.results`), gaps of up to
 #: this many cells still waiting have their two directions solved at once where the process
 #: may use two CPUs (two 1024^2 solves: 1.2-1.8 GB).
 FINAL_PARALLEL_LIMIT = 1024 * 1024
+#: Gaps of more cells than this whose two directions are both to be solved by sparse LU
+#: (:func:`bem.flow_solver.solved_directly`: near percolation) have them solved one after the
+#: other whatever the limits above: the LU of a 1024^2 gap holds 1.2-2.0 GB (40-76 million
+#: entries in its factors), two at once more than the rest of a 2048^2 check.
+PARALLEL_FACTOR_LIMIT = 512 * 512
 #: Gaps waiting for their solves hold at most about this many cells (128 MB): a load path
 #: allows ``QUEUED_CELLS // cells`` gaps in its queue (16 of 1024^2, 4 of 2048^2).
 QUEUED_CELLS = 16 * 1024 * 1024
@@ -53,10 +59,11 @@ class BackgroundLeakage:
 
     A gap's two directions are solved at once (two threads) up to
     :data:`PARALLEL_DIRECTIONS_LIMIT` cells, one after the other above it (one solve's memory at
-    a time), and at once up to :data:`FINAL_PARALLEL_LIMIT` once :meth:`results` is waiting. The
-    sparse LU releases the GIL, the multigrid of larger gaps in its vector operations but not in
-    its Gauss-Seidel sweeps. Once a direction's multigrid took many iterations (near
-    percolation) it goes on by sparse LU (:data:`bem.flow_solver.DIRECT_SWITCH_ITERATIONS`).
+    a time), and at once up to :data:`FINAL_PARALLEL_LIMIT` once :meth:`results` is waiting;
+    but one after the other above :data:`PARALLEL_FACTOR_LIMIT` cells when both are to be
+    solved by sparse LU. The sparse LU and the multigrid's compiled sweeps release the GIL.
+    Once a direction's multigrid took many iterations (near percolation) it goes on by sparse
+    LU (:data:`bem.flow_solver.DIRECT_SWITCH_ITERATIONS`).
     The threads are daemons (:class:`bem.background.BackgroundCall`): a caller interrupted by
     Ctrl-C does not wait.
 
@@ -100,11 +107,17 @@ class BackgroundLeakage:
             if self._worker is None or not self._worker.is_alive():
                 self._worker = BackgroundCall(self._work, name="leakage")
 
-    def _together(self, gap) -> bool:
-        """Whether one thread solves both directions of ``gap`` (class docstring)."""
+    def _together(self, gap, starts: dict | None = None) -> bool:
+        """Whether one thread solves both directions of ``gap`` (class docstring), the next
+        solve of each direction starting from ``starts`` (default: the last ones)."""
         if self.parallel is not None:
             return not self.parallel
         cells = np.size(gap)
+        starts = self._starts if starts is None else starts
+        if cells > PARALLEL_FACTOR_LIMIT and all(
+                solved_directly(cells, self.periodic, starts.get(direction))
+                for direction in FLOW_DIRECTIONS):
+            return True
         if cells <= PARALLEL_DIRECTIONS_LIMIT:
             return False
         return not (self._finishing and cells <= FINAL_PARALLEL_LIMIT and default_threads() > 1)
@@ -119,7 +132,7 @@ class BackgroundLeakage:
                 key, gap = self._waiting.popleft()
                 starts = dict(self._starts)
             try:
-                if self._together(gap):
+                if self._together(gap, starts):
                     outcome = _apertures(gap, self.spacing, FLOW_DIRECTIONS, self.periodic,
                                          starts)
                 else:

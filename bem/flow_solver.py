@@ -20,7 +20,7 @@ __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
            "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE",
            "ESTIMATE_STEPS", "FlowStart", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
            "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT",
-           "multigrid_levels"]
+           "multigrid_levels", "solved_directly"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -196,11 +196,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
 
     algebraic = periodic
     levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
-    switched = not algebraic and cells.size <= DIRECT_SWITCH_LIMIT and start is not None and (
-        start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
     # (few unknowns on a large grid, one level: the LU is the whole solve)
-    if cells.size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT) \
-            or levels == 1 or switched:
+    if solved_directly(cells.size, periodic, start) or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
     # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
     scaled = matrix.tocsr()
@@ -223,6 +220,18 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
     return solution * scale, iterations
+
+
+def solved_directly(size: int, periodic: bool, start: FlowStart | None) -> bool:
+    """Whether the flow system of a gap of ``size`` grid cells is solved by sparse LU
+    (:func:`_solve_pressure`): up to :data:`DIRECT_SOLVE_LIMIT` cells
+    (:data:`PERIODIC_DIRECT_SOLVE_LIMIT` when ``periodic``), and up to
+    :data:`DIRECT_SWITCH_LIMIT` after a slow multigrid neighbour ``start`` (or one that was
+    itself solved so; non-periodic gaps)."""
+    if size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT):
+        return True
+    return not periodic and size <= DIRECT_SWITCH_LIMIT and start is not None and (
+        start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
 
 
 def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):

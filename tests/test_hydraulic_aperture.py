@@ -306,6 +306,20 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 1)
     assert flow._together(large)
     assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)))
+    # two sparse LU factorisations at once only up to PARALLEL_FACTOR_LIMIT cells
+    from bem.flow_solver import FlowStart
+
+    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 2)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    slow = {direction: FlowStart(np.zeros((40, 40)), None) for direction in ("x", "y")}
+    fast = {"x": FlowStart(np.zeros((40, 40)), 3), "y": slow["y"]}
+    assert not flow._together(large, fast)       # (finishing, within the final limit)
+    assert not flow._together(large, slow)       # both LU, within the factor limit
+    monkeypatch.setattr(bem.background_flow, "PARALLEL_FACTOR_LIMIT", 40 * 40 - 1)
+    assert flow._together(large, slow)
+    assert not flow._together(large, fast)
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 40 * 40 - 1)
+    assert not flow._together(large, slow)       # too large to switch: multigrid both
 
 
 @BOTH

@@ -67,8 +67,9 @@ STIFFNESS_FIELDS = ("stiffness", "conductance")
 LOOSEST_TOLERANCE = 1e-4
 #: Largest grid (points per side) on which a finer reference solves the leakage again; on
 #: finer grids the leakage and its band stay those of the grid below. At 1024^2 one Reynolds
-#: solve (bem.flow_solver's multigrid) takes 3-6 s and under 1 GB; at 2048^2 13-195 s and
-#: 1.3-1.8 GB per direction, beyond the memory a check of a 1024^2 scan is to keep to.
+#: solve (bem.flow_solver's multigrid) takes 3-6 s and under 1 GB; at 2048^2 13-195 s per
+#: direction and 1.45 GB (1.8 % contact), beyond the memory a check of a 1024^2 scan is to
+#: keep to.
 MAX_LEAKAGE_GRID = 1024
 
 
