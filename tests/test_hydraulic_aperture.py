@@ -468,8 +468,10 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     assert len(built[-1].levels) == 3
     assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
                for level in built[-1].levels)
-    assert all(getattr(level, name).format == "csr" for level in built[-1].levels[:-1]
-               for name in ("P", "R"))
+    for level in built[-1].levels[:-1]:
+        # the restriction is the interpolation's transpose, a view of its arrays
+        assert level.P.format == "csr" and level.R.format == "csc"
+        assert np.shares_memory(level.R.data, level.P.data) and level.R.shape == level.P.shape[::-1]
     assert converted > 0.0
     # pyAMG builds the coarse levels in blocks of 1 x 1, which the compiled sweeps refuse
     monkeypatch.setattr(bem.flow_solver, "_compressed_rows", lambda hierarchy: None)
