@@ -219,9 +219,9 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
 
 def _stencil_matrix(stencil: np.ndarray, values: np.ndarray):
     """The CSR matrix of a 5-point stencil: row ``u`` holds ``values[u, s]`` in column
-    ``stencil[u, s]`` for its five slots ``s`` (column -1: no entry). The columns of a row are
-    sorted (a neighbour across a periodic edge comes after the unknown) and coinciding ones (a
-    periodic side of two cells) summed."""
+    ``stencil[u, s]`` for its five slots ``s`` (column -1: no entry), in canonical form: each
+    row's columns sorted (the slots are in column order but where a neighbour lies across a
+    periodic edge) and coinciding ones summed (a periodic side of two cells)."""
     import scipy.sparse
 
     present = stencil >= 0
