@@ -84,6 +84,27 @@ def test_the_figure_has_one_panel_per_table(result):
     assert sum(ax.get_visible() for ax in figure.axes) == len(result.tables)
 
 
+@pytest.mark.parametrize("count", [1, 3, None])
+def test_the_figures_labels_and_legend_lie_inside_it(result, count):
+    """Fixed margins: every tick label, axis label and the legend inside the figure, whatever
+    the number of panels (one column: the legend in two columns)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from validation.check.figure import physical_figure
+
+    figure = physical_figure(list(result.tables)[:count])
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    inside = figure.bbox.padded(1.0)
+    boxes = [ax.get_tightbbox(renderer) for ax in figure.axes if ax.get_visible()]
+    boxes += [legend.get_window_extent(renderer) for legend in figure.legends]
+    assert boxes and all(inside.x0 <= b.x0 and b.x1 <= inside.x1 and inside.y0 <= b.y0
+                         and b.y1 <= inside.y1 for b in boxes)
+    panels = sorted((ax.get_tightbbox(renderer) for ax in figure.axes if ax.get_visible()),
+                    key=lambda b: (b.y0, b.x0))
+    legend = figure.legends[0].get_window_extent(renderer)
+    assert legend.y1 <= min(b.y0 for b in panels)   # below every panel, overlapping none
+
+
 def test_the_written_report_is_written_again_from_its_scene(result, cache, tmp_path):
     first = result.write_report(tmp_path / "one")
     assert (tmp_path / "one" / "scan.npy").is_file()
