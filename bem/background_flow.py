@@ -37,8 +37,9 @@ PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 FINAL_PARALLEL_LIMIT = 1024 * 1024
 #: Gaps of more cells than this whose two directions are both to be solved by sparse LU
 #: (:func:`bem.flow_solver.solved_directly`: near percolation) have them solved one after the
-#: other whatever the limits above: the LU of a 1024^2 gap holds 1.2-2.0 GB (40-76 million
-#: entries in its factors), two at once more than the rest of a 2048^2 check.
+#: other whatever the limits above: the LU of a 1024^2 gap holds 1.2-2.0 GB of a process (40-76
+#: million entries in its factors; SuperLU allocates up to 3.4 GB for it), and two at once, as
+#: at the end of a 1024^2 path, would double that.
 PARALLEL_FACTOR_LIMIT = 512 * 512
 #: Gaps waiting for their solves hold at most about this many cells (128 MB): a load path
 #: allows ``QUEUED_CELLS // cells`` gaps in its queue (16 of 1024^2, 4 of 2048^2).
