@@ -108,13 +108,12 @@ class BackgroundLeakage:
             if self._worker is None or not self._worker.is_alive():
                 self._worker = BackgroundCall(self._work, name="leakage")
 
-    def _together(self, gap, starts: dict | None = None) -> bool:
+    def _together(self, gap, starts: dict) -> bool:
         """Whether one thread solves both directions of ``gap`` (class docstring), the next
-        solve of each direction starting from ``starts`` (default: the last ones)."""
+        solve of each direction starting from ``starts`` (direction -> :class:`FlowStart`)."""
         if self.parallel is not None:
             return not self.parallel
         cells = np.size(gap)
-        starts = self._starts if starts is None else starts
         if cells > PARALLEL_FACTOR_LIMIT and all(
                 solved_directly(cells, self.periodic, starts.get(direction))
                 for direction in FLOW_DIRECTIONS):

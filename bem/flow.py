@@ -188,23 +188,20 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
         opposite = np.where(np.roll(open_face, 1, axis=axis), np.roll(index, 1, axis=axis), -1)
         stencil[:, before], values[:, before] = opposite[cells], -np.roll(t, 1, axis=axis)[cells]
     del neighbour, t, open_face, opposite
-    tail, head = np.concatenate([f[0] for f in faces]), np.concatenate([f[1] for f in faces])
-    t = np.concatenate([f[2] for f in faces])
+    tail, head, t = (np.concatenate([face[part] for face in faces]) for part in range(3))
     diagonal = np.bincount(tail, t, unknowns) + np.bincount(head, t, unknowns)
+    if periodic:
+        # Ground one cell per cluster: the right-hand side sums to zero over a periodic cluster,
+        # so the grounded cell's pressure is zero and the flow is unchanged.
+        graph = scipy.sparse.coo_array((t, (tail, head)), shape=(unknowns, unknowns))
+        _, cluster = scipy.sparse.csgraph.connected_components(graph, directed=False)
+        _, grounded = np.unique(cluster, return_index=True)
+        diagonal[grounded] *= 2.0
+        del graph
     del tail, head, t
     tail, head, t, face_drop = faces[0]   # (no drop along axis 0)
     rhs = np.bincount(head, t * face_drop, unknowns) - np.bincount(tail, t * face_drop, unknowns)
     if periodic:
-        # Ground one cell per cluster: the right-hand side sums to zero over a periodic cluster,
-        # so the grounded cell's pressure is zero and the flow is unchanged.
-        graph = scipy.sparse.coo_array(
-            (np.concatenate([f[2] for f in faces]),
-             (np.concatenate([f[0] for f in faces]), np.concatenate([f[1] for f in faces]))),
-            shape=(unknowns, unknowns))
-        _, cluster = scipy.sparse.csgraph.connected_components(graph, directed=False)
-        del graph
-        _, grounded = np.unique(cluster, return_index=True)
-        diagonal[grounded] *= 2.0
         boundary = (np.empty(0, dtype=np.int32), np.empty(0), np.empty(0))
     else:
         inlet, outlet = index[:, 0][cells[:, 0]], index[:, -1][cells[:, -1]]

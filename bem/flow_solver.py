@@ -177,8 +177,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
     contact) 54-69 s against 13 s and more than 300 s against 195 s, at 2.8-3.0 GB against
     1.3-1.8 GB. On a periodic gap these aggregates converge slowly (the pressure fluctuation
-    has no fixed edge: 200-600 iterations at three levels on 1024^2); periodic gaps are solved by the LU up to
-    :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above it by algebraic coarsening: smoothed
+    has no fixed edge: 200-600 iterations at three levels on 1024^2); periodic gaps are solved
+    by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above it by algebraic coarsening: smoothed
     aggregation with the evolution strength of connection, which follows the thin necks that
     carry the flow near percolation, with a symmetric Gauss-Seidel sweep on either side, to a
     relative residual of :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled
@@ -206,18 +206,19 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scale = 1.0 / np.sqrt(scaled.diagonal())
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
+    rhs = rhs * scale
     guess = _start(None if start is None else start.pressure, cells, periodic) / scale
     iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
-            scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, levels)),
+            scaled, rhs, _VCycle(_hierarchy(scaled, scale, cells, levels)),
             lambda pressure: dissipation(pressure * scale), MULTIGRID_TOLERANCE, guess)
         if settled or cells.size <= DIRECT_SWITCH_LIMIT:
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
         guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
     solution, extra, settled = _conjugate_gradients(
-        scaled, rhs * scale, _VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
+        scaled, rhs, _VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
         ALGEBRAIC_TOLERANCE, guess)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
@@ -256,9 +257,7 @@ def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):
         hierarchy = pyamg.smoothed_aggregation_solver(
             scaled, B=near_null, strength=None, aggregate=aggregates, smooth=None,
             max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
-            presmoother=("gauss_seidel", {"sweep": "forward"}),
-            postsmoother=("gauss_seidel", {"sweep": "backward"}),
-            coarse_solver=("splu", _LU_OPTIONS))
+            coarse_solver=("splu", _LU_OPTIONS))   # (smoothed by _VCycle's own sweeps)
     _compressed_rows(hierarchy)
     return hierarchy
 

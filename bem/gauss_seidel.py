@@ -51,13 +51,13 @@ def forward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
         Square matrix in CSR form (float64 entries).
     x : numpy.ndarray
         Current iterate (float64, contiguous), updated in place.
+    b : numpy.ndarray
+        Right-hand side (float64).
 
     Raises
     ------
     TypeError
         ``matrix`` not in CSR form.
-    b : numpy.ndarray
-        Right-hand side (float64).
     """
     _sweep(*_rows(matrix), x, b, 0, matrix.shape[0], 1)
 

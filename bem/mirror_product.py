@@ -90,8 +90,8 @@ def _couple_rows(spectrum: np.ndarray, symbol: np.ndarray, k1: int, m1: int,
                  no_row: np.ndarray, t1: complex, u1: complex,
                  twiddle_columns: np.ndarray) -> None:   # pragma: no cover (compiled)
     """Rows ``k1`` and ``m1 = -k1`` of :func:`_couple` (``m1`` written only where it is
-    another row), in real arithmetic, which compiles to vector instructions (1.5-1.8 times
-    faster than complex arithmetic from 512^2 to 2048^2):
+    another row), in real arithmetic, which compiles to vector instructions (1.2-1.4 times
+    faster than complex arithmetic from 512^2 to 2048^2, one thread):
     ``a' = c0 a + c1 t1 b + c2 t2 conj(b) + c3 t1 t2 conj(a)`` and
     ``b' = c0 b - c1 u1 a + c2 t2 conj(a) - c3 u1 t2 conj(b)`` for ``a``, ``b`` the spectrum
     at ``(k1, k2)``, ``(m1, k2)``, with ``c0, c1, c2, c3`` the sums of ``S00 +- S10`` and

@@ -297,15 +297,15 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     # caller waits and two CPUs are there, never with parallel=False
     large = np.zeros((40, 40))
     monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 2)
-    assert flow._together(large)
+    assert flow._together(large, {})
     flow._finishing = True
-    assert not flow._together(large)
+    assert not flow._together(large, {})
     monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
-    assert flow._together(large)
+    assert flow._together(large, {})
     monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
     monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 1)
-    assert flow._together(large)
-    assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)))
+    assert flow._together(large, {})
+    assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)), {})
     # two sparse LU factorisations at once only up to PARALLEL_FACTOR_LIMIT cells
     from bem.flow_solver import FlowStart
 
