@@ -340,3 +340,37 @@ def test_kept_pressures_come_back_by_position_and_a_malformed_entry_is_dropped(t
     assert not cache.path("bem-starts-y").exists()
     KeptPressures().store(cache, "bem-starts-z")   # nothing kept: nothing written
     assert not cache.path("bem-starts-z").exists()
+
+
+def test_a_refined_mirror_reference_keeps_the_methods_own_bound_in_its_band(tmp_path):
+    """The interface reference of a map (the mirror method) carries the method's own bound
+    (eq. T50) in its band at every point; at a refined point the band is the finer grid's
+    estimate (T39) plus the bound of the finer value, with no bound of the grid below's taken
+    out of a new estimate that never held one."""
+    from bem.interface import MIRROR_ERROR
+    from validation import run_scenes
+    from validation.judge.decide import _apply
+    from validation.run.refine import run_job
+    from validation.run.sequential import RefinementLevel
+
+    mirror = WM | {"quantities": {"use": ["area", "load", "separation", "conductance"]},
+                   "realizations": {"count": 2, "seed": 7},
+                   "bem": {"max_grid": 32, "frames": ["interface"]}}
+    (base,) = run_scenes([parse_scene(mirror, source="test")], progress=False,
+                         cache_dir=str(tmp_path))
+    by_value = {2.3: list(base.realizations[2.3])}
+    _apply(by_value, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem_interface"),
+           lambda jobs: [run_job(job, str(tmp_path)) for job in jobs])
+    for refined, original in zip(by_value[2.3], base.realizations[2.3]):
+        fine, coarse = refined.curves["bem_interface"], original.curves["bem_interface"]
+        assert np.all(coarse.extras["extension"] == "mirror")
+        for name in ("area", "conductance"):
+            value, error = getattr(fine, name), fine.extras[f"{name}_error"]
+            bound = MIRROR_ERROR[name] * np.abs(value)
+            np.testing.assert_allclose(fine.extras[f"{name}_method_error"], bound, rtol=1e-12)
+            # the points not refined keep theirs
+            np.testing.assert_array_equal(error[[1, 3]], coarse.extras[f"{name}_error"][[1, 3]])
+            assert np.all(error >= bound * (1 - 1e-12))
+        estimate = 2.0 * np.abs(fine.conductance - coarse.conductance)[[0, 2]]
+        np.testing.assert_allclose(fine.extras["conductance_error"][[0, 2]],
+                                   estimate + 0.1 * np.abs(fine.conductance[[0, 2]]), rtol=1e-12)

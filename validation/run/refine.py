@@ -216,6 +216,13 @@ def merge_points(curve: ContactCurve, index: np.ndarray, finer: ContactCurve, gr
         if key in extras and np.ndim(extras[key]) == 1 and np.size(value) == index.size:
             extras[key] = extras[key].astype(np.result_type(extras[key], np.asarray(value)))
             extras[key][index] = value
+    for key in estimates:
+        # a new estimate holds no method bound (bem.interface.method_error), whatever the one
+        # it replaced held: none is to be taken out of it when the bound is added again
+        method = key.removesuffix("_error") + "_method_error"
+        if key in extras and method in extras and method not in finer.extras:
+            extras[method] = extras[method].astype(float)
+            extras[method][index] = 0.0
     extras["converged"] = np.asarray(curve.extras.get("converged", np.ones(curve.load.shape,
                                                                             bool)), bool).copy()
     extras["converged"][index] = (np.asarray(finer.extras["converged"], bool)
