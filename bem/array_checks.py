@@ -91,6 +91,28 @@ def integer_array(name: str, values: Any, *, minimum: int | None = None) -> np.n
     return array.astype(np.intp)
 
 
+def point_mask(name: str, indices: Any, size: int) -> np.ndarray:
+    """Boolean mask of ``size`` points set at ``indices`` (integers in ``[0, size)``), or set
+    everywhere when ``indices`` is None.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``: an index outside ``[0, size)`` or not an integer.
+    """
+    mask = np.zeros(size, dtype=bool)
+    if indices is None:
+        mask[:] = True
+        return mask
+    if isinstance(indices, (set, frozenset)):
+        indices = sorted(indices)
+    where = integer_array(name, indices, minimum=0)
+    if where.size and where.max() >= size:
+        raise ValueError(f"{name} must be point indices below {size}, got {int(where.max())}")
+    mask[where] = True
+    return mask
+
+
 def points(name: str, values: Any, *, non_negative: bool = False,
            allow_infinity: bool = False) -> np.ndarray:
     """Loads or separations of a contact model as a float array of any shape (0-d for a scalar).

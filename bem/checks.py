@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from bem.array_checks import (boolean_map, frozen_array, height_map, integer_array, no_overflow,
-                              points, real_array, record_array, record_arrays,
+                              point_mask, points, real_array, record_array, record_arrays,
                               separations)
 from bem.scalar_checks import (InputTypeError, choice, file_path, flag, instances, integer, names,
                                non_negative, non_negative_or_infinite, optional_callable,
@@ -58,6 +58,7 @@ __all__ = [
     "non_negative_or_infinite",
     "optional_callable",
     "optional_integer",
+    "point_mask",
     "points",
     "positive",
     "random_generator",

@@ -84,13 +84,15 @@ def concurrent_curve(heights, spacing: float, *, loads, parts: int | None = None
     # checked here as a single path would (the sub-paths see only the points they solve)
     coarse = checked_coarse_pressures(options.pop("coarse_pressures", None), np.shape(heights),
                                       loads.size, options.get("preconditioned", True))
+    stiff = checks.point_mask("stiffness_at", options.pop("stiffness_at", None), loads.size)
 
     def solve(where: np.ndarray) -> ContactCurve:
         report = (None if callback is None
                   else lambda index, solution: callback(int(where[index]), solution))
         starts = {k: coarse[point] for k, point in enumerate(where.tolist()) if point in coarse}
         return contact_curve(heights, spacing, loads=loads[where], callback=report,
-                             coarse_pressures=starts, **options)
+                             coarse_pressures=starts, stiffness_at=np.flatnonzero(stiff[where]),
+                             **options)
 
     # the other sub-paths start first, so that each operator sees the others running and takes
     # one FFT thread (bem.fft_threads.fft_threads)

@@ -140,6 +140,7 @@ def contact_curve(
     mirror: bool = False,
     device: str = "cpu",
     coarse_pressures: Mapping[int, np.ndarray] | None = None,
+    stiffness_at: Iterable[int] | None = None,
 ) -> ContactCurve:
     """Boundary-element contact curve of one surface along loads or separations.
 
@@ -202,6 +203,10 @@ def contact_curve(
         ::2]``, e.g. the path one grid below): those points start from them (interpolated)
         instead of a coarse solve of their own. Any pressure is a valid start; the solution
         agrees with the path's own to the solver's tolerance.
+    stiffness_at : iterable of int, optional
+        With ``stiffness`` or ``conductance`` among the quantities: the points (indices into
+        ``loads`` or ``separations``) where their solve runs, NaN at the others (default: every
+        point). The contact solves are the same either way.
 
     Returns
     -------
@@ -249,6 +254,7 @@ def contact_curve(
     operator = _check_operator(operator, z.shape, spacing, e_star, periodic, mirror, device)
     wraps = operator.wraps
     want_stiffness = "stiffness" in quantities or "conductance" in quantities
+    stiff = checks.point_mask("stiffness_at", stiffness_at, targets.size) & want_stiffness
     want_contacts = "contacts" in quantities
     want_leakage = "leakage" in quantities
 
@@ -274,7 +280,7 @@ def contact_curve(
             z[::2, ::2], 2.0 * spacing, quantities=quantities, e_star=e_star, periodic=periodic,
             mirror=mirror, tol=tol, max_iter=max_iter, area_estimator=area_estimator,
             preconditioned=preconditioned, operator=operator.coarse() if keep else None,
-            device=device,
+            device=device, stiffness_at=stiffness_at,
             callback=(lambda i, solution: coarse_pressures.__setitem__(i, solution.pressure))
             if keep else None,
             **({"loads": targets} if loads is not None else {"separations": targets}))
@@ -292,7 +298,7 @@ def contact_curve(
         problem = {"load": target if loads is not None else None,
                    "separation": target if separations is not None else None}
         solution = _solve(operator, z_device, **problem, tol=tol, max_iter=int(max_iter),
-                          initial=starts.start(int(index), **problem), stiffness=want_stiffness,
+                          initial=starts.start(int(index), **problem), stiffness=bool(stiff[index]),
                           ws=workspace, preconditioned=preconditioned)
         starts.solved(solution)
         separation[index] = solution.separation
@@ -309,7 +315,7 @@ def contact_curve(
         if want_contacts:
             contacts[index] = count_contacts(solution.contact, periodic=wraps)
         if want_stiffness:
-            stiffness[index] = solution.stiffness
+            stiffness[index] = solution.stiffness if stiff[index] else np.nan
         if want_leakage:
             flow.submit(int(index), solution.fluid_gap)
         if callback is not None:

@@ -62,6 +62,27 @@ def test_only_requested_quantities_are_computed():
     assert curve.conductance is not None and curve.stiffness is None
 
 
+def test_the_stiffness_is_solved_only_at_the_points_asked_for():
+    loads = [2e-3, 1e-3, 5e-3, 3e-3]
+    options = dict(loads=loads, quantities=("area", "stiffness", "conductance"), tol=1e-10,
+                   error_estimate=True)
+    every = contact_curve(HEIGHTS, SPACING, **options)
+    some = contact_curve(HEIGHTS, SPACING, stiffness_at=[2, 0], **options)
+    np.testing.assert_array_equal(some.area, every.area)   # the same contact solves
+    for name in ("stiffness", "conductance"):
+        np.testing.assert_array_equal(getattr(some, name)[[0, 2]], getattr(every, name)[[0, 2]])
+        assert np.isnan(getattr(some, name)[[1, 3]]).all()
+    # the half grid's path solves the same points: the band where the stiffness is, NaN elsewhere
+    np.testing.assert_array_equal(some.extras["stiffness_error"][[0, 2]],
+                                  every.extras["stiffness_error"][[0, 2]])
+    assert np.isnan(some.extras["stiffness_error"][[1, 3]]).all()
+    none = contact_curve(HEIGHTS, SPACING, stiffness_at=[], **options)
+    assert np.isnan(none.stiffness).all()
+    for bad in ([4], [-1], [0.5]):
+        with pytest.raises(ValueError, match="stiffness_at"):
+            contact_curve(HEIGHTS, SPACING, stiffness_at=bad, **options)
+
+
 def test_callback_sees_every_point_with_the_callers_index():
     seen = {}
     contact_curve(HEIGHTS, SPACING, loads=[2e-3, 1e-3, 5e-3],

@@ -86,6 +86,17 @@ def test_loads_are_dealt_back_and_forth_by_increasing_load():
     np.testing.assert_array_equal(dealt(np.arange(12.0), 2)[0], [0, 3, 4, 7, 8, 11])
 
 
+def test_each_sub_path_solves_the_stiffness_at_its_share_of_the_points(heights):
+    options = dict(quantities=("area", "stiffness"), tol=1e-10)
+    one = bem.contact_curve(heights, 1.0 / N, loads=LOADS, **options)
+    split = concurrent_curve(heights, 1.0 / N, loads=LOADS, parts=3, stiffness_at=[1, 4, 6],
+                             **options)
+    np.testing.assert_allclose(split.stiffness[[1, 4, 6]], one.stiffness[[1, 4, 6]], rtol=1e-7)
+    assert np.isnan(np.delete(split.stiffness, [1, 4, 6])).all()
+    with pytest.raises(ValueError, match="stiffness_at"):
+        concurrent_curve(heights, 1.0 / N, loads=LOADS, parts=2, stiffness_at=[7], **options)
+
+
 def test_one_part_is_the_plain_path(heights):
     one = bem.contact_curve(heights, 1.0 / N, loads=LOADS)
     same = concurrent_curve(heights, 1.0 / N, loads=LOADS, parts=1)

@@ -249,7 +249,7 @@ def test_the_stiffness_is_solved_again_only_where_a_stiffness_cell_is_held(tmp_p
     solve = lambda jobs: [run_job(job, str(tmp_path)) for job in jobs]  # noqa: E731
     skipped = {2.3: list(base.realizations[2.3])}
     _apply(skipped, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem",
-                                    stiffness={2.3: False}), solve)
+                                    stiffness={2.3: ()}), solve)
     solved = {2.3: list(base.realizations[2.3])}
     _apply(solved, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem"), solve)
     for a, b, original in zip(skipped[2.3], solved[2.3], base.realizations[2.3]):
@@ -262,6 +262,19 @@ def test_the_stiffness_is_solved_again_only_where_a_stiffness_cell_is_held(tmp_p
                                       coarse.extras["conductance_error"])
         assert not np.allclose(finer.conductance[[0, 2]], coarse.conductance[[0, 2]])
         assert finer.conductance[1] == coarse.conductance[1]
+    # per point: solved again at point 2 only, the grid below's (and its band) at point 0
+    one = {2.3: list(base.realizations[2.3])}
+    _apply(one, RefinementLevel(64, {2.3: (0, 2)}, {2.3: 1e-8}, reference="bem",
+                                stiffness={2.3: (2,)}), solve)
+    for a, b, original in zip(one[2.3], solved[2.3], base.realizations[2.3]):
+        mixed, finer, coarse = a.curves["bem"], b.curves["bem"], original.curves["bem"]
+        np.testing.assert_array_equal(mixed.area, finer.area)
+        for name in ("conductance", "conductance_error"):
+            values = lambda curve: (getattr(curve, name) if name == "conductance"  # noqa: E731
+                                    else curve.extras[name])
+            assert values(mixed)[0] == values(coarse)[0]
+            assert values(mixed)[1] == values(coarse)[1]
+            assert values(mixed)[2] == pytest.approx(values(finer)[2], rel=1e-6)
 
 
 def test_a_finer_grid_is_not_asked_where_the_reference_methods_own_bound_keeps_a_cell_open():

@@ -131,8 +131,8 @@ def _refined(names) -> list[str]:
 def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = None) -> None:
     """Solve the points of ``level`` on its grid for every realization (or those in ``only``)
     and merge them into each realization's reference curve, in place: one path per
-    realization, with the leakage solved again only at the level's leakage points (elsewhere
-    the leakage and its band stay those of the grid below)."""
+    realization, with the leakage and the stiffness solved again only at the level's leakage
+    and stiffness points (elsewhere they and their band stay those of the grid below)."""
     jobs, where = [], []
     for value, points in level.points.items():
         leaky = set(level.leakage.get(value, ()))
@@ -143,7 +143,7 @@ def _apply(by_value: dict, level: RefinementLevel, solve, only: set | None = Non
             factor = level.grid // result.task.surface.n
             extension = refined_extension(level.reference, result.task)
             jobs.append(RefineJob(result.task, tuple(points), factor, level.tolerances[value],
-                                  with_leakage, extension, level.stiffness.get(value, True)))
+                                  with_leakage, extension, level.stiffness.get(value)))
             where.append((value, index))
     for job, (value, index), (curve, computed) in zip(jobs, where, solve(jobs)):
         result = by_value[value][index]
@@ -202,7 +202,7 @@ def _level(scene, by_value: dict, confidence: float, grid: int,
             stiff = np.zeros(mask.shape, bool)
             for quantity in STIFFNESS_FIELDS:
                 stiff |= held.get(quantity, np.zeros(mask.shape, bool))
-            stiffness[value] = bool(np.any(stiff & mask & below))
+            stiffness[value] = tuple(int(k) for k in np.flatnonzero(stiff & mask & below))
             # the band expected on the finer grid: half the present one (first order)
             tolerances[value] = solver_tolerance(float(np.nanmin(band[chosen])) / 2.0,
                                                  scene.bem.tol)

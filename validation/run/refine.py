@@ -248,10 +248,17 @@ class RefineJob:
     # the reference refined: the window's (None: the non-periodic problem of the task) or the
     # interface's, by the extension bem.InterfaceModel uses ("mirror" or "periodic")
     extension: str | None = None
-    # whether the stiffness is solved again too (a stiffness cell is held by the band at one of
-    # the points); otherwise the stiffness and its band stay those of the grid below, and the
-    # finer path skips its stiffness solves (about a sixth of its time)
-    stiffness: bool = True
+    # the load point indices (among ``points``) where the stiffness is solved again too (a
+    # stiffness cell is held by the band there; None: all of them); elsewhere the stiffness and
+    # its band stay those of the grid below, and the finer path skips those stiffness solves
+    # (at 1024^2 each takes about half the time of its point's contact solve)
+    stiffness_points: tuple[int, ...] | None = None
+
+    def stiffness_at(self) -> tuple[int, ...]:
+        """The load point indices among ``points`` whose stiffness is solved again."""
+        if self.stiffness_points is None:
+            return self.points
+        return tuple(k for k in self.points if k in set(self.stiffness_points))
 
 
 def refined_extension(reference: str, task) -> str | None:
@@ -272,17 +279,20 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
     solve ``finer`` on ``grid`` points per side (:func:`merge_points`); the leakage, and its
     band, only at the job's ``leakage_points`` (elsewhere those of the grid below stay)."""
     s = job.task.surface
-    if not job.stiffness:   # not solved again: the grid below's stay, with their band
-        finer = replace(finer, **{name: None for name in STIFFNESS_FIELDS})
-    leaky = set(job.leakage_points)
-    solved = [k for k, point in enumerate(job.points) if point in leaky]
-    others = [k for k, point in enumerate(job.points) if point not in leaky]
-    for positions, drop in ((others, True), (solved, False)):
-        if positions:
-            part = _take(finer, np.array(positions))
-            curve = merge_points(curve, np.array([job.points[k] for k in positions]),
-                                 replace(part, leakage=None) if drop else part, grid,
-                                 s.L / grid, s.n)
+    leaky, stiff = set(job.leakage_points), set(job.stiffness_at())
+    # the points in four groups by what was solved again there: the fields not solved again
+    # keep the grid below's values, with their band
+    for leakage in (False, True):
+        for stiffness in (False, True):
+            positions = [k for k, point in enumerate(job.points)
+                         if (point in leaky) == leakage and (point in stiff) == stiffness]
+            if not positions:
+                continue
+            dropped = ({} if leakage else {"leakage": None}) | (
+                {} if stiffness else {name: None for name in STIFFNESS_FIELDS})
+            part = replace(_take(finer, np.array(positions)), **dropped)
+            curve = merge_points(curve, np.array([job.points[k] for k in positions]), part,
+                                 grid, s.L / grid, s.n)
     if job.extension == "mirror" and "window_rms_height" in curve.extras:
         # the interface's band holds the mirror method's own error at every grid (eq. T50)
         extras = dict(curve.extras)
@@ -301,11 +311,12 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     s = task.surface
     values = np.array(task.loads.values())[list(job.points)]
     loads = values * task.e_star * s.L**2
-    stiffness = needs_stiffness(task.quantities) and job.stiffness
+    stiff = set(job.stiffness_at()) if needs_stiffness(task.quantities) else set()
+    stiffness = tuple(k for k in job.points if k in stiff)
     wanted = set(job.leakage_points) if needs_leakage(task.quantities) else set()
     leaky = tuple(k for k in job.points if k in wanted)
     quantities = tuple(q for q in model_quantities(task.quantities) if q != "leakage"
-                       and (stiffness or q not in STIFFNESS_FIELDS))
+                       and (bool(stiffness) or q not in STIFFNESS_FIELDS))
     key = cache_key("bem-refined", source_version(), surface=surface_identity(s, task.seed),
                     factor=job.factor, loads=loads, e_star=task.e_star, stiffness=stiffness,
                     leakage_points=leaky, extension=job.extension,
@@ -342,6 +353,8 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
                              max_iter=task.bem.max_iter,
                              callback=keep if leaky or kept else None,
                              mirror=mirror, device=task.bem.device, coarse_pressures=starts,
+                             stiffness_at=[index for index, k in enumerate(job.points)
+                                           if k in stiff],
                              # one GPU runs one path at a time
                              parts=1 if task.bem.device == "gpu" else None)
     pressures.store(cache, starts_key(task, grid, job.extension))

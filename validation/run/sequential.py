@@ -196,9 +196,22 @@ class RefinementLevel:
     leakage: dict = field(default_factory=dict)
     # the reference refined: the finite window's ("bem") or the interface's ("bem_interface")
     reference: str = "bem"
-    # sweep value -> whether the stiffness is solved again (a stiffness cell is held by the band
-    # at one of the points; absent: True)
+    # sweep value -> the points among ``points`` whose stiffness (and conductance) is solved
+    # again (a stiffness cell is held by the band there; absent: all of them); elsewhere they
+    # and their band stay those of the grid below
     stiffness: dict = field(default_factory=dict)
+
+
+def _solved_again(level: RefinementLevel, value, count: int) -> str:
+    """E.g. `` (stiffness at 3, leakage at 1)``: where some but not all of a level's points of
+    sweep value ``value`` solve the stiffness again, and where any solves the leakage again."""
+    parts = []
+    stiffness = level.stiffness.get(value)
+    if stiffness and len(stiffness) < count:
+        parts.append(f"stiffness at {len(stiffness)}")
+    if level.leakage.get(value):
+        parts.append(f"leakage at {len(level.leakage[value])}")
+    return f" ({', '.join(parts)})" if parts else ""
 
 
 @dataclass(frozen=True)
@@ -218,9 +231,7 @@ class RefinementRecord:
         parts = []
         for level in self.levels:
             per_value = ", ".join(
-                f"{len(points)} load point(s)"
-                + (f" (leakage at {len(level.leakage[value])})" if level.leakage.get(value)
-                   else "")
+                f"{len(points)} load point(s)" + _solved_again(level, value, len(points))
                 + (f" at {parameter} = {value:g}" if parameter else "")
                 for value, points in sorted(level.points.items()))
             tolerances = sorted(set(level.tolerances.values()))
