@@ -147,3 +147,18 @@ def test_runner_adds_realizations_in_looks_and_the_cache_keeps_them(tmp_path):
     (again,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path))
     assert again.sequential == record
     assert not [e for r in again.realizations[2.3] for e in r.computed if e.startswith("bem")]
+
+
+def test_the_refinement_record_says_where_the_stiffness_and_leakage_were_solved_again():
+    from validation.run.sequential import RefinementLevel, RefinementRecord
+
+    level = RefinementLevel(1024, {2.05: (0, 1, 2, 3)}, {2.05: 1e-4}, {2.05: (2,)},
+                            reference="bem_interface", stiffness={2.05: (1, 3)})
+    text = RefinementRecord((level,), "grid limit reached").describe("D")
+    assert text.startswith("refined on 1024² (interface): 4 load point(s) (stiffness at 2, "
+                           "leakage at 1) at D = 2.05 (solver tolerance 1.0e-04)")
+    # at every point (or none: no stiffness compared), nothing is said of the stiffness
+    for stiffness in ({}, {2.05: (0, 1, 2, 3)}, {2.05: ()}):
+        text = RefinementRecord((RefinementLevel(1024, {2.05: (0, 1, 2, 3)}, {2.05: 1e-4},
+                                                 stiffness=stiffness),), "done").describe()
+        assert "stiffness" not in text and "4 load point(s) (solver tolerance" in text
