@@ -277,7 +277,8 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
               grid: int) -> ContactCurve:
     """``curve`` (a realization's reference) with the points of ``job`` replaced by its finer
     solve ``finer`` on ``grid`` points per side (:func:`merge_points`); the leakage, and its
-    band, only at the job's ``leakage_points`` (elsewhere those of the grid below stay)."""
+    band, only at the job's ``leakage_points``, the stiffness and conductance only at its
+    stiffness points (elsewhere those of the grid below stay)."""
     s = job.task.surface
     leaky, stiff = set(job.leakage_points), set(job.stiffness_at())
     # the points in four groups by what was solved again there: the fields not solved again
