@@ -250,7 +250,7 @@ def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_m
     assert np.all(curve.extras["area_error"][refined]
                   >= curve.extras["area_method_error"][refined])
     # the finer solve is the interface's: the periodic mirror extension of the 64^2 sample
-    from validation.run.refine import refined_heights
+    from validation.run.finer_sample import refined_heights
 
     fine = refined_heights(scene.surface.at(2.3), 7, 2)
     loads = np.array(scene.loads.values())[refined]

@@ -14,7 +14,7 @@ The scene is one realization of the whole scan (``tiles = 1``): every model and 
 boundary-element reference see the same surface, and the verdicts are those of one surface
 (holds where ``|error| + band`` ≤ tolerance). Where the reference band decides a cell, the
 reference is solved again on the scan interpolated to twice its grid (``[bem] max_grid = 2N``,
-:func:`validation.run.refine.interpolated_scan`) for scans up to :data:`MAX_REFINED_SIDE`
+:func:`validation.run.finer_sample.interpolated_scan`) for scans up to :data:`MAX_REFINED_SIDE`
 pixels. The scene is written as a TOML file beside the report, so the same answer can be
 recomputed with ``python -m validation report check.toml`` and edited like any scene.
 """

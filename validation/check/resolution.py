@@ -13,7 +13,7 @@ a length of several pixels (``--short-cutoff``) so that every model and the refe
 same band-limited surface, whose area the grid resolves.
 
 Where the band alone keeps a verdict open, the reference is solved again on the scan
-interpolated to twice its grid (:func:`validation.run.refine.interpolated_scan`), which adds no
+interpolated to twice its grid (:func:`validation.run.finer_sample.interpolated_scan`), which adds no
 roughness: that band measures the solver's error on the surface as sampled, and it is the one
 the verdicts use.
 """

@@ -4,7 +4,7 @@ A finer reference (:mod:`validation.run.refine`) solves a realization's load poi
 of ``2 n`` points per side. Its nested iteration starts every point from the same load solved
 on every other grid point (:func:`bem.contact_curve`), and that problem is exactly the one the
 grid below has solved: the finer sample reproduces the scene's heights at every second point
-(:func:`validation.run.refine.refined_heights`), with the same loads, modulus and extension.
+(:func:`validation.run.finer_sample.refined_heights`), with the same loads, modulus and extension.
 The path one grid below therefore keeps its pressures in the cache, and the finer path starts
 from them instead of solving each coarse problem again: on the check's 512^2 benchmark scan the
 1024^2 path of 12 points took 24 s instead of 32 s (one thread), the fine iterations the same
