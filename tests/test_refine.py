@@ -288,9 +288,72 @@ def test_a_finer_grid_is_not_asked_where_the_reference_methods_own_bound_keeps_a
     one = SimpleNamespace(one_surface=True, errors=errors, band=np.full(5, 0.3))
     assert decidable(one, np.full(5, 0.07), 0.2).tolist() == [True, False, False, True, True]
     assert decidable(one, np.zeros(5), 0.2).all()      # the window's reference: no bound
-    population = SimpleNamespace(one_surface=False, errors=np.vstack([errors, errors]),
-                                 band=np.full(5, 0.3))
-    assert decidable(population, np.full(5, 0.07), 0.2).all()
+
+
+def _population(mean, half_width, band, verdicts, surface=None):
+    """A population comparison at the one tolerance 0.2 (only what decidable reads)."""
+    from types import SimpleNamespace
+
+    from validation.judge.verdicts import ErrorInterval
+
+    mean, half_width = np.asarray(mean, float), np.asarray(half_width, float)
+    interval = ErrorInterval(mean, half_width, np.full(mean.shape, np.nan), np.full(mean.shape, 9))
+    low_high = SimpleNamespace(low=surface[0], high=surface[1]) if surface else None
+    return SimpleNamespace(one_surface=False, tolerances=(0.2,), interval=interval,
+                           band=np.asarray(band, float), verdicts=(np.asarray(verdicts),),
+                           surface=low_high,
+                           surface_verdicts=(np.asarray(verdicts),) if surface else ())
+
+
+def test_a_population_cell_is_refined_only_where_a_finer_grid_could_decide_it():
+    from validation.judge.decide import decidable
+
+    # tolerance 0.2, band 0.1 of which the method's own bound is 0.07 (above 0.2 / 4: no grid
+    # lets a cell hold), so a cell can only fail, and only where its interval widened by the
+    # band reaches beyond 0.2 + 2 * 0.07 = 0.34: 0.3 +- (0.02 + 0.1) does, 0.15 does not,
+    # -0.3 does; a bound within a quarter of the tolerance (0.04) lets a cell hold; an unknown
+    # mean may be known after
+    entry = _population([0.3, 0.15, -0.3, 0.15, np.nan], np.full(5, 0.02), np.full(5, 0.1),
+                        ["undecided"] * 5)
+    floor = np.array([0.07, 0.07, 0.07, 0.04, 0.07])
+    assert decidable(entry, floor, 0.2).tolist() == [True, False, True, True, True]
+    assert decidable(entry, np.zeros(5), 0.2).all()      # the window's reference: no bound
+    # per surface: the tolerance interval decides alike; a reading already decided does not
+    # count, and a point is refined where any open reading could be decided
+    entry = _population([0.15, 0.15, 0.15], np.full(3, 0.02), np.full(3, 0.1),
+                        ["undecided"] * 3, surface=(np.full(3, -0.1), np.array([0.3, 0.2, 0.3])))
+    entry.verdicts = (np.array(["undecided", "undecided", "fails"]),)
+    assert decidable(entry, np.full(3, 0.07), 0.2).tolist() == [True, False, True]
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_a_cell_a_finer_grid_cannot_decide_stays_undecided_on_any_grid(seed):
+    """Independent of decidable's arithmetic: a cell it calls futile is undecided by the
+    verdict rules themselves (classify, classify_per_surface) whatever the error against the
+    exact-grid reference within the interval widened by the band, and with the band at the
+    method's bound and no scatter left."""
+    from validation.judge.decide import decidable
+    from validation.judge.tolerance import SurfaceInterval, classify_per_surface
+    from validation.judge.verdicts import ErrorInterval, classify
+
+    rng = np.random.default_rng(seed)
+    mean = rng.uniform(-0.6, 0.6, 200)
+    half_width = rng.uniform(0.0, 0.1, 200)
+    floor = rng.uniform(0.0, 0.15, 200)
+    band = floor + rng.uniform(0.0, 0.1, 200)
+    low, high = mean - 2 * half_width, mean + 2 * half_width
+    entry = _population(mean, half_width, band, ["undecided"] * 200, surface=(low, high))
+    futile = ~decidable(entry, floor, 0.2)
+    assert 10 < futile.sum() < 190
+    shift = band - floor
+    for fraction in (-1.0, -0.5, 0.0, 0.5, 1.0):
+        exact = mean + fraction * (half_width + shift)       # the mean once all is known
+        verdict = classify(ErrorInterval(exact, np.zeros(200), np.zeros(200), np.full(200, 99)),
+                           floor, 0.2)
+        assert np.all(verdict[futile] == "undecided")
+        top, bottom = high + fraction * shift, low + fraction * shift
+        surface = SurfaceInterval(bottom, top, upper_tail=top, lower_tail=bottom)
+        assert np.all(classify_per_surface(surface, floor, 0.2)[futile] == "undecided")
 
 
 @pytest.mark.filterwarnings("ignore:scene 'scene' .* has 1 realization")

@@ -108,19 +108,39 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
 
 
 def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
-    """Points of a one-surface comparison whose cells would be decided at ``tolerance`` against
-    the best reference a finer grid can give: its band down to ``band_floor``, the reference
-    method's own bound that no grid narrows (zero for the window's reference, eq. T50). Where
-    even that leaves a cell open, a finer solve is futile for it. A population's cells are all
-    taken as decidable here: more realizations may decide what a finer grid alone cannot, and
-    so may a point whose error is not known."""
+    """Points whose open cells at ``tolerance`` a finer grid could decide: against the best
+    reference a finer grid can give, its band down to ``band_floor``, the reference method's
+    own bound that no grid narrows (zero for the window's reference, eq. T50). Where even that
+    leaves a cell open, a finer solve is futile for it (docs/theory.md 11.3).
+
+    One surface: the error judged with the band at its floor decides it (or the error is not
+    known: an unconverged reference point, say, may be known on a finer grid). A population,
+    on the mean and per surface alike: a cell can hold on some grid only where the floor is
+    within the reference-accuracy rule (``floor <= tol / 4``), and fail only where its interval
+    (the mean's confidence interval, or the tolerance interval of single surfaces) widened by
+    the band reaches beyond ``tol + 2 floor``: the error against the exact-grid reference lies
+    within the widened interval, and failing needs it beyond ``tol + floor``. Only the
+    readings still undecided count; an unknown interval or band counts as decidable."""
     from validation.judge.verdicts import one_surface_verdicts
 
-    if not entry.one_surface:
-        return np.ones(np.shape(entry.band), bool)
-    error = np.asarray(entry.errors[0], dtype=float)
-    # an error not known (an unconverged reference point, say) may be known on a finer grid
-    return (one_surface_verdicts(error, band_floor, tolerance) != UNDECIDED) | np.isnan(error)
+    floor = np.asarray(band_floor, dtype=float)
+    if entry.one_surface:
+        error = np.asarray(entry.errors[0], dtype=float)
+        return (one_surface_verdicts(error, floor, tolerance) != UNDECIDED) | np.isnan(error)
+    band = np.asarray(entry.band, dtype=float)
+    index = list(entry.tolerances).index(tolerance)
+    readings = [(entry.verdicts[index], entry.interval.low, entry.interval.high)]
+    if entry.surface_verdicts:
+        readings.append((entry.surface_verdicts[index], entry.surface.low, entry.surface.high))
+    can_hold = floor <= REFERENCE_ACCURACY * tolerance
+    reach = tolerance + 2.0 * floor
+    result = np.zeros(np.shape(band), bool)
+    for verdict, low, high in readings:
+        with np.errstate(invalid="ignore"):
+            # NaN anywhere makes the comparison false: decidable
+            within = (np.asarray(low) - band >= -reach) & (np.asarray(high) + band <= reach)
+        result |= (np.asarray(verdict) == UNDECIDED) & (can_hold | ~within)
+    return result
 
 
 def _refined(names) -> list[str]:
