@@ -90,7 +90,7 @@ class BackgroundLeakage:
         self.parallel = None if parallel is None else checks.flag("parallel", parallel)
         self._waiting: deque = deque()   # (key, gap) submitted, not yet taken by the worker
         self._unsolved = 0               # submitted and not yet solved
-        self._solved: dict = {}          # key -> [(direction, aperture, start)] or the error
+        self._solved: dict = {}          # key -> [aperture per direction] or the error
         self._results: dict = {}
         self._starts: dict[str, FlowStart] = {}   # direction -> the last solve's pressure
         self._finishing = False          # results() is waiting: the caller's cores are free
@@ -144,10 +144,13 @@ class BackgroundLeakage:
             except BaseException as error:   # re-raised where the result is read
                 outcome = error
             with self._condition:
-                self._solved[key] = outcome
                 if not isinstance(outcome, BaseException):
                     self._starts.update({direction: start for direction, _, start in outcome
                                          if start is not None})
+                    # the apertures only: a solve's pressure field (32 MB at 2048^2) is kept
+                    # as the next start of its direction alone, not for every gap of a path
+                    outcome = [aperture for _, aperture, _ in outcome]
+                self._solved[key] = outcome
                 self._unsolved -= 1
                 self._condition.notify_all()
 
@@ -163,5 +166,5 @@ class BackgroundLeakage:
         for key, outcome in solved.items():
             if isinstance(outcome, BaseException):
                 raise outcome
-            self._results[key] = _mean_leak([aperture for _, aperture, _ in outcome])
+            self._results[key] = _mean_leak(outcome)
         return dict(self._results)

@@ -216,6 +216,37 @@ def test_background_leakage_gives_each_gap_its_own_aperture(periodic, pending):
     assert len(set(values)) == len(values)   # distinct gaps: a mixed-up key would show
 
 
+def test_background_leakage_keeps_only_the_last_solve_of_each_direction(monkeypatch):
+    """The solved gaps of a path keep their apertures; a solve's pressure field (32 MB at
+    2048^2) lives on only as the next start of its direction, not until the path's end."""
+    import gc
+    import weakref
+
+    import bem.background_flow
+
+    starts = []
+    original = bem.background_flow._flow_solution
+
+    def spy(*args):
+        aperture, start = original(*args)
+        starts.append(weakref.ref(start))
+        return aperture, start
+
+    monkeypatch.setattr(bem.background_flow, "_flow_solution", spy)
+    rng = np.random.default_rng(8)
+    gaps = {key: np.clip(scipy.ndimage.gaussian_filter(rng.standard_normal((48, 48)), 2) + shift,
+                         0.0, None) for key, shift in enumerate((0.3, 0.2, 0.1, 0.05))}
+    flow = BackgroundLeakage(0.5, pending=len(gaps))
+    for key, gap in gaps.items():
+        flow.submit(key, gap)
+    with flow._condition:   # every gap solved, the results not read yet
+        flow._condition.wait_for(lambda: flow._unsolved == 0)
+    gc.collect()
+    assert len(starts) == 2 * len(gaps)
+    assert sum(ref() is not None for ref in starts) == 2   # the last gap's, one per direction
+    assert flow.results() == {key: leakage_aperture(gap, 0.5) for key, gap in gaps.items()}
+
+
 def test_background_leakage_reports_a_bad_gap_and_bad_options():
     flow = BackgroundLeakage(1.0)
     flow.submit(0, np.full((4, 4), -1.0))   # raised where the result is read
