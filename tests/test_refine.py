@@ -324,6 +324,9 @@ def test_a_population_cell_is_refined_only_where_a_finer_grid_could_decide_it():
                         ["undecided"] * 3, surface=(np.full(3, -0.1), np.array([0.3, 0.2, 0.3])))
     entry.verdicts = (np.array(["undecided", "undecided", "fails"]),)
     assert decidable(entry, np.full(3, 0.07), 0.2).tolist() == [True, False, True]
+    # leakage: a disagreement about sealing the band leaves unresolved may be resolved finer
+    entry.sealing, entry.sealing_resolved = np.array([0, 2, 0]), np.array([0, 1, 0])
+    assert decidable(entry, np.full(3, 0.07), 0.2).tolist() == [True, True, True]
 
 
 @pytest.mark.parametrize("seed", range(20))

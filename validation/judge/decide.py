@@ -119,8 +119,9 @@ def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
     within the reference-accuracy rule (``floor <= tol / 4``), and fail only where its interval
     (the mean's confidence interval, or the tolerance interval of single surfaces) widened by
     the band reaches beyond ``tol + 2 floor``: the error against the exact-grid reference lies
-    within the widened interval, and failing needs it beyond ``tol + floor``. Only the
-    readings still undecided count; an unknown interval or band counts as decidable."""
+    within the widened interval, and failing needs it beyond ``tol + floor``; or where a
+    disagreement about sealing is not yet resolved by the band. Only the readings still
+    undecided count; an unknown interval or band counts as decidable."""
     from validation.judge.verdicts import one_surface_verdicts
 
     floor = np.asarray(band_floor, dtype=float)
@@ -140,6 +141,10 @@ def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
             # NaN anywhere makes the comparison false: decidable
             within = (np.asarray(low) - band >= -reach) & (np.asarray(high) + band <= reach)
         result |= (np.asarray(verdict) == UNDECIDED) & (can_hold | ~within)
+    if getattr(entry, "sealing", None) is not None:
+        # a disagreement about sealing that the band leaves unresolved (leakage) may be
+        # resolved on a finer grid, which fails the point
+        result |= np.asarray(entry.sealing) > np.asarray(entry.sealing_resolved)
     return result
 
 
