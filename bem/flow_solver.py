@@ -24,11 +24,12 @@ __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
-#: conjugate gradients (:func:`_solve_pressure`). At 256^2 both take a few tenths of a second; at
-#: 512^2 the multigrid took 0.3-0.9 s against 0.6-1.9 s, at 1024^2 2.3-12 s against 3.8-10 s
-#: and 0.5 GB against 1.5 GB (one core; the LU faster only on rough gaps at heavy contact;
-#: docs/guide/benchmarks.md, "The leakage reference").
-DIRECT_SOLVE_LIMIT = 256 * 256
+#: conjugate gradients (:func:`_solve_pressure`). On the 24 gaps of a 256^2 path (a noisy scan's
+#: half grid, 0.1-27 % contact) two levels took 3.8-4.5 s against 8.7-9.0 s for the LU, the
+#: apertures within 3e-7; at 512^2 the multigrid took 0.3-0.9 s against 0.6-1.9 s, at 1024^2
+#: 2.3-12 s against 3.8-10 s and 0.5 GB against 1.5 GB (one core; the LU faster only on rough
+#: gaps at heavy contact; docs/guide/benchmarks.md, "The leakage reference").
+DIRECT_SOLVE_LIMIT = 128 * 128
 #: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
 #: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
 #: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
@@ -39,7 +40,8 @@ PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: on from its last iterate with algebraic coarsening (:func:`_solve_pressure`).
 DIRECT_SWITCH_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
-#: cells, or at :data:`MULTIGRID_LEVELS` levels.
+#: cells and at most a quarter of the grid's (two levels at least: a 256^2 gap's coarsest is
+#: 128^2), or at :data:`MULTIGRID_LEVELS` levels.
 COARSEST_LIMIT = 256 * 256
 #: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
 #: at three levels, 17-35 at four on the same 1024^2 gaps), so a 1024^2 grid gets three (the
@@ -105,11 +107,14 @@ class FlowStart:
     iterations: int | None
 
 
-def multigrid_levels(cells: int) -> int:
-    """Levels of the multigrid for a gap of ``cells`` cells: halve the grid until at most
-    :data:`COARSEST_LIMIT` cells are left, with at most :data:`MULTIGRID_LEVELS` levels."""
+def multigrid_levels(cells: int, grid: int | None = None) -> int:
+    """Levels of the multigrid for a gap of ``cells`` unknowns on a grid of ``grid`` cells
+    (default: ``cells``): halve the grid until at most :data:`COARSEST_LIMIT` unknowns and
+    at most a quarter of the grid are left, with at most :data:`MULTIGRID_LEVELS` levels (one
+    level: the LU solves the whole system)."""
+    limit = COARSEST_LIMIT if grid is None else min(COARSEST_LIMIT, grid // 4)
     levels = 1
-    while cells > COARSEST_LIMIT and levels < MULTIGRID_LEVELS:
+    while cells > limit and levels < MULTIGRID_LEVELS:
         cells = math.ceil(cells / 4)
         levels += 1
     return levels
@@ -162,7 +167,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     column order on these grids), no pivoting (``diag_pivot_thresh=0``: elimination of a
     symmetric positive definite matrix is stable in any order); exact whatever the contrast of
     g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
-    as n^1.5 (7-13 s and 1.5 GB at 1024^2), and the system is solved by conjugate gradients
+    as n^1.5 (0.33-0.42 s at 256^2, 7-13 s and 1.5 GB at 1024^2), and the system is solved by conjugate gradients
     preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
     blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
     piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
@@ -197,7 +202,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
     algebraic = periodic
-    levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)))
+    levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)), cells.size)
     # (few unknowns on a large grid, one level: the LU is the whole solve)
     if solved_directly(cells.size, periodic, start) or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None

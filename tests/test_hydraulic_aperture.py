@@ -430,15 +430,39 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
 
 
 def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
-    """Above DIRECT_SOLVE_LIMIT grid cells but with at most COARSEST_LIMIT unknowns the
-    multigrid has one level: the sparse LU solves the (unscaled) system, exactly."""
+    """Above DIRECT_SOLVE_LIMIT grid cells but with at most COARSEST_LIMIT unknowns, and at
+    most a quarter of the grid's cells, the multigrid has one level: the sparse LU solves the
+    (unscaled) system, exactly."""
     import bem.flow_solver
 
     gap = _random_gap(96, 2)
+    gap[:, :] *= (np.arange(96) < 20)[:, None]    # 20 of 96 rows open: a fifth of the grid
     direct = hydraulic_aperture(gap, 1.0)
+    assert direct > 0
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", gap.size)
+    calls = []
+    monkeypatch.setattr(bem.flow_solver, "_hierarchy", lambda *args: calls.append(args))
     assert hydraulic_aperture(gap, 1.0) == pytest.approx(direct, rel=1e-12)
+    assert not calls                              # no multigrid was built
+
+
+def test_a_256_gap_is_solved_by_two_levels_to_the_multigrids_accuracy(monkeypatch):
+    """A 256^2 gap: two levels (the coarsest 128^2 by LU), the aperture within the multigrid's
+    stopping rule (3e-7, DISSIPATION_TOLERANCE) of the sparse LU's."""
+    import bem.flow_solver
+
+    gap = _random_gap(256, 11)
+    levels = []
+    original = bem.flow_solver._hierarchy
+    monkeypatch.setattr(bem.flow_solver, "_hierarchy",
+                        lambda scaled, scale, cells, count: levels.append(count)
+                        or original(scaled, scale, cells, count))
+    iterative = hydraulic_aperture(gap, 1.0)
+    assert levels == [2]
+    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
+    assert iterative == pytest.approx(hydraulic_aperture(gap, 1.0), rel=1e-6)
+    assert levels == [2]                                      # the LU: no hierarchy built
 
 
 def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
@@ -450,6 +474,10 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     assert multigrid_levels(16 * COARSEST_LIMIT) == 3
     assert multigrid_levels(64 * COARSEST_LIMIT) == 4
     assert multigrid_levels(4096 * COARSEST_LIMIT) == MULTIGRID_LEVELS == 4
+    # at most a quarter of the grid on the coarsest level: two levels at least
+    assert multigrid_levels(256 * 256, 256 * 256) == 2       # coarsest 128^2
+    assert multigrid_levels(128 * 128, 256 * 256) == 1       # few unknowns: the LU alone
+    assert multigrid_levels(512 * 512, 512 * 512) == 2       # coarsest 256^2, as before
 
 
 def test_the_aggregates_are_the_grids_two_by_two_blocks():
