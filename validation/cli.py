@@ -13,7 +13,7 @@ validity map on 256 x 256 grids with 16 loads, 8 per H of the self-affine map on
 grids with 12 loads, and 8 realizations of each window of ``sealing-size`` on 128 x 128 grids
 with 12 loads; where cells stay undecided, the validity and self-affine maps add realizations
 up to their budgets, and the reference is solved again on finer grids up to each scene's
-limit, 1024 x 1024 for the paper scenes; 45 min to 2 h on two cores).
+limit, 1024 x 1024 for the paper scenes; about two hours on two cores).
 Ctrl-C stops a report at once (exit status 130); what was finished stays in the cache, and the
 same command resumes.
 """
