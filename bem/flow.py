@@ -284,8 +284,8 @@ def hydraulic_aperture(gap, spacing: float, *, direction: str = "x",
     -----
     Cost (one core, benchmarks/bench_leakage.py): a sparse LU factorisation up to
     :data:`bem.flow_solver.DIRECT_SOLVE_LIMIT` cells (128^2), above it the
-    multigrid-preconditioned solve: about 0.2 s at 256^2, 0.3-0.9 s at 512^2, 2-12 s and under 1 GB at 1024^2
-    (the longest on rough gaps at heavy contact).
+    multigrid-preconditioned solve: about 0.2 s at 256^2, 0.3-0.9 s at 512^2, 2-12 s and under
+    1 GB at 1024^2 (the longest on rough gaps at heavy contact).
     """
     return _flow_solution(gap, spacing, direction, periodic)[0]
 

@@ -167,8 +167,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     column order on these grids), no pivoting (``diag_pivot_thresh=0``: elimination of a
     symmetric positive definite matrix is stable in any order); exact whatever the contrast of
     g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
-    as n^1.5 (0.33-0.42 s at 256^2, 7-13 s and 1.5 GB at 1024^2), and the system is solved by conjugate gradients
-    preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
+    as n^1.5 (0.33-0.42 s at 256^2, 7-13 s and 1.5 GB at 1024^2), and the system is solved by
+    conjugate gradients preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
     blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
     piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
     aggregates and no prolongation smoothing: smoothing it took more time than it saved),

@@ -436,7 +436,7 @@ def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
     import bem.flow_solver
 
     gap = _random_gap(96, 2)
-    gap[:, :] *= (np.arange(96) < 20)[:, None]    # 20 of 96 rows open: a fifth of the grid
+    gap *= (np.arange(96) < 20)[:, None]    # 20 of 96 rows open: a fifth of the grid
     direct = hydraulic_aperture(gap, 1.0)
     assert direct > 0
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
@@ -461,7 +461,7 @@ def test_a_256_gap_is_solved_by_two_levels_to_the_multigrids_accuracy(monkeypatc
     iterative = hydraulic_aperture(gap, 1.0)
     assert levels == [2]
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
-    assert iterative == pytest.approx(hydraulic_aperture(gap, 1.0), rel=1e-6)
+    assert iterative == pytest.approx(hydraulic_aperture(gap, 1.0), rel=3e-7)
     assert levels == [2]                                      # the LU: no hierarchy built
 
 

@@ -302,7 +302,8 @@ def _population(mean, half_width, band, verdicts, surface=None):
     return SimpleNamespace(one_surface=False, tolerances=(0.2,), interval=interval,
                            band=np.asarray(band, float), verdicts=(np.asarray(verdicts),),
                            surface=low_high,
-                           surface_verdicts=(np.asarray(verdicts),) if surface else ())
+                           surface_verdicts=(np.asarray(verdicts),) if surface else (),
+                           sealing=None, sealing_resolved=None)
 
 
 def test_a_population_cell_is_refined_only_where_a_finer_grid_could_decide_it():

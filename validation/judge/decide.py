@@ -141,7 +141,7 @@ def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
             # NaN anywhere makes the comparison false: decidable
             within = (np.asarray(low) - band >= -reach) & (np.asarray(high) + band <= reach)
         result |= (np.asarray(verdict) == UNDECIDED) & (can_hold | ~within)
-    if getattr(entry, "sealing", None) is not None:
+    if entry.sealing is not None:
         # a disagreement about sealing that the band leaves unresolved (leakage) may be
         # resolved on a finer grid, which fails the point
         result |= np.asarray(entry.sealing) > np.asarray(entry.sealing_resolved)
