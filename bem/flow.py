@@ -52,7 +52,7 @@ import warnings
 import numpy as np
 
 from bem import checks
-from bem.flow_solver import FlowStart, _solve_pressure
+from bem.flow_solver import FlowStart, _solve_pressure, next_start
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["FLOW_DIRECTIONS", "hydraulic_aperture", "leakage_aperture", "spanning_cells"]
@@ -323,7 +323,7 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
     solved = np.full(cells.shape, np.nan)
     solved[cells] = pressure
     return (largest * float(np.cbrt(_dissipation(pressure, faces, boundary) * columns / rows)),
-            FlowStart(solved, iterations))
+            next_start(solved, iterations, start))
 
 
 def _mean_leak(apertures) -> float:

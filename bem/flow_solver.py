@@ -18,9 +18,9 @@ from bem.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
            "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE",
-           "ESTIMATE_STEPS", "FlowStart", "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS",
-           "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT",
-           "multigrid_levels", "solved_directly"]
+           "ESTIMATE_STEPS", "FEWER_LEVELS_ITERATIONS", "FlowStart", "MULTIGRID_LEVELS",
+           "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT",
+           "RESIDUAL_LIMIT", "multigrid_levels", "next_start", "solved_directly"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -40,8 +40,10 @@ PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: on from its last iterate with algebraic coarsening (:func:`_solve_pressure`).
 DIRECT_SWITCH_LIMIT = 1024 * 1024
 #: The coarsest grid of the multigrid is solved by sparse LU once it has at most this many
-#: cells and at most a quarter of the grid's (two levels at least: a 256^2 gap's coarsest is
-#: 128^2), or at :data:`MULTIGRID_LEVELS` levels.
+#: cells and at most a sixteenth of the grid's, a quarter once the path's multigrid has been
+#: slow (:data:`FEWER_LEVELS_ITERATIONS`), or at :data:`MULTIGRID_LEVELS` levels
+#: (:func:`multigrid_levels`): three levels at 256^2 and 512^2 (two after a slow solve), three
+#: at 1024^2, four at 2048^2.
 COARSEST_LIMIT = 256 * 256
 #: Most levels of the multigrid: each level of unsmoothed aggregation adds iterations (12-17
 #: at three levels, 17-35 at four on the same 1024^2 gaps), so a 1024^2 grid gets three (the
@@ -86,6 +88,17 @@ RESIDUAL_LIMIT = 1e-7
 #: pressure, the LU 3.6-6.7 s and 0.8-1.3 GB (1024^2); the iterations grow along a path
 #: (13, 22, 42, 126, 150 there), and a multigrid solve costs about the LU's time at 50.
 DIRECT_SWITCH_ITERATIONS = 40
+#: A gap whose previous neighbour along a path (:class:`FlowStart`) took at least this many
+#: multigrid iterations, or whose path was slow before, gets the multigrid's larger coarsest
+#: level (a quarter of the grid instead of a sixteenth, :func:`multigrid_levels`): below 1024^2
+#: one level fewer. The coarsest level's LU is most of a light gap's solve on two levels (a
+#: 512^2 gap: its 256^2 factor 0.25-0.3 s of 0.5 s, for 6-8 iterations); on three the factor is
+#: 128^2 and the iterations a few more, but near percolation they grow (21, 23, then 109 on the
+#: x gaps of a noisy 512^2 scan's path, 8 and 13 on two levels). A 512^2 solve on three levels
+#: costs what one on two does at about this many iterations. On that path's 24 gaps (x and y,
+#: one thread) 8.1-10.3 s against 12.7-15.3 s on two levels, the apertures within 2e-7 of the LU's
+#: where the two levels' were.
+FEWER_LEVELS_ITERATIONS = 16
 #: Decrements of the energy the error estimate looks back on.
 ESTIMATE_STEPS = 5
 #: Most conjugate-gradient iterations of the multigrid solve.
@@ -100,19 +113,41 @@ class FlowStart:
     """What a Reynolds solve hands the next one along a path (the same grid and direction):
     its pressure, a map of the grid oriented along the flow with NaN off the solved cells, where
     the next iterative solve begins (:func:`_start`), and its multigrid ``iterations`` (None:
-    solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`).
+    solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`),
+    and whether the path's multigrid has been ``slow`` (:data:`FEWER_LEVELS_ITERATIONS`; it
+    stays so along the path, whose gaps close towards percolation), by which the next chooses
+    its levels (:func:`multigrid_levels`). :func:`next_start` makes one.
     """
 
     pressure: np.ndarray
     iterations: int | None
+    slow: bool = False
 
 
-def multigrid_levels(cells: int, grid: int | None = None) -> int:
+def next_start(pressure: np.ndarray, iterations: int | None,
+               start: FlowStart | None) -> FlowStart:
+    """The :class:`FlowStart` a solve hands the next gap: its pressure map and ``iterations``
+    (None: sparse LU), slow once it or a solve before it along the path (``start``) took
+    :data:`FEWER_LEVELS_ITERATIONS` or more iterations, or was solved by the LU."""
+    slow = (start is not None and start.slow) or iterations is None \
+        or iterations >= FEWER_LEVELS_ITERATIONS
+    return FlowStart(pressure, iterations, slow)
+
+
+def multigrid_levels(cells: int, grid: int | None = None, *, slow: bool = False) -> int:
     """Levels of the multigrid for a gap of ``cells`` unknowns on a grid of ``grid`` cells
-    (default: ``cells``): halve the grid until at most :data:`COARSEST_LIMIT` unknowns and
-    at most a quarter of the grid are left, with at most :data:`MULTIGRID_LEVELS` levels (one
-    level: the LU solves the whole system)."""
-    limit = COARSEST_LIMIT if grid is None else min(COARSEST_LIMIT, grid // 4)
+    (default: ``cells``): halve the grid until at most :data:`COARSEST_LIMIT` unknowns and at
+    most a sixteenth of the grid are left (a quarter when the path's multigrid has been
+    ``slow``, :data:`FEWER_LEVELS_ITERATIONS`), with at most :data:`MULTIGRID_LEVELS` levels.
+    One level, the LU solving the whole system, when ``cells`` is within the coarsest limit
+    of a slow path (at most :data:`COARSEST_LIMIT` and a quarter of the grid)."""
+    if grid is None:
+        limit = largest = COARSEST_LIMIT
+    else:
+        largest = min(COARSEST_LIMIT, grid // 4)
+        limit = largest if slow else min(COARSEST_LIMIT, grid // 16)
+    if cells <= largest:
+        return 1
     levels = 1
     while cells > limit and levels < MULTIGRID_LEVELS:
         cells = math.ceil(cells / 4)
@@ -202,7 +237,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
     algebraic = periodic
-    levels = 0 if algebraic else multigrid_levels(int(np.count_nonzero(cells)), cells.size)
+    levels = 0 if algebraic else multigrid_levels(
+        int(np.count_nonzero(cells)), cells.size, slow=start is not None and start.slow)
     # (few unknowns on a large grid, one level: the LU is the whole solve)
     if solved_directly(cells.size, periodic, start) or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None

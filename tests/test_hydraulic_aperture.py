@@ -355,34 +355,33 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
 
 @BOTH
 @pytest.mark.parametrize("seed", [1, 2])
-@pytest.mark.parametrize("coarsest", [24 * 24, 48 * 48])
+@pytest.mark.parametrize("slow", [False, True])
 def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch, periodic, seed,
-                                                                     coarsest):
+                                                                     slow):
     """Above DIRECT_SOLVE_LIMIT cells (PERIODIC_DIRECT_SOLVE_LIMIT when periodic) the flow
     system is solved by multigrid-preconditioned conjugate gradients; forced on smaller gaps
-    (about 16 % contact, g^3 over many decades near the contact edges), with two and three
-    levels of pixel blocks (algebraic coarsening when periodic), it must give the sparse LU's
-    aperture to well within its tolerance (the dissipation's error is of second order in the
-    pressure's)."""
+    (about 16 % contact, g^3 over many decades near the contact edges), with three levels of
+    pixel blocks and two after a slow neighbour (algebraic coarsening when periodic), it must
+    give the sparse LU's aperture to well within its tolerance (the dissipation's error is of
+    second order in the pressure's)."""
     import bem.flow
     import bem.flow_solver
+    from bem.flow_solver import FlowStart
 
     gap = _random_gap(96, seed)
     gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
     direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", coarsest)
     used = []
-    original = bem.flow._solve_pressure
-
-    def spy(matrix, rhs, cells, periodic, dissipation, start=None):
-        used.append(bem.flow_solver.multigrid_levels(int(np.count_nonzero(cells))))
-        return original(matrix, rhs, cells, periodic, dissipation, start)
-
-    monkeypatch.setattr(bem.flow, "_solve_pressure", spy)
-    multigrid = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
-    assert used == [2 if coarsest > 40 * 40 else 3] * 2 and min(direct) > 0
+    original = bem.flow_solver._hierarchy
+    monkeypatch.setattr(bem.flow_solver, "_hierarchy",
+                        lambda scaled, scale, cells, count: used.append(count)
+                        or original(scaled, scale, cells, count))
+    start = FlowStart(None, 1, slow)
+    multigrid = [bem.flow._flow_solution(gap, 1.0, d, periodic, start)[0] for d in "xy"]
+    # (96^2: the coarsest at most 24^2, a sixteenth of the grid, or 48^2 when slow)
+    assert used == [0 if periodic else 2 if slow else 3] * 2 and min(direct) > 0
     # the pixel blocks stop once the dissipation's estimated error is 1e-6 (the aperture's a
     # third of it; 1.2e-7 to 2.5e-7 measured here) and the residual 1e-6 (the residual alone at
     # 1e-6 left 6e-6 here), the algebraic multigrid of a periodic gap at a residual of 1e-9
@@ -447,10 +446,14 @@ def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
     assert not calls                              # no multigrid was built
 
 
-def test_a_256_gap_is_solved_by_two_levels_to_the_multigrids_accuracy(monkeypatch):
-    """A 256^2 gap: two levels (the coarsest 128^2 by LU), the aperture within the multigrid's
-    stopping rule (3e-7, DISSIPATION_TOLERANCE) of the sparse LU's."""
+@pytest.mark.parametrize("slow", [False, True])
+def test_a_256_gap_is_solved_by_pixel_blocks_to_the_multigrids_accuracy(monkeypatch, slow):
+    """A 256^2 gap: three levels (the coarsest 64^2 by LU), two after a slow neighbour along its
+    path (the coarsest 128^2), the aperture within the multigrid's stopping rule (3e-7,
+    DISSIPATION_TOLERANCE) of the sparse LU's either way."""
+    import bem.flow
     import bem.flow_solver
+    from bem.flow_solver import FlowStart
 
     gap = _random_gap(256, 11)
     levels = []
@@ -458,11 +461,28 @@ def test_a_256_gap_is_solved_by_two_levels_to_the_multigrids_accuracy(monkeypatc
     monkeypatch.setattr(bem.flow_solver, "_hierarchy",
                         lambda scaled, scale, cells, count: levels.append(count)
                         or original(scaled, scale, cells, count))
-    iterative = hydraulic_aperture(gap, 1.0)
-    assert levels == [2]
+    start = FlowStart(None, 1, slow) if slow else None
+    iterative, solved = bem.flow._flow_solution(gap, 1.0, "x", False, start)
+    assert levels == [2 if slow else 3] and solved.slow == slow
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
     assert iterative == pytest.approx(hydraulic_aperture(gap, 1.0), rel=3e-7)
-    assert levels == [2]                                      # the LU: no hierarchy built
+    assert len(levels) == 1                                   # the LU: no hierarchy built
+
+
+def test_a_slow_multigrid_solve_makes_the_rest_of_its_path_slow():
+    """The FlowStart a solve hands on is slow once it took FEWER_LEVELS_ITERATIONS or more, was
+    solved by the LU, or followed a slow one (the gaps of a path close towards percolation)."""
+    from bem.flow_solver import FEWER_LEVELS_ITERATIONS, FlowStart, next_start
+
+    pressure = np.zeros((4, 4))
+    assert not next_start(pressure, FEWER_LEVELS_ITERATIONS - 1, None).slow
+    assert next_start(pressure, FEWER_LEVELS_ITERATIONS, None).slow
+    assert next_start(pressure, None, None).slow
+    light = FlowStart(pressure, 3)
+    assert not next_start(pressure, FEWER_LEVELS_ITERATIONS - 1, light).slow
+    assert next_start(pressure, 3, FlowStart(pressure, 3, True)).slow
+    kept = next_start(pressure, 5, light)
+    assert kept.pressure is pressure and kept.iterations == 5
 
 
 def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
@@ -474,10 +494,19 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     assert multigrid_levels(16 * COARSEST_LIMIT) == 3
     assert multigrid_levels(64 * COARSEST_LIMIT) == 4
     assert multigrid_levels(4096 * COARSEST_LIMIT) == MULTIGRID_LEVELS == 4
-    # at most a quarter of the grid on the coarsest level: two levels at least
-    assert multigrid_levels(256 * 256, 256 * 256) == 2       # coarsest 128^2
-    assert multigrid_levels(128 * 128, 256 * 256) == 1       # few unknowns: the LU alone
-    assert multigrid_levels(512 * 512, 512 * 512) == 2       # coarsest 256^2, as before
+    # on a grid, at most a sixteenth of it on the coarsest level, a quarter once slow
+    assert multigrid_levels(256 * 256, 256 * 256) == 3       # coarsest 64^2
+    assert multigrid_levels(256 * 256, 256 * 256, slow=True) == 2   # coarsest 128^2
+    assert multigrid_levels(512 * 512, 512 * 512) == 3       # coarsest 128^2
+    assert multigrid_levels(512 * 512, 512 * 512, slow=True) == 2   # coarsest 256^2
+    assert multigrid_levels(1024 * 1024, 1024 * 1024) == 3   # coarsest 256^2 either way
+    assert multigrid_levels(1024 * 1024, 1024 * 1024, slow=True) == 3
+    assert multigrid_levels(2048 * 2048, 2048 * 2048) == 4
+    assert multigrid_levels(2048 * 2048, 2048 * 2048, slow=True) == 4
+    # few unknowns (within a slow path's coarsest level): the LU alone, slow or not
+    assert multigrid_levels(128 * 128, 256 * 256) == 1
+    assert multigrid_levels(128 * 128 + 1, 256 * 256) == 3
+    assert multigrid_levels(128 * 128 + 1, 256 * 256, slow=True) == 2
 
 
 def test_the_aggregates_are_the_grids_two_by_two_blocks():
