@@ -94,12 +94,11 @@ DIRECT_SWITCH_ITERATIONS = 40
 #: level (a quarter of the grid instead of a sixteenth, :func:`multigrid_levels`): below 1024^2
 #: one level fewer. The coarsest level's LU is most of a light gap's solve on two levels (a
 #: 512^2 gap: its 256^2 factor 0.25-0.3 s of 0.5 s, for 6-8 iterations); on three the factor is
-#: 128^2 and the iterations one to three more, but near percolation they grow (on the x gaps
-#: of a noisy 512^2 scan's path 15, 15, 20 with the split blocks, 21, 23, 109 unsplit, where
-#: two levels took 8 to 13). A 512^2 solve on three levels costs what one on two does at about
-#: this many iterations. That path's 24 gaps (one thread, x and y): 4.3-5.3 s per direction
-#: against 5.9-8.6 s on two unsplit levels, the apertures within 2e-7 of the LU's where the two
-#: levels' were.
+#: 128^2 and the iterations a few more, but near percolation they grow (21, 23, then 109 on the
+#: x gaps of a noisy 512^2 scan's path, 8 and 13 on two levels). A 512^2 solve on three levels
+#: costs what one on two does at about this many iterations. On that path's 24 gaps (x and y,
+#: one thread) 8.1-10.3 s against 12.7-15.3 s on two levels, the apertures within 2e-7 of the LU's
+#: where the two levels' were.
 FEWER_LEVELS_ITERATIONS = 16
 #: Decrements of the energy the error estimate looks back on.
 ESTIMATE_STEPS = 5
@@ -188,11 +187,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     symmetric positive definite matrix is stable in any order); exact whatever the contrast of
     g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
     as n^1.5 (0.33-0.42 s at 256^2, 7-13 s and 1.5 GB at 1024^2), and the system is solved by
-    conjugate gradients preconditioned with one V-cycle of aggregation multigrid on the pixel
-    grid: the 2 x 2 blocks of cells, split where their connections are weak
-    (:mod:`bem.pixel_blocks`), are the aggregates, level after level (:func:`multigrid_levels`),
-    with piecewise-constant interpolation fitted to the near-null vector by pyAMG (no
-    prolongation smoothing: smoothing it took more time than it saved),
+    conjugate gradients preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
+    blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
+    piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
+    aggregates and no prolongation smoothing: smoothing it took more time than it saved),
     one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
     sparse LU. It is built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with
     the scaled constant ``1/D`` as its near-null space, and iterates until the dissipation is
