@@ -14,7 +14,6 @@ import numpy as np
 
 from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
 from bem.gauss_seidel import backward_sweep, forward_sweep
-from bem.pixel_blocks import block_hierarchy
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
@@ -156,6 +155,23 @@ def multigrid_levels(cells: int, grid: int | None = None, *, slow: bool = False)
     return levels
 
 
+def _aggregates(cells: np.ndarray):
+    """The 2 x 2 blocks of the pixel grid as aggregates of the unknowns ``cells`` (a 2-D map,
+    unknowns numbered in row-major order), and the map of the blocks that hold unknowns."""
+    import scipy.sparse
+
+    rows, columns = cells.shape
+    coarse_shape = ((rows + 1) // 2, (columns + 1) // 2)
+    j, i = np.nonzero(cells)
+    block = (j // 2) * coarse_shape[1] + i // 2
+    kept, aggregate = np.unique(block, return_inverse=True)
+    coarse = np.zeros(coarse_shape[0] * coarse_shape[1], dtype=bool)
+    coarse[kept] = True
+    operator = scipy.sparse.csr_matrix((np.ones(j.size), (np.arange(j.size), aggregate)),
+                                       shape=(j.size, kept.size))
+    return operator, coarse.reshape(coarse_shape)
+
+
 def _compressed_rows(hierarchy) -> None:
     """Every level's operator, interpolation and restriction of a pyAMG hierarchy in CSR, in
     place: smoothed aggregation with one near-null vector builds them as BSR of 1 x 1 blocks,
@@ -265,15 +281,24 @@ def solved_directly(size: int, periodic: bool, start: FlowStart | None) -> bool:
 def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):
     """The pyAMG hierarchy of the Jacobi-scaled matrix ``scaled`` (``scale`` = ``D``, the
     near-null space ``1/D``), in CSR: ``levels`` levels of the pixel grid's 2 x 2 blocks of
-    ``cells``, split where their connections are weak (:mod:`bem.pixel_blocks`), or for
-    ``levels = 0`` algebraic coarsening (:func:`_solve_pressure`)."""
-    near_null = (1.0 / scale)[:, None]
-    if levels:
-        return block_hierarchy(scaled, near_null, cells, levels, ("splu", _LU_OPTIONS))
+    ``cells``, or for ``levels = 0`` algebraic coarsening (:func:`_solve_pressure`)."""
     import pyamg
 
-    hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
-                                                  coarse_solver=("splu", _LU_OPTIONS))
+    near_null = (1.0 / scale)[:, None]
+    if not levels:
+        hierarchy = pyamg.smoothed_aggregation_solver(scaled, B=near_null, strength="evolution",
+                                                      coarse_solver=("splu", _LU_OPTIONS))
+    else:
+        aggregates, mask = [], cells
+        for _ in range(levels - 1):
+            operator, mask = _aggregates(mask)
+            aggregates.append(("predefined", {"AggOp": operator}))
+        # (strength=None: the given aggregates need no strength of connection, which pyAMG
+        # would compute on every level all the same)
+        hierarchy = pyamg.smoothed_aggregation_solver(
+            scaled, B=near_null, strength=None, aggregate=aggregates, smooth=None,
+            max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
+            coarse_solver=("splu", _LU_OPTIONS))   # (smoothed by _VCycle's own sweeps)
     _compressed_rows(hierarchy)
     return hierarchy
 

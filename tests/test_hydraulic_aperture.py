@@ -32,14 +32,11 @@ def test_gap_varying_along_the_flow_adds_resistances_in_series(periodic):
     gap = np.tile(profile, (256, 1))       # g depends on x only
     series = np.mean(profile**-3.0) ** (-1.0 / 3.0)
     parallel = np.mean(profile**3.0) ** (1.0 / 3.0)
-    # (256^2: by the multigrid unless periodic, whose stopping rule allows 3e-7 in the aperture;
-    # the sparse LU is exact to rounding)
-    rel = 1e-10 if periodic else 3e-7
     assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) == \
-        pytest.approx(series, rel=rel)
+        pytest.approx(series, rel=1e-10)
     # the same field with the pressure drop along y: the columns carry flow in parallel
     assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) == \
-        pytest.approx(parallel, rel=rel)
+        pytest.approx(parallel, rel=1e-10)
     assert series < 0.9 * parallel         # the check can tell the two apart
 
 
@@ -512,6 +509,17 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     assert multigrid_levels(128 * 128 + 1, 256 * 256, slow=True) == 2
 
 
+def test_the_aggregates_are_the_grids_two_by_two_blocks():
+    from bem.flow_solver import _aggregates
+
+    cells = np.array([[1, 1, 0], [0, 1, 1], [1, 0, 0]], dtype=bool)
+    operator, coarse = _aggregates(cells)
+    # unknowns in row-major order: (0,0) (0,1) (1,1) (1,2) (2,0)
+    np.testing.assert_array_equal(operator.toarray(),
+                                  [[1, 0, 0], [1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]])
+    np.testing.assert_array_equal(coarse, [[True, True], [True, False]])
+
+
 def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
     import bem.flow_solver
 
@@ -526,9 +534,8 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
 
 
 def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
-    """The pixel blocks' levels are built in CSR, the restriction a view of the interpolation;
-    smoothed aggregation (periodic gaps) builds its coarse levels as 1 x 1 BSR, which are
-    converted to CSR (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
+    """Smoothed aggregation builds its coarse levels as 1 x 1 BSR; they are converted to CSR
+    (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
     import pyamg
     import scipy.sparse
 
@@ -536,28 +543,28 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
 
     gap = _random_gap(96, 1)
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 24 * 24)
     built = []
-    blocks, algebraic = bem.flow_solver.block_hierarchy, pyamg.smoothed_aggregation_solver
-    monkeypatch.setattr(bem.flow_solver, "block_hierarchy",
-                        lambda *args: built.append(blocks(*args)) or built[-1])
-    monkeypatch.setattr(pyamg, "smoothed_aggregation_solver",
-                        lambda *args, **kwargs: built.append(algebraic(*args, **kwargs))
-                        or built[-1])
-    for periodic in (False, True):
-        assert hydraulic_aperture(gap, 1.0, periodic=periodic) > 0.0
-        assert len(built[-1].levels) >= 2
-        assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
-                   for level in built[-1].levels)
-        for level in built[-1].levels[:-1]:
-            # the restriction is the interpolation's transpose, a view of its arrays
-            assert level.P.format == "csr" and level.R.format == "csc"
-            assert np.shares_memory(level.R.data, level.P.data)
-            assert level.R.shape == level.P.shape[::-1]
+    original = pyamg.smoothed_aggregation_solver
+
+    def spy(*args, **kwargs):
+        built.append(original(*args, **kwargs))
+        return built[-1]
+
+    monkeypatch.setattr(pyamg, "smoothed_aggregation_solver", spy)
+    converted = hydraulic_aperture(gap, 1.0)
+    assert len(built[-1].levels) == 3
+    assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
+               for level in built[-1].levels)
+    for level in built[-1].levels[:-1]:
+        # the restriction is the interpolation's transpose, a view of its arrays
+        assert level.P.format == "csr" and level.R.format == "csc"
+        assert np.shares_memory(level.R.data, level.P.data) and level.R.shape == level.P.shape[::-1]
+    assert converted > 0.0
     # pyAMG builds the coarse levels in blocks of 1 x 1, which the compiled sweeps refuse
     monkeypatch.setattr(bem.flow_solver, "_compressed_rows", lambda hierarchy: None)
     with pytest.raises(TypeError, match="CSR"):
-        hydraulic_aperture(gap, 1.0, periodic=True)
+        hydraulic_aperture(gap, 1.0)
     assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
 
 
@@ -687,15 +694,14 @@ def test_the_v_cycle_is_pyamgs():
     hierarchy's symmetric ones alike."""
     import pyamg
 
-    from bem.flow_solver import _compressed_rows, _VCycle
-    from bem.pixel_blocks import aggregates as blocks
+    from bem.flow_solver import _aggregates, _compressed_rows, _VCycle
 
+    cells = np.ones((32, 32), dtype=bool)
     matrix = pyamg.gallery.poisson((32, 32), format="csr")
-    aggregates, level, (rows, columns) = [], matrix, np.nonzero(np.ones((32, 32), dtype=bool))
+    aggregates, mask = [], cells
     for _ in range(2):
-        operator, rows, columns = blocks(level, rows, columns)
+        operator, mask = _aggregates(mask)
         aggregates.append(("predefined", {"AggOp": operator}))
-        level = (operator.T @ level @ operator).tocsr()
     hierarchy = pyamg.smoothed_aggregation_solver(
         matrix, aggregate=aggregates, smooth=None, max_levels=3, max_coarse=1,
         improve_candidates=None, presmoother=("gauss_seidel", {"sweep": "forward"}),
