@@ -11,7 +11,8 @@ aperture is solved for flow along x, periodic and not, by
 * ``multigrid``: ``bem.hydraulic_aperture`` with every gap solved by conjugate gradients
   preconditioned by the multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels as
   aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
-  for a periodic gap the algebraic coarsening of ``amg-evo``; relative residual 1e-7);
+  for a periodic gap the algebraic coarsening of ``amg-evo``; stopped when the dissipation is
+  known);
 * ``amg-evo``: algebraic coarsening for comparison: pyamg smoothed aggregation with evolution
   strength on the Jacobi-scaled matrix, a sparse LU on the coarsest level, conjugate gradients
   to a relative residual of 1e-7.
@@ -19,7 +20,7 @@ aperture is solved for flow along x, periodic and not, by
 Each row gives the time (matrix assembly and the multigrid's setup included), the iterations
 where known and the aperture's relative difference from ``direct``. Solved gaps are cached in
 ``--cache`` (default bench-out/leakage-cache; not committed). ``bem.hydraulic_aperture`` solves
-gaps up to ``bem.flow_solver.DIRECT_SOLVE_LIMIT`` cells (256^2; periodic ones up to 1024^2)
+gaps up to ``bem.flow_solver.DIRECT_SOLVE_LIMIT`` cells (128^2; periodic ones up to 1024^2)
 directly and larger ones by ``multigrid``; the measured rows are in docs/guide/benchmarks.md,
 "The leakage reference".
 
