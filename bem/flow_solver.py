@@ -13,7 +13,7 @@ from typing import Callable
 import numpy as np
 
 from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
-from bem.gauss_seidel import backward_sweep, forward_sweep
+from bem.multigrid_cycle import VCycle
 from bem.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
@@ -178,7 +178,7 @@ def _compressed_rows(hierarchy) -> None:
     whose Gauss-Seidel sweep and products are several times slower per unknown than CSR's (a
     sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
     in CSR the solve took 20 % less, the same iterates); the compiled sweeps of
-    :class:`_VCycle` take CSR only. The restriction is the interpolation's transpose (pyAMG's
+    :class:`bem.multigrid_cycle.VCycle` take CSR only. The restriction is the interpolation's transpose (pyAMG's
     for a symmetric system), kept as its CSC view rather than a copy (128 MB at 2048^2; the
     same products to the bit: both sum a coarse entry's fine terms in the same order)."""
     for level in hierarchy.levels:
@@ -203,8 +203,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     symmetric positive definite matrix is stable in any order); exact whatever the contrast of
     g^3 (which spans 20 decades in a contact gap). Above, the factor's flops and memory grow
     as n^1.5 (0.33-0.42 s at 256^2, 7-13 s and 1.5 GB at 1024^2), and the system is solved by
-    conjugate gradients preconditioned with one V-cycle of aggregation multigrid on the pixel grid: the 2 x 2
-    blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
+    conjugate gradients preconditioned with one V-cycle of aggregation multigrid on the pixel
+    grid: the 2 x 2 blocks of cells are the aggregates, level after level (:func:`multigrid_levels`), with
     piecewise-constant interpolation (pyAMG's smoothed-aggregation solver with these
     aggregates and no prolongation smoothing: smoothing it took more time than it saved),
     one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
@@ -252,14 +252,14 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
-            scaled, rhs, _VCycle(_hierarchy(scaled, scale, cells, levels)),
+            scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels)),
             lambda pressure: dissipation(pressure * scale), MULTIGRID_TOLERANCE, guess)
         if settled or cells.size <= DIRECT_SWITCH_LIMIT:
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
         guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
     solution, extra, settled = _conjugate_gradients(
-        scaled, rhs, _VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
+        scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
         ALGEBRAIC_TOLERANCE, guess)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
@@ -298,7 +298,7 @@ def _hierarchy(scaled, scale: np.ndarray, cells: np.ndarray, levels: int):
         hierarchy = pyamg.smoothed_aggregation_solver(
             scaled, B=near_null, strength=None, aggregate=aggregates, smooth=None,
             max_levels=len(aggregates) + 1, max_coarse=1, improve_candidates=None,
-            coarse_solver=("splu", _LU_OPTIONS))   # (smoothed by _VCycle's own sweeps)
+            coarse_solver=("splu", _LU_OPTIONS))   # (smoothed by VCycle's own sweeps)
     _compressed_rows(hierarchy)
     return hierarchy
 
@@ -324,41 +324,6 @@ def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.nd
         known = np.isfinite(start)
         guess[known] = start[known]
     return guess[cells]
-
-
-class _VCycle:
-    """One V-cycle of a pyAMG hierarchy from a zero guess, as ``cycle @ residual``: its levels'
-    interpolations and coarse solver, in pyAMG's order, and its Gauss-Seidel smoothing by the
-    compiled sweeps of :mod:`bem.gauss_seidel`, which release the GIL (pyAMG's hold it, and
-    the contact path beside the leakage waits on every sweep): one forward sweep before the
-    coarse correction and one backward after it, or with ``symmetric`` a forward and a
-    backward sweep on either side (pyAMG's smoothed-aggregation default). Without the residual
-    norms that pyAMG's own preconditioner computes around each cycle for its stopping test
-    (two products with the finest matrix and three norms per application, a tenth of a 1024^2
-    solve, and BLAS calls whose threads then spin on the path's cores)."""
-
-    def __init__(self, hierarchy, *, symmetric: bool = False) -> None:
-        self.levels, self.coarse_solver = hierarchy.levels, hierarchy.coarse_solver
-        self.before = (forward_sweep, backward_sweep) if symmetric else (forward_sweep,)
-        self.after = (forward_sweep, backward_sweep) if symmetric else (backward_sweep,)
-
-    def __matmul__(self, residual: np.ndarray) -> np.ndarray:
-        return self._cycle(0, residual)
-
-    def _cycle(self, index: int, right: np.ndarray) -> np.ndarray:
-        level = self.levels[index]
-        x = np.zeros_like(right)
-        for sweep in self.before:
-            sweep(level.A, x, right)
-        coarse = level.R @ (right - level.A @ x)
-        if index == len(self.levels) - 2:
-            correction = self.coarse_solver(self.levels[-1].A, coarse)
-        else:
-            correction = self._cycle(index + 1, coarse)
-        x += level.P @ correction
-        for sweep in self.after:
-            sweep(level.A, x, right)
-        return x
 
 
 def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,

@@ -694,7 +694,8 @@ def test_the_v_cycle_is_pyamgs():
     hierarchy's symmetric ones alike."""
     import pyamg
 
-    from bem.flow_solver import _aggregates, _compressed_rows, _VCycle
+    from bem.flow_solver import _aggregates, _compressed_rows
+    from bem.multigrid_cycle import VCycle
 
     cells = np.ones((32, 32), dtype=bool)
     matrix = pyamg.gallery.poisson((32, 32), format="csr")
@@ -709,7 +710,7 @@ def test_the_v_cycle_is_pyamgs():
     _compressed_rows(hierarchy)   # (as the solver holds it: the sweeps take CSR only)
     assert len(hierarchy.levels) == 3
     residual = np.random.default_rng(2).standard_normal(32 * 32)
-    np.testing.assert_allclose(_VCycle(hierarchy) @ residual,
+    np.testing.assert_allclose(VCycle(hierarchy) @ residual,
                                hierarchy.aspreconditioner(cycle="V") @ residual,
                                rtol=1e-12, atol=1e-12)
     # the algebraic hierarchy: pyAMG's default smoother, symmetric sweeps on either side
@@ -721,9 +722,9 @@ def test_the_v_cycle_is_pyamgs():
     _compressed_rows(algebraic)
     assert len(algebraic.levels) >= 3
     expected = algebraic.aspreconditioner(cycle="V") @ residual
-    np.testing.assert_allclose(_VCycle(algebraic, symmetric=True) @ residual, expected,
+    np.testing.assert_allclose(VCycle(algebraic, symmetric=True) @ residual, expected,
                                rtol=1e-12, atol=1e-12)
-    assert not np.allclose(_VCycle(algebraic) @ residual, expected, rtol=1e-6)
+    assert not np.allclose(VCycle(algebraic) @ residual, expected, rtol=1e-6)
 
 
 def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
