@@ -121,7 +121,8 @@ _LU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
 class FlowStart:
     """What a Reynolds solve hands the next one along a path (the same grid and direction):
     its pressure, a map of the grid oriented along the flow with NaN off the solved cells, where
-    the next iterative solve begins (:func:`_start`), and its multigrid ``iterations`` (None:
+    the next iterative solve begins (:func:`_start`; above :data:`DIRECT_SWITCH_LIMIT` cells
+    only while the path is not ``slow``), and its multigrid ``iterations`` (None:
     solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`),
     and whether the path's multigrid has been ``slow`` (:data:`FEWER_LEVELS_ITERATIONS`; it
     stays so along the path, whose gaps close towards percolation), by which the next chooses
@@ -221,7 +222,13 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
     :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
     conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the
-    residual relative to ``b``, the energy's decrements) and, when that solve took
+    residual relative to ``b``, the energy's decrements), except on a gap of more than
+    :data:`DIRECT_SWITCH_LIMIT` cells once the path has been slow
+    (:data:`FEWER_LEVELS_ITERATIONS`), which starts from the linear drop: near percolation the
+    previous pressure can be wrong where regions hang on thin necks (a 2048^2 gap at 22 %
+    contact took 532 iterations from it, 177 from the drop; but a 960^2 gap at 30 % 118 from
+    it and 313 from the drop, and below that size a slow path goes on by the LU), and, when
+    that solve took
     :data:`DIRECT_SWITCH_ITERATIONS` or more, or was itself switched to the LU, this gap is
     solved by the LU (up to :data:`DIRECT_SWITCH_LIMIT` cells, not periodic): the gaps of a
     load path close towards percolation, where the pixel blocks converge slowly. Returns the
@@ -241,7 +248,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     rhs = rhs * scale
-    guess = _start(None if start is None else start.pressure, cells, periodic) / scale
+    # (above the LU switch's limit a slow path's gaps start from the linear drop: near
+    # percolation the previous pressure can be wrong where regions hang on thin necks)
+    warm = start is not None and not (start.slow and cells.size > DIRECT_SWITCH_LIMIT)
+    guess = _start(start.pressure if warm else None, cells, periodic) / scale
     iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
