@@ -121,15 +121,15 @@ _LU_OPTIONS = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
 class FlowStart:
     """What a Reynolds solve hands the next one along a path (the same grid and direction):
     its pressure, a map of the grid oriented along the flow with NaN off the solved cells, where
-    the next iterative solve begins (:func:`_start`; above :data:`DIRECT_SWITCH_LIMIT` cells
-    only while the path is not ``slow``), and its multigrid ``iterations`` (None:
+    the next iterative solve begins (:func:`_start`; None: from the linear drop), and its
+    multigrid ``iterations`` (None:
     solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`),
     and whether the path's multigrid has been ``slow`` (:data:`FEWER_LEVELS_ITERATIONS`; it
     stays so along the path, whose gaps close towards percolation), by which the next chooses
     its levels (:func:`multigrid_levels`). :func:`next_start` makes one.
     """
 
-    pressure: np.ndarray
+    pressure: np.ndarray | None
     iterations: int | None
     slow: bool = False
 
@@ -138,10 +138,16 @@ def next_start(pressure: np.ndarray, iterations: int | None,
                start: FlowStart | None) -> FlowStart:
     """The :class:`FlowStart` a solve hands the next gap: its pressure map and ``iterations``
     (None: sparse LU), slow once it or a solve before it along the path (``start``) took
-    :data:`FEWER_LEVELS_ITERATIONS` or more iterations, or was solved by the LU."""
+    :data:`FEWER_LEVELS_ITERATIONS` or more iterations, or was solved by the LU. The map is
+    dropped (the next gap starts from the linear drop) once slow on a grid of more than
+    :data:`DIRECT_SWITCH_LIMIT` cells (:func:`_solve_pressure`)."""
     slow = (start is not None and start.slow) or iterations is None \
         or iterations >= FEWER_LEVELS_ITERATIONS
-    return FlowStart(pressure, iterations, slow)
+    # above the LU switch's limit a slow path's next gap starts from the linear drop (near
+    # percolation the previous pressure can be wrong where regions hang on thin necks), and
+    # its map is not kept
+    return FlowStart(None if slow and pressure.size > DIRECT_SWITCH_LIMIT else pressure,
+                     iterations, slow)
 
 
 def multigrid_levels(cells: int, grid: int | None = None, *, slow: bool = False) -> int:
@@ -248,10 +254,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     rhs = rhs * scale
-    # (above the LU switch's limit a slow path's gaps start from the linear drop: near
-    # percolation the previous pressure can be wrong where regions hang on thin necks)
-    warm = start is not None and not (start.slow and cells.size > DIRECT_SWITCH_LIMIT)
-    guess = _start(start.pressure if warm else None, cells, periodic) / scale
+    guess = _start(None if start is None else start.pressure, cells, periodic) / scale
     iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(

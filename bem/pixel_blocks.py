@@ -10,13 +10,15 @@ percolation the flow crosses a block through a thin neck, or not at all, and one
 pressure for both sides of it interpolates the pressure badly.
 
 A part of a block with no strong connection leaving the block stays in its block's largest
-part that has one (in one aggregate with its block's other such parts where none has): hanging on the rest of the grid by weak connections alone, it would be a coarse unknown
-whose row is nearly singular, and such parts made the coarse levels so ill-conditioned (the
+part that has one (in one aggregate with its block's other such parts where none has):
+hanging on the rest of the grid by weak connections alone, it would be a coarse unknown whose
+row is nearly singular, and such parts made the coarse levels so ill-conditioned (the
 coarsest LU's error on a random vector 4e-3 against 6e-9) that the V-cycle stopped being a
 symmetric preconditioner in floating point and the conjugate gradients did not converge on a
-1024^2 gap at 28 % contact. With that rule, from the linear pressure drop on one core:
-27 iterations (3.2 s) on that gap against 47 (4.1 s) for whole blocks, 155 (45 s) against 812
-(191 s) on a 2048^2 gap at 22 % contact, 22 against 58 on a 512^2 gap at 29 %.
+1024^2 gap at 28 % contact. With that rule, from the linear pressure drop on one core: 28
+iterations (2.4 s) on that gap, 167 (49 s) on a 2048^2 gap at 22 % contact, 36 on a 512^2 gap
+at 29 %; whole blocks took 47, 812 (191 s) and 58 under a looser stopping rule
+(the solver's rule now asks more).
 
 The interpolation is piecewise constant on the aggregates, fitted to the near-null vector
 (pyAMG's ``fit_candidates``), and the coarse operators are the Galerkin products, held in CSR
