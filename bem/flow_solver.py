@@ -20,8 +20,9 @@ from bem.warnings import ConvergenceWarning
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
            "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "DISSIPATION_TOLERANCE",
            "ESTIMATE_CONFIRMATIONS", "ESTIMATE_STEPS", "FEWER_LEVELS_ITERATIONS", "FlowStart",
-           "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT",
-           "RESIDUAL_LIMIT", "multigrid_levels", "next_start", "solved_directly"]
+           "MULTIGRID_LEVELS", "MULTIGRID_MAX_ITERATIONS", "MULTIGRID_TOLERANCE",
+           "PERIODIC_DIRECT_SOLVE_LIMIT", "RESIDUAL_LIMIT", "multigrid_levels", "next_start",
+           "solved_directly"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -122,11 +123,11 @@ class FlowStart:
     """What a Reynolds solve hands the next one along a path (the same grid and direction):
     its pressure, a map of the grid oriented along the flow with NaN off the solved cells, where
     the next iterative solve begins (:func:`_start`; None: from the linear drop), and its
-    multigrid ``iterations`` (None:
-    solved by sparse LU), by which the next chooses its solver (:data:`DIRECT_SWITCH_ITERATIONS`),
-    and whether the path's multigrid has been ``slow`` (:data:`FEWER_LEVELS_ITERATIONS`; it
-    stays so along the path, whose gaps close towards percolation), by which the next chooses
-    its levels (:func:`multigrid_levels`). :func:`next_start` makes one.
+    multigrid ``iterations`` (None: solved by sparse LU), by which the next chooses its solver
+    (:data:`DIRECT_SWITCH_ITERATIONS`), and whether the path's multigrid has been ``slow``
+    (:data:`FEWER_LEVELS_ITERATIONS`; it stays so along the path, whose gaps close towards
+    percolation), by which the next chooses its levels (:func:`multigrid_levels`).
+    :func:`next_start` makes one.
     """
 
     pressure: np.ndarray | None
@@ -177,9 +178,10 @@ def _compressed_rows(hierarchy) -> None:
     whose Gauss-Seidel sweep and products are several times slower per unknown than CSR's (a
     sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
     in CSR the solve took 20 % less, the same iterates); the compiled sweeps of
-    :class:`bem.multigrid_cycle.VCycle` take CSR only. The restriction is the interpolation's transpose (pyAMG's
-    for a symmetric system), kept as its CSC view rather than a copy (128 MB at 2048^2; the
-    same products to the bit: both sum a coarse entry's fine terms in the same order)."""
+    :class:`bem.multigrid_cycle.VCycle` take CSR only. The restriction is the interpolation's
+    transpose (pyAMG's for a symmetric system), kept as its CSC view rather than a copy (128 MB
+    at 2048^2; the same products to the bit: both sum a coarse entry's fine terms in the same
+    order)."""
     for level in hierarchy.levels:
         level.A = level.A.tocsr()
         if hasattr(level, "P"):
@@ -216,15 +218,15 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
     their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
     contact) 54-69 s against 13 s and more than 300 s against 195 s (whole blocks), at
-    2.8-3.0 GB against 1.3-1.8 GB. On a periodic gap these aggregates converge slowly (the pressure fluctuation
-    has no fixed edge: 200-600 iterations at three levels on 1024^2); periodic gaps are solved
-    by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and above it by algebraic coarsening: smoothed
-    aggregation with the evolution strength of connection, which follows the thin necks that
-    carry the flow near percolation, with a symmetric Gauss-Seidel sweep on either side, to a
-    relative residual of :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled
-    there). A solve of the pixel blocks of more than
-    :data:`DIRECT_SWITCH_LIMIT` cells that stops short of its rule goes on from its last
-    iterate so; a multigrid solve that stops short of its rule otherwise warns
+    2.8-3.0 GB against 1.3-1.8 GB. On a periodic gap these aggregates converge slowly (the
+    pressure fluctuation has no fixed edge: 200-600 iterations at three levels on 1024^2);
+    periodic gaps are solved by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and
+    above it by algebraic coarsening: smoothed aggregation with the evolution strength of
+    connection, which follows the thin necks that carry the flow near percolation, with a
+    symmetric Gauss-Seidel sweep on either side, to a relative residual of
+    :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled there). A solve of the pixel
+    blocks of more than :data:`DIRECT_SWITCH_LIMIT` cells that stops short of its rule goes on
+    from its last iterate so; a multigrid solve that stops short of its rule otherwise warns
     (:class:`bem.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
     :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
     conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the

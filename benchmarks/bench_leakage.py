@@ -9,8 +9,8 @@ aperture is solved for flow along x, periodic and not, by
 * ``direct``: ``bem.hydraulic_aperture`` with every gap solved by sparse LU (SuperLU,
   minimum-degree order on the symmetric pattern, no pivoting);
 * ``multigrid``: ``bem.hydraulic_aperture`` with every gap solved by conjugate gradients
-  preconditioned by the multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels as
-  aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
+  preconditioned by the multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels, split where
+  their connections are weak, as aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
   for a periodic gap the algebraic coarsening of ``amg-evo``; stopped when the dissipation is
   known);
 * ``amg-evo``: algebraic coarsening for comparison: pyamg smoothed aggregation with evolution

@@ -73,12 +73,13 @@ def test_a_part_hanging_on_weak_connections_stays_in_its_blocks_largest_part():
     operator, _, _ = aggregates(_grid_matrix(cells, horizontal, vertical), *np.nonzero(cells))
     # unknowns: (0,0) (0,1) (0,2) (0,3) (1,0) (1,1) (1,2) (1,3)
     assert _groups(operator) == [{0, 1, 4, 5}, {2, 3, 6, 7}]
-    # (1,1) weak inside its block but strong to (1,2) outside it: a part of its own
-    horizontal[1, 0], vertical[0, 1] = 1.0, 0.1
-    horizontal[1, 1] = 1.0
-    vertical[0, 0] = 0.1
+    # the same, but (1,0) strongly joined to (2,0) below, outside its block: a part of its own
+    cells = np.ones((3, 4), dtype=bool)
+    horizontal, vertical = np.ones((3, 4)), np.ones((3, 4))
+    vertical[0, 0] = horizontal[1, 0] = 0.1
     operator, _, _ = aggregates(_grid_matrix(cells, horizontal, vertical), *np.nonzero(cells))
-    assert _groups(operator) == [{0, 1}, {2, 3, 6, 7}, {4, 5}]
+    # unknowns: row 0 are 0-3, row 1 4-7, row 2 8-11
+    assert _groups(operator) == [{0, 1, 5}, {2, 3, 6, 7}, {4}, {8, 9}, {10, 11}]
     # a diagonal pair: two parts, the one without an outside neighbour kept with the other
     cells = np.array([[1, 0, 1], [0, 1, 1]], dtype=bool)
     ones = np.ones(cells.shape)
