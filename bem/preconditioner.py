@@ -17,7 +17,9 @@ K (full contact converges in one step); for the non-periodic one (Love's kernel,
 the inverse of the kernel's periodic continuum limit, a spectrally equivalent operator.
 
 Cost: one real FFT pair of the n x n grid (a quarter to a third of the non-periodic operator's
-padded pair), in its own buffers.
+padded pair), in its own buffers, in single precision on the CPU: a preconditioner only shapes the
+search direction (the gap, the step and the stopping rule stay in double precision), and the
+float32 pair takes 55 ms against 99 ms at 2048^2 on one core (13.6 against 19.7 ms at 1024^2).
 """
 
 from __future__ import annotations
@@ -27,7 +29,8 @@ import math
 import numpy as np
 
 from bem.device import array_module
-from bem.fft import RealFFT2
+from bem import checks
+from bem.fft import PRECISIONS, RealFFT2
 
 __all__ = ["InverseKernel"]
 
@@ -55,17 +58,22 @@ class InverseKernel:
     planner_effort : str, optional
         As for :class:`bem.fft.RealFFT2`; default "FFTW_MEASURE" from 512 x 512 points on,
         "FFTW_ESTIMATE" below.
+    precision : {"single", "double"}
+        Of the FFT pair on the CPU (module docstring; the GPU's is double).
 
     Attributes
     ----------
     input_block, output_block : numpy.ndarray
-        float64 work arrays of ``shape``: :meth:`execute` computes ``output = M input``.
+        Work arrays of ``shape`` (float32 in single precision): :meth:`execute` computes
+        ``output = M input``; a caller reads the output as float64 (:meth:`read`).
     """
 
     def __init__(self, shape: tuple[int, int], spacing: float, *, e_star: float = 1.0,
                  backend: str = "auto", threads: int | None = None,
-                 planner_effort: str | None = None, device: str = "cpu") -> None:
+                 planner_effort: str | None = None, device: str = "cpu",
+                 precision: str = "single") -> None:
         self.shape = tuple(int(s) for s in shape)
+        checks.choice("precision", precision, PRECISIONS)
         if planner_effort is None:
             planner_effort = ("FFTW_MEASURE" if self.shape[0] * self.shape[1] >= _MEASURED_GRID
                               else "FFTW_ESTIMATE")
@@ -76,7 +84,7 @@ class InverseKernel:
             self._fft = DeviceRealFFT2(xp, self.shape)
         else:
             self._fft = RealFFT2(self.shape, backend=backend, threads=threads,
-                                 planner_effort=planner_effort)
+                                 planner_effort=planner_effort, precision=precision)
         ny, nx = self.shape
         qy = 2.0 * math.pi * np.fft.fftfreq(ny, d=spacing)
         qx = 2.0 * math.pi * np.fft.rfftfreq(nx, d=spacing)
@@ -84,14 +92,20 @@ class InverseKernel:
         q[0, 0] = 2.0 * math.pi / (max(ny, nx) * spacing)
         symbol = 0.5 * e_star * q / self._fft.size
         # each value twice: one real multiply over the float view of the complex spectrum
-        self._scaled_symbol = xp.asarray(np.repeat(symbol, 2, axis=1))
+        self._scaled_symbol = xp.asarray(np.repeat(symbol, 2, axis=1),
+                                         dtype=self._fft.real_buffer.dtype)
         self.input_block = self._fft.real_buffer
         self.output_block = self._fft.output_buffer
+        self._output_flat = self.output_block.reshape(-1)
 
     def execute(self) -> None:
         """``output_block = M input_block`` (``input_block`` is kept)."""
         fft = self._fft
         fft.execute_forward()
-        spectrum = fft.spectrum_buffer.view(np.float64)
+        spectrum = fft.spectrum_buffer.view(fft.real_buffer.dtype)
         np.multiply(spectrum, self._scaled_symbol, out=spectrum)
         fft.execute_inverse()
+
+    def read(self, positions: np.ndarray) -> np.ndarray:
+        """The output at the flat ``positions`` as a fresh float64 array."""
+        return self._output_flat[positions].astype(np.float64, copy=False)

@@ -213,13 +213,14 @@ def solve_contact(
 
     Notes
     -----
-    Stopping rule: iteration k ends the solve when
+    Stopping rule (Polonsky & Keer's): iteration k ends the solve when
 
         ``sum_ij |p_ij^(k) - p_ij^(k-1)| <= tol * sum_ij p_ij^(k)``
 
-    and iteration k changed no contact pixel (none left the contact set by the projection
-    ``p >= 0`` and no non-contact pixel with negative gap entered it). ``residual`` reports the
-    left side over ``sum p``. The stiffness solve stops when ``||1 - (K q)_C||_2 <= 0.1 tol
+    the sum over every pixel, those that left the contact set by the projection ``p >= 0`` or
+    entered it (a non-contact pixel with negative gap) included; with ``stiffness``, once an
+    iteration also changes no contact pixel (the stiffness solve freezes the set).
+    ``residual`` reports the left side over ``sum p``. The stiffness solve stops when ``||1 - (K q)_C||_2 <= 0.1 tol
     sqrt(|C|)`` (at least 1e-11), its error then a fifth of the contact solve's.
     Non-convergence gives ``converged=False``, a message and a
     :class:`bem.warnings.ConvergenceWarning`; the last iterate is returned.
@@ -285,7 +286,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
             p = xp.full(z.shape, total / z.size)
         outcome = _constrained_cg(operator, z, p, total=total, separation=None, tol=tol,
                                   max_iter=max_iter, ws=ws,
-                                  preconditioner=preconditioner)
+                                  preconditioner=preconditioner, settle=stiffness)
     else:
         if initial is not None and initial.any():
             p = _owned(initial)
@@ -293,7 +294,7 @@ def _solve(operator: HalfSpace, z: np.ndarray, *, load: float | None, separation
             p = _separation_start(operator, z, separation, ws)
         outcome = _constrained_cg(operator, z, p, total=None, separation=separation, tol=tol,
                                   max_iter=max_iter, ws=ws,
-                                  preconditioner=preconditioner)
+                                  preconditioner=preconditioner, settle=stiffness)
     u = ws.take_displacement()
     p = outcome.pressure
     contact = p > 0.0
@@ -359,7 +360,8 @@ def _record(operator: HalfSpace, z: np.ndarray, p: np.ndarray, u: np.ndarray, d:
     if stiffness:
         stiffness_value, stiffness_converged, stiffness_iterations = _stiffness(
             operator, contact, tol=max(_STIFFNESS_SHARE * tol, _STIFFNESS_FLOOR), max_iter=max(1000, 10 * max(z.shape)),
-            preconditioner=ws.inverse_kernel(operator) if ws.preconditioned else None,
+            preconditioner=(ws.inverse_kernel(operator, "double")
+                            if ws.preconditioned else None),
             correction=ws.correction if ws.preconditioned else None)
         if not stiffness_converged:
             converged = False

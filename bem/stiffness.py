@@ -57,7 +57,6 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
                                                          columns).positions(indices)
     if preconditioner is not None:
         preconditioner_in = _Scatter(preconditioner.input_block.reshape(-1), columns, columns)
-        preconditioner_out = preconditioner.output_block.reshape(-1)
 
     def product(values: np.ndarray) -> np.ndarray:
         operator_in.write(at_in, values)
@@ -72,11 +71,11 @@ def _stiffness(operator: HalfSpace, contact: np.ndarray, *, tol: float, max_iter
         if coarse is None:
             preconditioner_in.write(indices, source)
             preconditioner.execute()
-            return preconditioner_out[indices]
+            return preconditioner.read(indices)
         without_means, sums = coarse.before(source)
         preconditioner_in.write(indices, without_means)
         preconditioner.execute()
-        return coarse.after(preconditioner_out[indices], sums)
+        return coarse.after(preconditioner.read(indices), sums)
 
     # start: uniform on C, scaled to minimise the energy q.Kq/2 - q.1 along it (no extra
     # product: K q is needed for the residual anyway; about 10 % fewer iterations than the

@@ -62,7 +62,8 @@ def test_each_blocks_own_energy_is_exact(periodic):
 def test_the_two_level_preconditioner_is_symmetric_positive_definite(kind, fraction):
     n = 32
     operator = HalfSpace((n, n), 1.0, periodic=kind != "non-periodic", mirror=kind == "mirror")
-    preconditioner = InverseKernel((n, n), 1.0)
+    # (double precision: the product's symmetry is tested to 1e-9, beyond float32's rounding)
+    preconditioner = InverseKernel((n, n), 1.0, precision="double")
     indices = np.flatnonzero(_patches(n, fraction))
     one = np.ones(indices.size)
     uniform = float(one @ _matrix(operator, indices) @ one)
@@ -85,7 +86,7 @@ def test_the_two_level_preconditioner_is_symmetric_positive_definite(kind, fract
 def test_stiffness_is_the_same_in_fewer_iterations(kind):
     n = 256
     operator = HalfSpace((n, n), 1.0, periodic=kind == "mirror", mirror=kind == "mirror")
-    preconditioner = InverseKernel((n, n), 1.0)
+    preconditioner = InverseKernel((n, n), 1.0, precision="double")   # (the stiffness solve's)
     contact = _patches(n, 0.7)   # (measured: 33 -> 20 iterations non-periodic, 38 -> 27 mirror)
     one_level = _stiffness(operator, contact, tol=1e-9, max_iter=500,
                            preconditioner=preconditioner)

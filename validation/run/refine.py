@@ -35,10 +35,11 @@ __all__ = ["MAX_LEAKAGE_GRID", "REFINED", "SOLVER_ERROR", "SOLVER_SHARE", "STIFF
            "refined_extension", "run_job", "solve_jobs", "solver_tolerance", "unavailable"]
 
 #: Bound on the solver error of conductance (relative) and separation, mean gap (in units of
-#: sigma) per unit of the solver tolerance (T25): about three times the largest ratio error / tol,
-#: 0.035, measured against tol = 1e-12 on WM surfaces (D = 2.05 and 2.95, 256 x 256, Load 1e-5
-#: to 1e-2, tol 1e-3 to 1e-8; benchmarks/bench_solver_tolerance.py). The area's error is a few
-#: edge pixels instead, not proportional to tol (docs/theory.md eq. T40).
+#: sigma) per unit of the solver tolerance (T25): measured against tol = 1e-12 on WM surfaces
+#: (D = 2.05 and 2.95, 256 x 256, Load 1e-5 to 1e-2, tol 1e-3 to 1e-8;
+#: benchmarks/bench_solver_tolerance.py) the largest ratio error / tol is 0.041, on a noisy
+#: 512 x 512 scan with the interface operator 0.061 at tol 1e-4. The area's error is a few edge
+#: pixels instead, not proportional to tol (docs/theory.md eq. T40).
 SOLVER_ERROR = 0.1
 #: Share of the expected band the solver may spend (eq. T40).
 SOLVER_SHARE = 0.01
