@@ -49,6 +49,20 @@ def test_a_contact_wall_across_the_flow_seals_exactly(periodic):
 
 
 @BOTH
+def test_a_wall_of_gaps_at_most_the_closed_fraction_seals(periodic):
+    # a wall across the x flow of gaps at and below CLOSED_GAP of the largest is closed; one
+    # just above it still conducts (in series, the wall sets the aperture)
+    gap = np.random.default_rng(5).uniform(0.5, 1.5, (32, 32))
+    largest = float(gap.max())
+    gap[:, 13] = np.geomspace(1e-12, bem.flow.CLOSED_GAP, 32) * largest
+    assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) == 0.0
+    gap[:, 13] = 2.0 * bem.flow.CLOSED_GAP * largest
+    assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) > 0.0
+    # closed cells along the flow change nothing but their own share
+    assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) > 0.5
+
+
+@BOTH
 def test_a_contact_wall_along_the_flow_only_removes_its_share(periodic):
     gap = np.full((40, 40), 2.0)
     gap[:, 7] = 0.0                        # one column of 40 closed, along the y flow
