@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from bem.constrained_cg import _dot   # (no BLAS: its threads spin and take the path's cores)
+from bem.cg_buffers import _dot   # (no BLAS: its threads spin and take the path's cores)
 from bem.multigrid_cycle import VCycle
 from bem.pixel_blocks import block_hierarchy
 from bem.warnings import ConvergenceWarning

@@ -28,8 +28,8 @@ import math
 
 import numpy as np
 
-from bem.device import array_module
 from bem import checks
+from bem.device import array_module
 from bem.fft import PRECISIONS, RealFFT2
 
 __all__ = ["InverseKernel"]

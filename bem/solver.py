@@ -60,7 +60,8 @@ import numpy as np
 from bem import checks
 from bem.area import PERIMETER_COEFFICIENT, contact_area
 from bem.device import check_device, to_host
-from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start, _Workspace
+from bem.cg_buffers import _Workspace
+from bem.constrained_cg import _constrained_cg, _Outcome, _separation_start
 from bem.halfspace import HalfSpace
 from bem.nested_grid import _nestable, _prolonged
 from bem.solution import ContactSolution, _frozen

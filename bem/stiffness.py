@@ -13,7 +13,7 @@ import warnings
 import numpy as np
 
 from bem.coarse_correction import CoarseCorrection
-from bem.constrained_cg import _dot, _Scatter
+from bem.cg_buffers import _dot, _Scatter
 from bem.halfspace import HalfSpace
 from bem.preconditioner import InverseKernel
 from bem.warnings import ConvergenceWarning
