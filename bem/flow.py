@@ -53,6 +53,7 @@ import warnings
 import numpy as np
 
 from bem import checks
+from bem.flow_faces import Faces
 from bem.flow_solver import FlowStart, _solve_pressure, next_start
 from bem.warnings import ConvergenceWarning
 
@@ -161,10 +162,10 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     """The finite-volume system ``A p = b`` of the spanning cells for a unit pressure drop along
     axis 1, and the faces to evaluate the dissipation on.
 
-    Returns ``(A, b, faces, boundary)``: ``faces`` holds per axis ``(tail, head, conductance,
-    drop)`` for the faces between cells (flux ``T (p_tail - p_head + drop)``, drop = the mean
-    gradient's share when periodic, a number) and ``boundary`` is ``(cell, conductance,
-    edge_pressure)`` for the half-faces to the inlet and outlet edges (empty when periodic).
+    Returns ``(A, b, faces, boundary)``: ``faces`` are the faces between cells
+    (:class:`bem.flow_faces.Faces`: flux ``T (p_tail - p_head + drop)``, drop = the mean
+    gradient's share when periodic) and ``boundary`` is ``(cell, conductance, edge_pressure)``
+    for the half-faces to the inlet and outlet edges (empty when periodic).
     ``A`` is assembled row by row in CSR (each unknown's five stencil slots), without the
     coordinate triplets of its 20 million entries at 2048^2, which took 0.5 GB more.
     """
@@ -180,8 +181,8 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     # diagonal, the faces after it along axis 1 and axis 0 (column -1 where no face is open)
     stencil = np.full((unknowns, 5), -1, dtype=np.int32)
     values = np.zeros((unknowns, 5))
-    faces = []
-    for axis, face_drop, before, after in ((1, drop, 1, 3), (0, 0.0, 0, 4)):
+    faces = []   # (tail, head, conductance) per axis, for the diagonal, b and the grounding
+    for axis, before, after in ((1, 1, 3), (0, 0, 4)):
         neighbour = np.roll(index, -1, axis=axis)
         t = _harmonic_mean(k, np.roll(k, -1, axis=axis))
         open_face = (index >= 0) & (neighbour >= 0) & (t > 0)
@@ -189,7 +190,7 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
             edge = [slice(None), slice(None)]
             edge[axis] = -1
             open_face[tuple(edge)] = False
-        faces.append((index[open_face], neighbour[open_face], t[open_face], face_drop))
+        faces.append((index[open_face], neighbour[open_face], t[open_face]))
         t[~open_face] = 0.0
         neighbour[~open_face] = -1
         stencil[:, after], values[:, after] = neighbour[cells], -t[cells]
@@ -208,8 +209,9 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
         diagonal[grounded] *= 2.0
         del graph
     del tail, head, t
-    tail, head, t, face_drop = faces[0]   # (no drop along axis 0)
-    rhs = np.bincount(head, t * face_drop, unknowns) - np.bincount(tail, t * face_drop, unknowns)
+    tail, head, t = faces[0]   # (no drop along axis 0)
+    rhs = np.bincount(head, t * drop, unknowns) - np.bincount(tail, t * drop, unknowns)
+    del faces, tail, head, t
     if periodic:
         boundary = (np.empty(0, dtype=np.int32), np.empty(0), np.empty(0))
     else:
@@ -220,7 +222,7 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
         boundary = (np.concatenate([inlet, outlet]), np.concatenate([t_in, t_out]),
                     np.concatenate([np.ones(inlet.size), np.zeros(outlet.size)]))
     stencil[:, 2], values[:, 2] = np.arange(unknowns, dtype=np.int32), diagonal
-    return _stencil_matrix(stencil, values), rhs, faces, boundary
+    return _stencil_matrix(stencil, values), rhs, Faces(k, index, periodic, drop), boundary
 
 
 def _stencil_matrix(stencil: np.ndarray, values: np.ndarray):
@@ -240,12 +242,14 @@ def _stencil_matrix(stencil: np.ndarray, values: np.ndarray):
     return matrix
 
 
-def _dissipation(pressure: np.ndarray, faces, boundary) -> float:
-    """``sum T (dp_face)^2`` over the faces and the boundary half-faces (12 mu Q dp)."""
+def _dissipation(pressure: np.ndarray, faces: Faces, boundary,
+                 scale: np.ndarray | None = None) -> float:
+    """``sum T (dp_face)^2`` over the faces and the boundary half-faces (12 mu Q dp) for the
+    unknowns' ``pressure`` (times ``scale`` when given: a Jacobi-scaled iterate's)."""
     cell, t_edge, edge_pressure = boundary
-    return float(sum(np.sum(t * (pressure[tail] - pressure[head] + drop) ** 2)
-                     for tail, head, t, drop in faces)
-                 + np.sum(t_edge * (edge_pressure - pressure[cell]) ** 2))
+    edge_cells = pressure[cell] if scale is None else pressure[cell] * scale[cell]
+    return float(faces.dissipation(pressure, scale)
+                 + np.sum(t_edge * (edge_pressure - edge_cells) ** 2))
 
 
 
@@ -316,15 +320,16 @@ def _flow_solution(gap, spacing: float, direction: str, periodic: bool,
         return 0.0, None
     # scaled to at most 1: no overflow for any unit; closed cells (CLOSED_GAP) carry nothing
     conductivity = np.where(gap > CLOSED_GAP * largest, (gap / largest) ** 3, 0.0)
-    if direction == "y":
-        conductivity = conductivity.T
+    if direction == "y":   # (contiguous along the flow: the faces are walked row by row)
+        conductivity = np.ascontiguousarray(conductivity.T)
     cells = spanning_cells(conductivity > 0.0, periodic=periodic)
     if not cells.any():
         return 0.0, None
     matrix, rhs, faces, boundary = _flow_system(conductivity, cells, periodic)
     try:
         pressure, iterations = _solve_pressure(matrix, rhs, cells, periodic,
-                                               lambda p: _dissipation(p, faces, boundary), start)
+                                               lambda p, scale=None: _dissipation(
+                                                   p, faces, boundary, scale), start)
     except RuntimeError as error:   # a singular factor: cannot happen for spanning cells
         warnings.warn(f"hydraulic_aperture: the flow system could not be solved ({error})",
                       ConvergenceWarning, stacklevel=3)

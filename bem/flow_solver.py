@@ -12,7 +12,7 @@ from typing import Callable
 
 import numpy as np
 
-from bem.cg_buffers import _dot   # (no BLAS: its threads spin and take the path's cores)
+from bem.cg_buffers import _dot, _step   # (no BLAS: its threads spin and take the path's cores)
 from bem.multigrid_cycle import VCycle
 from bem.pixel_blocks import block_hierarchy
 from bem.warnings import ConvergenceWarning
@@ -190,13 +190,14 @@ def _compressed_rows(hierarchy) -> None:
 
 
 def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
-                    dissipation: Callable[[np.ndarray], float],
+                    dissipation: Callable[..., float],
                     start: FlowStart | None = None) -> tuple[np.ndarray, int | None]:
     """``A p = b`` for the symmetric positive-definite flow system of the unknowns ``cells``
     (a 2-D map of the grid's cells in the system, numbered in row-major order; ``periodic``:
     the system of a periodic gap, grounded at one cell per cluster). ``dissipation(p)`` is
     the energy the system minimises (eq. T43; a grounded system adds the grounding's own
-    term, which vanishes at the solution), which the multigrid's stopping rule follows.
+    term, which vanishes at the solution), which the multigrid's stopping rule follows;
+    ``dissipation(y, scale)`` that of the pressure ``scale * y`` (without a copy of it).
 
     Up to :data:`DIRECT_SOLVE_LIMIT` grid cells by sparse LU (SuperLU): fill-reducing order by
     minimum degree on the symmetric pattern (``MMD_AT_PLUS_A``, half the fill of the default
@@ -212,8 +213,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
     sparse LU. It is built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with
     the scaled constant ``1/D`` as its near-null space, and iterates until the dissipation is
-    known to :data:`DISSIPATION_TOLERANCE` (:func:`_conjugate_gradients`; ``matrix`` is scaled
-    in place). The geometric aggregates
+    known to :data:`DISSIPATION_TOLERANCE` (:func:`_conjugate_gradients`; ``matrix`` and ``rhs``
+    are scaled in place). The geometric aggregates
     follow the pixels, split only inside a block, which algebraic coarsening (smoothed
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
     their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
@@ -255,19 +256,22 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scale = 1.0 / np.sqrt(scaled.diagonal())
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
-    rhs = rhs * scale
-    guess = _start(None if start is None else start.pressure, cells, periodic) / scale
+    rhs *= scale
+    guess = _start(None if start is None else start.pressure, cells, periodic)
+    guess /= scale
     iterations = 0
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
-            scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels)),
-            lambda pressure: dissipation(pressure * scale), MULTIGRID_TOLERANCE, guess)
+            scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels),
+                                factor_options=_LU_OPTIONS),
+            lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE, guess)
         if settled or cells.size <= DIRECT_SWITCH_LIMIT:
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
         guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
     solution, extra, settled = _conjugate_gradients(
-        scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True), None,
+        scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True,
+                            factor_options=_LU_OPTIONS), None,
         ALGEBRAIC_TOLERANCE, guess)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
@@ -329,8 +333,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          dissipation: Callable[[np.ndarray], float] | None,
                          tolerance: float,
                          start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
-    """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0),
-    stopped on the error of the quantity the solve is for: ``dissipation(x)`` =
+    """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0; a
+    float64 ``start`` is the iterate, updated in place), stopped on the error of the quantity the solve is for: ``dissipation(x)`` =
     ``x.A x - 2 b.x`` + const, the energy the iteration minimises. Each step lowers it by
     ``alpha r.z`` (Hestenes and Stiefel), so its value is known along the way, and the error
     left is estimated from the last :data:`ESTIMATE_STEPS` decrements as a geometric tail,
@@ -346,7 +350,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     if start is None:
         x, r = np.zeros_like(rhs), rhs.copy()
     else:
-        x = np.array(start, dtype=float)
+        x = np.asarray(start, dtype=float)   # (the caller's start becomes the iterate)
         r = rhs - matrix @ x
     z = preconditioner @ r
     p = z.copy()
@@ -361,11 +365,9 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     for iteration in range(1, MULTIGRID_MAX_ITERATIONS + 1):
         q = matrix @ p
         alpha = rz / _dot(p, q)
-        x += alpha * p
-        r -= alpha * q
+        residual = math.sqrt(_step(x, p, r, q, alpha))
         decrements.append(alpha * rz)
         energy -= alpha * rz
-        residual = math.sqrt(_dot(r, r))
         if residual <= limit:
             return x, iteration, True
         tail = _remaining(decrements) if dissipation is not None else math.inf

@@ -823,6 +823,58 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
     assert periodic.iterations is not None and large.iterations is not None
 
 
+def _listed_faces(k, cells, periodic):
+    """The open faces of the definition, one by one: (tail, head, conductance, drop) arrays of
+    every pair of 4-neighbours in the system (the head after the tail along an axis, across the
+    edges when periodic) with a positive harmonic-mean conductance, and the mean gradient's
+    drop on the faces along axis 1 when periodic."""
+    rows, columns = k.shape
+    index = -np.ones(k.shape, dtype=int)
+    index[cells] = np.arange(int(cells.sum()))
+    listed = []
+    for j in range(rows):
+        for i in range(columns):
+            for dj, di, drop in ((0, 1, 1.0 / columns if periodic else 0.0), (1, 0, 0.0)):
+                jj, ii = j + dj, i + di
+                if not periodic and (jj >= rows or ii >= columns):
+                    continue
+                jj, ii = jj % rows, ii % columns
+                a, b = k[j, i], k[jj, ii]
+                if index[j, i] >= 0 and index[jj, ii] >= 0 and a + b > 0 and 2 * a * b / (a + b) > 0:
+                    listed.append((index[j, i], index[jj, ii], 2 * a * b / (a + b), drop))
+    tail, head, t, drop = (np.array(column) for column in zip(*listed)) if listed else [np.empty(0)] * 4
+    return tail.astype(int), head.astype(int), t, drop
+
+
+@BOTH
+@pytest.mark.parametrize("shape", [(2, 2), (2, 5), (3, 2), (9, 7), (40, 31)])
+def test_the_dissipation_is_the_sum_over_the_listed_faces(periodic, shape):
+    """The compiled walk over the grid (bem.flow_faces) sums T (p_tail - p_head + drop)^2
+    over exactly the faces of the definition, and the Jacobi-scaled form is the same sum."""
+    from bem.flow import _dissipation, _flow_system
+
+    rng = np.random.default_rng(sum(shape) + 7)
+    checked = 0
+    for _ in range(4):
+        gap = np.maximum(rng.standard_normal(shape) + 0.4, 0.0)
+        k = (gap / gap.max()) ** 3
+        cells = spanning_cells(k > 0, periodic=periodic)
+        if not cells.any():
+            continue
+        _, _, faces, boundary = _flow_system(k, cells, periodic)
+        pressure = rng.standard_normal(int(cells.sum()))
+        tail, head, t, drop = _listed_faces(k, cells, periodic)
+        cell, t_edge, edge_pressure = boundary
+        expected = (np.sum(t * (pressure[tail] - pressure[head] + drop) ** 2)
+                    + np.sum(t_edge * (edge_pressure - pressure[cell]) ** 2))
+        assert _dissipation(pressure, faces, boundary) == pytest.approx(expected, rel=1e-13)
+        scale = rng.uniform(0.5, 2.0, pressure.size)
+        assert _dissipation(pressure / scale, faces, boundary, scale) == pytest.approx(
+            expected, rel=1e-13)
+        checked += 1
+    assert checked
+
+
 @BOTH
 @pytest.mark.parametrize("shape", [(2, 2), (2, 5), (3, 2), (9, 7), (40, 31)])
 def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
@@ -842,9 +894,7 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
             continue
         matrix, _, faces, boundary = _flow_system(k, cells, periodic)
         n = int(cells.sum())
-        tail = np.concatenate([f[0] for f in faces])
-        head = np.concatenate([f[1] for f in faces])
-        t = np.concatenate([f[2] for f in faces])
+        tail, head, t, _ = _listed_faces(k, cells, periodic)
         expected = scipy.sparse.coo_array(
             (np.concatenate([t, t, -t, -t, boundary[1]]),
              (np.concatenate([tail, head, tail, head, boundary[0]]),

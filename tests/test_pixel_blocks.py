@@ -107,13 +107,22 @@ def test_the_hierarchy_is_the_galerkin_product_of_its_interpolations(levels):
     cells = rng.uniform(size=(24, 24)) > 0.2
     matrix = _grid_matrix(cells, rng.uniform(0.01, 1.0, cells.shape),
                           rng.uniform(0.01, 1.0, cells.shape))
-    near_null = np.ones((matrix.shape[0], 1))
+    near_null = rng.uniform(0.5, 2.0, (matrix.shape[0], 1))   # (a Jacobi scale's 1/D)
     hierarchy = block_hierarchy(matrix, near_null, cells, levels, "splu")
     assert len(hierarchy.levels) == levels
+    candidate = near_null[:, 0]
     for fine, coarse in zip(hierarchy.levels, hierarchy.levels[1:]):
         expected = (fine.P.T @ fine.A @ fine.P).toarray()
         np.testing.assert_allclose(coarse.A.toarray(), expected, rtol=1e-12, atol=1e-14)
-        # piecewise constant, fitted to the near-null vector: unit columns of one sign
+        assert coarse.A.format == "csr" and coarse.A.has_canonical_format
+        rows = [coarse.A.indices[a:b] for a, b in zip(coarse.A.indptr, coarse.A.indptr[1:])]
+        assert all(np.all(np.diff(row) > 0) for row in rows)   # sorted, no duplicates
+        # piecewise constant, fitted to the near-null vector: each column is the candidate on
+        # its aggregate, normalised, and the coarse candidate is that norm
         interpolation = fine.P.toarray()
-        np.testing.assert_allclose(np.linalg.norm(interpolation, axis=0), 1.0)
         assert np.all(interpolation >= 0) and np.all((interpolation > 0).sum(axis=1) == 1)
+        label = interpolation.argmax(axis=1)
+        norms = np.sqrt(np.bincount(label, weights=candidate**2))
+        np.testing.assert_allclose(interpolation[np.arange(label.size), label],
+                                   candidate / norms[label], rtol=1e-14)
+        candidate = norms
