@@ -29,7 +29,7 @@ __all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "PARALLEL_FACTOR
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
 #: at once, while the caller works beside them: the multigrid solve of a 1024^2 gap peaks at
-#: 0.6-0.9 GB, of a 2048^2 gap at 1.45 GB (1.8 % contact).
+#: 0.6-0.9 GB, of a 2048^2 gap at 1.0-1.1 GB (a process solving one gap at 1-8 % contact).
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 #: Once the caller waits for the results (:meth:`BackgroundLeakage.results`), gaps of up to
 #: this many cells still waiting have their two directions solved at once where the process

@@ -20,9 +20,10 @@ iterations (2.4 s) on that gap, 167 (49 s) on a 2048^2 gap at 22 % contact, 36 o
 at 29 %; whole blocks took 47, 812 (191 s) and 58 under a looser stopping rule
 (the solver's rule now asks more).
 
-The interpolation is piecewise constant on the aggregates, fitted to the near-null vector
-(pyAMG's ``fit_candidates``), and the coarse operators are the Galerkin products, held in CSR
-with the restriction as the interpolation's transpose (a view, no copy).
+The interpolation is piecewise constant on the aggregates, fitted to the near-null vector (what
+pyAMG's ``fit_candidates`` computes for one candidate), and the coarse operators are the
+Galerkin products (a compiled merge of each aggregate's rows), held in CSR with the restriction
+as the interpolation's transpose (a view, no copy).
 """
 
 from __future__ import annotations
