@@ -257,14 +257,14 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     rhs *= scale
-    guess = _start(None if start is None else start.pressure, cells, periodic)
-    guess /= scale
-    iterations = 0
+    iterations, guess = 0, None
+    # (each start is made after its V-cycle's coarsest factor, not beside that factor's peak)
     if not algebraic:
         solution, iterations, settled = _conjugate_gradients(
             scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels),
                                 factor_options=_LU_OPTIONS),
-            lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE, guess)
+            lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE,
+            _scaled_start(start, cells, periodic, scale))
         if settled or cells.size <= DIRECT_SWITCH_LIMIT:
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
@@ -272,7 +272,8 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     solution, extra, settled = _conjugate_gradients(
         scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True,
                             factor_options=_LU_OPTIONS), None,
-        ALGEBRAIC_TOLERANCE, guess)
+        ALGEBRAIC_TOLERANCE, _scaled_start(start, cells, periodic, scale) if guess is None
+        else guess)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
     return solution * scale, iterations
@@ -312,6 +313,14 @@ def _warn_unsettled(settled: bool, cells: int, iterations: int) -> None:
     if not settled:
         warnings.warn(f"hydraulic_aperture: the multigrid solve of {cells} cells did not "
                       f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=4)
+
+
+def _scaled_start(start: FlowStart | None, cells: np.ndarray, periodic: bool,
+                  scale: np.ndarray) -> np.ndarray:
+    """:func:`_start` of the Jacobi-scaled system (divided by ``scale``)."""
+    guess = _start(None if start is None else start.pressure, cells, periodic)
+    guess /= scale
+    return guess
 
 
 def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray:
