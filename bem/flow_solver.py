@@ -211,8 +211,9 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     piecewise-constant interpolation (no prolongation smoothing: smoothing it took more time
     than it saved),
     one forward and one backward Gauss-Seidel sweep, and the coarsest grid solved by the same
-    sparse LU. It is built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with
-    the scaled constant ``1/D`` as its near-null space, and iterates until the dissipation is
+    sparse LU (its factor held as ``L D L^T``, :class:`bem.multigrid_cycle.CoarseFactor`).
+    It is built on the Jacobi-scaled matrix ``D A D`` (``D = diag(A)^-1/2``) with the scaled
+    constant ``1/D`` as its near-null space, and iterates until the dissipation is
     known to :data:`DISSIPATION_TOLERANCE` (:func:`_conjugate_gradients`; ``matrix`` and ``rhs``
     are scaled in place). The geometric aggregates
     follow the pixels, split only inside a block, which algebraic coarsening (smoothed
@@ -343,10 +344,11 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          tolerance: float,
                          start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
     """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0; a
-    float64 ``start`` is the iterate, updated in place), stopped on the error of the quantity the solve is for: ``dissipation(x)`` =
-    ``x.A x - 2 b.x`` + const, the energy the iteration minimises. Each step lowers it by
-    ``alpha r.z`` (Hestenes and Stiefel), so its value is known along the way, and the error
-    left is estimated from the last :data:`ESTIMATE_STEPS` decrements as a geometric tail,
+    float64 ``start`` is the iterate, updated in place), stopped on the error of the quantity
+    the solve is for: ``dissipation(x)`` = ``x.A x - 2 b.x`` + const, the energy the iteration
+    minimises. Each step lowers it by ``alpha r.z`` (Hestenes and Stiefel), so its value is
+    known along the way, and the error left is estimated from the last :data:`ESTIMATE_STEPS`
+    decrements as a geometric tail,
     ``d_k rho / (1 - rho)`` with ``rho`` their largest ratio (none while a decrement grows);
     the iteration stops once that is
     at most :data:`DISSIPATION_TOLERANCE` of the dissipation (evaluated at the iterate, not

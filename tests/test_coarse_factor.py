@@ -11,10 +11,11 @@ from bem.multigrid_cycle import CoarseFactor
 
 
 def _spd(size: int, seed: int):
-    """A random symmetric positive-definite 9-point-like sparse matrix (a coarse level's
-    pattern: neighbours up to two apart), in CSR."""
+    """A random symmetric positive-definite sparse matrix of about six off-diagonal entries a
+    row (a coarse level's count), in CSR."""
     rng = np.random.default_rng(seed)
-    off = scipy.sparse.random(size, size, density=min(1.0, 6.0 / size), random_state=rng, format="coo")
+    off = scipy.sparse.random(size, size, density=min(1.0, 6.0 / size), random_state=rng,
+                              format="coo")
     off.data = -rng.uniform(0.01, 100.0, off.nnz)   # conductances over four decades
     off = off + off.T
     degree = -np.asarray(off.sum(axis=1)).ravel() + rng.uniform(1e-3, 1.0, size)
@@ -29,7 +30,8 @@ def test_the_symmetric_factor_solves_as_superlu_does(size):
     assert factor._lu is None   # only L and D are held
     expected = scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(right)
     solution = factor.solve(right)
-    np.testing.assert_allclose(solution, expected, rtol=1e-10, atol=1e-12 * np.abs(expected).max())
+    np.testing.assert_allclose(solution, expected, rtol=1e-10,
+                               atol=1e-12 * np.abs(expected).max())
     assert np.linalg.norm(matrix @ solution - right) <= 1e-10 * np.linalg.norm(right)
     # the operator is symmetric: u.(A^-1 v) = v.(A^-1 u)
     other = np.random.default_rng(2).standard_normal(size)
