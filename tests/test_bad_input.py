@@ -264,6 +264,26 @@ def test_real_array_accepts_read_only_input_without_copying():
     assert np.array_equal(checks.height_map("heights", np.ones((3, 3)).tolist()), np.ones((3, 3)))
 
 
+def test_contact_heights_copy_unless_nothing_can_change_them():
+    """A contact problem's heights are a fresh copy, except a read-only float64 array that owns
+    its data (a model's frozen heights), which nothing can change: that one is used as it is."""
+    frozen = np.arange(16.0).reshape(4, 4).copy()
+    frozen.setflags(write=False)
+    assert checks.contact_heights("heights", frozen, minimum=4) is frozen
+    writable = np.arange(16.0).reshape(4, 4)
+    view = frozen[:, :]          # read-only, but a view of another array's data
+    integers = np.arange(16).reshape(4, 4)
+    integers.setflags(write=False)
+    for values in (writable, view, integers):
+        copy = checks.contact_heights("heights", values, minimum=4)
+        assert copy is not values and copy.dtype == np.float64 and copy.flags.writeable
+        assert not np.shares_memory(copy, frozen) and np.array_equal(copy, values)
+    with pytest.raises(ValueError, match="max |heights|"):
+        huge = np.full((4, 4), -1e300)
+        huge.setflags(write=False)
+        checks.contact_heights("heights", huge, minimum=4)
+
+
 @pytest.mark.parametrize("values, error", [
     (np.ones((3, 3), dtype=complex), TypeError), (np.full((3, 3), "1"), TypeError),
     (np.ones((3, 3), dtype=bool), TypeError), ([[1.0, 2.0], [3.0]], ValueError),
