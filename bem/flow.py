@@ -31,9 +31,10 @@ in both directions; the length L is the period.
 
 Before the linear system is built, cells that cannot carry flow are removed: contact cells,
 cells whose gap is at most :data:`CLOSED_GAP` of the largest (closed: their conductance is at
-most 1e-18 of the widest cell's), and fluid clusters (4-connected, ``scipy.ndimage.label``) that do not join inlet and outlet
-(non-periodic) or do not wind around the period along the flow (periodic: a cluster connected
-to itself across the edges with a net shift of a nonzero number of periods). What is left is a union of
+most 1e-18 of the widest cell's), and fluid clusters (4-connected, ``scipy.ndimage.label``)
+that do not join inlet and outlet (non-periodic) or do not wind around the period along the
+flow (periodic: a cluster connected to itself across the edges with a net shift of a nonzero
+number of periods). What is left is a union of
 spanning clusters whose matrix is symmetric positive definite (a periodic cluster's constant
 null vector is removed by grounding one of its cells, which changes nothing since no flow
 leaves a periodic cluster). No spanning cluster: h_eff is exactly 0.

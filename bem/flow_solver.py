@@ -258,6 +258,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
     scaled.data *= scale[scaled.indices]
     rhs *= scale
+    previous = None if start is None else start.pressure
     iterations, guess = 0, None
     # (each start is made after its V-cycle's coarsest factor, not beside that factor's peak)
     if not algebraic:
@@ -265,7 +266,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
             scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels),
                                 factor_options=_LU_OPTIONS),
             lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE,
-            _scaled_start(start, cells, periodic, scale))
+            _start(previous, cells, periodic, scale))
         if settled or cells.size <= DIRECT_SWITCH_LIMIT:
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
@@ -273,8 +274,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     solution, extra, settled = _conjugate_gradients(
         scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True,
                             factor_options=_LU_OPTIONS), None,
-        ALGEBRAIC_TOLERANCE, _scaled_start(start, cells, periodic, scale) if guess is None
-        else guess)
+        ALGEBRAIC_TOLERANCE, _start(previous, cells, periodic, scale) if guess is None else guess)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
     return solution * scale, iterations
@@ -316,18 +316,12 @@ def _warn_unsettled(settled: bool, cells: int, iterations: int) -> None:
                       f"converge in {iterations} iterations", ConvergenceWarning, stacklevel=4)
 
 
-def _scaled_start(start: FlowStart | None, cells: np.ndarray, periodic: bool,
-                  scale: np.ndarray) -> np.ndarray:
-    """:func:`_start` of the Jacobi-scaled system (divided by ``scale``)."""
-    guess = _start(None if start is None else start.pressure, cells, periodic)
-    guess /= scale
-    return guess
-
-
-def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.ndarray:
+def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool,
+           scale: np.ndarray | None = None) -> np.ndarray:
     """The pressure of each unknown of ``cells`` to begin the iterative solve with: the map
     ``start`` where it has a value, elsewhere (and without one) the linear drop from inlet to
-    outlet, or zero when periodic (the fluctuation's mean)."""
+    outlet, or zero when periodic (the fluctuation's mean); divided by ``scale`` when given
+    (the Jacobi-scaled system's unknowns)."""
     if periodic:
         guess = np.zeros(cells.shape)
     else:
@@ -336,7 +330,10 @@ def _start(start: np.ndarray | None, cells: np.ndarray, periodic: bool) -> np.nd
     if start is not None and start.shape == cells.shape:
         known = np.isfinite(start)
         guess[known] = start[known]
-    return guess[cells]
+    guess = guess[cells]
+    if scale is not None:
+        guess /= scale
+    return guess
 
 
 def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,

@@ -664,8 +664,7 @@ def test_a_slow_paths_large_gap_starts_from_the_linear_drop(monkeypatch, slow, a
     monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 0 if above_switch else gap.size)
     given, original = [], bem.flow_solver._start
     monkeypatch.setattr(bem.flow_solver, "_start",
-                        lambda start, cells, periodic: given.append(start)
-                        or original(start, cells, periodic))
+                        lambda start, *rest: given.append(start) or original(start, *rest))
     previous = np.full(gap.shape, 0.5)
     start = next_start(previous, FEWER_LEVELS_ITERATIONS if slow else 3, None)
     assert start.slow == slow and (start.pressure is None) == (slow and above_switch)
@@ -823,6 +822,21 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
     assert periodic.iterations is not None and large.iterations is not None
 
 
+def _random_systems(rng, shape, periodic):
+    """(conductivity, spanning cells) of the first four random gaps of ``shape`` (about 30 %
+    in contact) that leak, drawn one after the other (on a 2 x 5 grid most do not)."""
+    systems = []
+    for _ in range(100):
+        gap = np.maximum(rng.standard_normal(shape) + 0.4, 0.0)
+        k = (gap / gap.max()) ** 3
+        cells = spanning_cells(k > 0, periodic=periodic)
+        if cells.any():
+            systems.append((k, cells))
+        if len(systems) == 4:
+            return systems
+    raise AssertionError(f"fewer than four of 100 random {shape} gaps leak")
+
+
 def _listed_faces(k, cells, periodic):
     """The open faces of the definition, one by one: (tail, head, conductance, drop) arrays of
     every pair of 4-neighbours in the system (the head after the tail along an axis, across the
@@ -854,13 +868,7 @@ def test_the_dissipation_is_the_sum_over_the_listed_faces(periodic, shape):
     from bem.flow import _dissipation, _flow_system
 
     rng = np.random.default_rng(sum(shape) + 7)
-    checked = 0
-    for _ in range(4):
-        gap = np.maximum(rng.standard_normal(shape) + 0.4, 0.0)
-        k = (gap / gap.max()) ** 3
-        cells = spanning_cells(k > 0, periodic=periodic)
-        if not cells.any():
-            continue
+    for k, cells in _random_systems(rng, shape, periodic):
         _, _, faces, boundary = _flow_system(k, cells, periodic)
         pressure = rng.standard_normal(int(cells.sum()))
         tail, head, t, drop = _listed_faces(k, cells, periodic)
@@ -871,8 +879,6 @@ def test_the_dissipation_is_the_sum_over_the_listed_faces(periodic, shape):
         scale = rng.uniform(0.5, 2.0, pressure.size)
         assert _dissipation(pressure / scale, faces, boundary, scale) == pytest.approx(
             expected, rel=1e-13)
-        checked += 1
-    assert checked
 
 
 @BOTH
@@ -885,13 +891,7 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
 
     from bem.flow import _flow_system
 
-    rng = np.random.default_rng(sum(shape))
-    for _ in range(4):
-        gap = np.maximum(rng.standard_normal(shape) + 0.4, 0.0)
-        k = (gap / gap.max()) ** 3
-        cells = spanning_cells(k > 0, periodic=periodic)
-        if not cells.any():
-            continue
+    for k, cells in _random_systems(np.random.default_rng(sum(shape)), shape, periodic):
         matrix, _, faces, boundary = _flow_system(k, cells, periodic)
         n = int(cells.sum())
         tail, head, t, _ = _listed_faces(k, cells, periodic)
