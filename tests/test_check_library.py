@@ -105,6 +105,27 @@ def test_the_figures_labels_and_legend_lie_inside_it(result, count):
     assert legend.y1 <= min(b.y0 for b in panels)   # below every panel, overlapping none
 
 
+def test_the_checks_figure_is_drawn_with_the_reports_and_read_back_from_the_cache(
+        result, tmp_path, monkeypatch):
+    from validation.report import figures
+
+    cache = tmp_path / "cache"
+    result.write_report(tmp_path / "one", cache_dir=cache)
+    drawn, png = [], figures.png
+    monkeypatch.setattr(figures, "png", lambda fig, **options: drawn.append(fig) or png(fig, **options))
+    result.write_report(tmp_path / "two", cache_dir=cache)
+    assert drawn == []   # every figure, the check's own too, from the cache
+    pictures = sorted(path.name for path in (tmp_path / "one").glob("*.png"))
+    assert "check-physical.png" in pictures and len(pictures) > 1
+    assert pictures == sorted(path.name for path in (tmp_path / "two").glob("*.png"))
+    for name in pictures:
+        assert (tmp_path / "one" / name).read_bytes() == (tmp_path / "two" / name).read_bytes()
+    result.write_report(tmp_path / "three")   # no cache: drawn again, the same picture
+    assert len(drawn) == len(pictures)
+    assert (tmp_path / "three" / "check-physical.png").read_bytes() == \
+        (tmp_path / "one" / "check-physical.png").read_bytes()
+
+
 def test_the_written_report_is_written_again_from_its_scene(result, cache, tmp_path):
     first = result.write_report(tmp_path / "one")
     assert (tmp_path / "one" / "scan.npy").is_file()

@@ -110,7 +110,7 @@ def rows() -> tuple[EntryPoint, ...]:
                                 command="python -m validation report"),
                    scalars=dict(results="object", folder="path", seconds="non_negative optional",
                                 mode="text", command="text optional",
-                                cache_dir="path optional")),
+                                cache_dir="path optional", figure_jobs="object optional")),
         EntryPoint("validation.radial_power_spectrum", validation.radial_power_spectrum,
                    lambda: dict(heights=z(), spacing=SPACING, bins=8),
                    scalars=dict(spacing="positive", bins="integer"), arrays=dict(heights="")),

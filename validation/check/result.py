@@ -15,6 +15,7 @@ import pathlib
 import re
 import shutil
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -224,21 +225,25 @@ class CheckResult:
         """Write the check's report folder (``report.md`` headed by the check's sections,
         ``physical.csv``, ``check.toml`` and every table and figure of a report); returns the
         path of ``report.md``. A scan given as an array is written beside it (``scan.npy``) and
-        ``check.toml`` reads it from there."""
+        ``check.toml`` reads it from there. ``executor`` and ``cache_dir``: where the figures
+        are drawn and kept, as in :func:`validation.report.write.write_report`, the check's own
+        (``check-physical.png``) with the report's."""
         from validation.check.figure import physical_figure
         from validation.report.write import write_report
 
         folder = pathlib.Path(folder)
         scan = self.request.path.resolve()
+        tables = list(self.tables)
         path = write_report(list(self.runs), folder, seconds=self.seconds, mode="one surface",
                             command=command, executor=executor, cache_dir=cache_dir,
-                            lead=list(self.sections))
+                            lead=list(self.sections),
+                            figure_jobs=[("check-physical.png", partial(physical_figure, tables),
+                                          len(tables))])
         if self.request.scratch:   # the array's copy, read by check.toml from this folder
             if scan != (folder / "scan.npy").resolve():
                 shutil.copyfile(scan, folder / "scan.npy")
             scan = pathlib.Path("scan.npy")
-        write_csv(list(self.tables), folder / "physical.csv")
-        physical_figure(list(self.tables)).savefig(folder / "check-physical.png", dpi=110)
+        write_csv(tables, folder / "physical.csv")
         # the scan's path as check.toml in this folder reads it (relative paths are the folder's)
         text = re.sub(r'(?m)^path = .*$', "path = " + _quoted(str(scan)), self.scene_text,
                       count=1)

@@ -285,8 +285,8 @@ def _theory_section(figures: _Figures, result: SceneResult) -> None:
                                "largest separation shift (d₁ − d)/σ"], rows)
 
 
-def _check_arguments(results, folder, seconds, mode, command, executor, cache_dir
-                     ) -> pathlib.Path:
+def _check_arguments(results, folder, seconds, mode, command, executor, cache_dir,
+                     figure_jobs=None) -> pathlib.Path:
     """The checks of :func:`write_report`'s arguments (bem.checks rules); returns the folder."""
     checks.instances("results", results, SceneResult)
     for name, value in (("mode", mode), ("command", command)):
@@ -300,6 +300,12 @@ def _check_arguments(results, folder, seconds, mode, command, executor, cache_di
                                     f"got {type(executor).__name__}")
     if cache_dir is not None:
         checks.file_path("cache_dir", cache_dir)
+    if figure_jobs is not None and not (isinstance(figure_jobs, (list, tuple)) and all(
+            isinstance(job, tuple) and len(job) == 3 and isinstance(job[0], str)
+            and callable(job[1]) for job in figure_jobs)):
+        raise checks.InputTypeError(f"figure_jobs must be a list of (file name, draw, panels) "
+                                    f"tuples, draw() returning a figure, or None; got "
+                                    f"{figure_jobs!r}")
     return checks.file_path("folder", folder)
 
 
@@ -324,7 +330,8 @@ def _scene_page(figures: _Figures, analysis: Analysis, findings: bool = True) ->
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
                  executor=None, cache_dir: str | pathlib.Path | None = None,
-                 lead: list[str] | None = None) -> pathlib.Path:
+                 lead: list[str] | None = None, figure_jobs: list | None = None
+                 ) -> pathlib.Path:
     """Write the CSV tables, then the scene pages and ``report.md`` with their PNG figures,
     into ``folder``.
 
@@ -337,13 +344,17 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     tables and pages removed first; a folder holding other files and no report is refused
     (:func:`previous_report`). The figures are drawn on ``executor`` (a
     ``concurrent.futures`` executor, e.g. the runner's process pool) when given, else here;
-    figures drawn before from the same data are read from ``cache_dir`` when given. Returns the
-    path of ``report.md``.
+    figures drawn before from the same data are read from ``cache_dir`` when given.
+    ``figure_jobs`` are more figures to draw with the report's (on ``executor``, from the
+    cache), as :class:`_Figures` holds them: ``(file name, draw, panels)``, ``draw()`` a
+    picklable callable returning a matplotlib figure (a check's own figure, which ``lead``
+    shows). Returns the path of ``report.md``.
     """
     from validation.report.front import front_page, scene_page
     from validation.report.tables import table_rows, write_tables
 
-    folder = _check_arguments(results, folder, seconds, mode, command, executor, cache_dir)
+    folder = _check_arguments(results, folder, seconds, mode, command, executor, cache_dir,
+                              figure_jobs)
     for path in previous_report(folder):
         path.unlink()
     folder.mkdir(parents=True, exist_ok=True)
@@ -360,6 +371,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
     path = folder / "report.md"
     try:
+        figures.jobs += list(figure_jobs or [])
         figures.render(executor, cache_dir)
     except BaseException:
         # a report cut short (Ctrl-C, a failed figure) still marks its folder as a report's, so
