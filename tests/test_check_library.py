@@ -112,7 +112,11 @@ def test_the_checks_figure_is_drawn_with_the_reports_and_read_back_from_the_cach
     cache = tmp_path / "cache"
     result.write_report(tmp_path / "one", cache_dir=cache)
     drawn, png = [], figures.png
-    monkeypatch.setattr(figures, "png", lambda fig, **options: drawn.append(fig) or png(fig, **options))
+
+    def counted(fig, **options):
+        drawn.append(fig)
+        return png(fig, **options)
+    monkeypatch.setattr(figures, "png", counted)
     result.write_report(tmp_path / "two", cache_dir=cache)
     assert drawn == []   # every figure, the check's own too, from the cache
     pictures = sorted(path.name for path in (tmp_path / "one").glob("*.png"))

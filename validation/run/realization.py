@@ -38,6 +38,7 @@ import numpy as np
 
 from bem.background import BackgroundCall
 from bem.curve import ContactCurve
+from bem.heap import map_large_arrays
 from validation.common import models
 from validation.common.models import ModelInputs
 from validation.run import sampling
@@ -248,6 +249,7 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
     dense products and sparse factorisations, release the GIL): for a realization that runs
     alone in its process, so that it uses a second core. The curves are the same either way.
     """
+    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.heap)
     cache, log = Cache(task.cache_dir), _Log(task)
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)

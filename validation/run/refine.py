@@ -20,6 +20,7 @@ import numpy as np
 
 from bem.curve import CURVE_QUANTITIES, ContactCurve
 from bem.fft_threads import default_threads
+from bem.heap import map_large_arrays
 from bem.background_flow import BackgroundLeakage
 from bem.interface import method_error
 from bem.path import error_estimates
@@ -272,6 +273,7 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
 def run_job(job: RefineJob, cache_dir: str | None) -> tuple[ContactCurve, bool]:
     """:func:`refine_points` with its own cache handle (a top-level function, so that process
     pools and clusters can run it)."""
+    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.heap)
     return refine_points(job, Cache(cache_dir))
 
 
