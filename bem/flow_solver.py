@@ -363,6 +363,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     z = preconditioner @ r
     p = z.copy()
     rz = _dot(r, z)
+    del z
     norm = math.sqrt(_dot(rhs, rhs))
     enough = tolerance * norm
     # stops whatever the estimate (and without one, the only rule)
@@ -374,6 +375,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
         q = matrix @ p
         alpha = rz / _dot(p, q)
         residual = math.sqrt(_step(x, p, r, q, alpha))
+        del q   # (each field freed once dead: the V-cycle's peak holds x, r and p alone)
         decrements.append(alpha * rz)
         energy -= alpha * rz
         if residual <= limit:
@@ -391,6 +393,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
         p *= rz_next / rz
         p += z
         rz = rz_next
+        del z
     return x, MULTIGRID_MAX_ITERATIONS, False
 
 
