@@ -360,10 +360,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     else:
         x = np.asarray(start, dtype=float)   # (the caller's start becomes the iterate)
         r = rhs - matrix @ x
-    z = preconditioner @ r
-    p = z.copy()
-    rz = _dot(r, z)
-    del z
+    p = preconditioner @ r   # (the first direction is the preconditioned residual itself)
+    rz = _dot(r, p)
     norm = math.sqrt(_dot(rhs, rhs))
     enough = tolerance * norm
     # stops whatever the estimate (and without one, the only rule)

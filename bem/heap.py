@@ -60,8 +60,10 @@ def map_large_arrays(threshold: int = MAPPED_THRESHOLD) -> bool:
             0 < threshold <= 32 * 1024 * 1024:
         raise ValueError(f"threshold must be an integer number of bytes in (0, 32 MiB], got "
                          f"{threshold!r}")
-    if _state["set"] or _VARIABLE in os.environ:
-        return _state["set"] or bool(os.environ.get(_VARIABLE))
+    if _state["set"]:
+        return True
+    if _VARIABLE in os.environ:
+        return bool(os.environ[_VARIABLE])
     mallopt = _mallopt()
     _state["set"] = bool(mallopt is not None and mallopt(_M_MMAP_THRESHOLD, threshold))
     return _state["set"]
