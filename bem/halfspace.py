@@ -172,6 +172,7 @@ class HalfSpace:
             self._scaled_spectrum = np.repeat(self._scaled_spectrum, 2, axis=1)
         self._scaled_spectrum = self.xp.asarray(self._scaled_spectrum)
         self._influence: np.ndarray | None = None
+        self._self_influence: float | None = None
         self._coarse: HalfSpace | None = None
         # Point sources below this count are cheaper to add by direct summation
         # (_add_sources, 2 passes over the grid each) than by one FFT product: a product costs
@@ -354,8 +355,18 @@ class HalfSpace:
 
     @property
     def self_influence(self) -> float:
-        """Displacement of a pixel under unit pressure on itself [length/pressure]."""
-        return float(self.influence[0, 0])
+        """Displacement of a pixel under unit pressure on itself [length/pressure]; computed on
+        first use and kept. A mirror operator, whose solver has no use for :attr:`influence`
+        (no direct sums), takes it from one product and keeps the number alone, not the
+        influence coefficients of the whole grid (32 MB at 2048^2)."""
+        if self._self_influence is None:
+            if self._influence is None and self.mirror:
+                pulse = np.zeros(self.shape)
+                pulse[0, 0] = 1.0
+                self._self_influence = float(self.displacement(pulse)[0, 0])
+            else:
+                self._self_influence = float(self.influence[0, 0])
+        return self._self_influence
 
     def _add_sources(self, flat_indices: np.ndarray, values: np.ndarray, out: np.ndarray,
                      work: np.ndarray) -> None:

@@ -156,6 +156,21 @@ def test_centred_kernel_matches_products():
         float(love_pixel_displacement(0.0, 0.0, half_width_x=0.125)), rel=1e-12)
 
 
+@pytest.mark.parametrize("shape", [(8, 8), (6, 10), (7, 9)])
+def test_mirror_self_influence_is_the_pulse_response_without_the_influence_array(shape):
+    # the mirror operator's self influence is the response at the loaded pixel (its images
+    # included), the influence array's first coefficient; read alone it keeps no grid array
+    alone = HalfSpace(shape, 0.5, periodic=True, mirror=True)
+    full = HalfSpace(shape, 0.5, periodic=True, mirror=True)
+    value = alone.self_influence
+    assert alone._influence is None
+    assert value == full.influence[0, 0]
+    assert full.self_influence == value
+    pulse = np.zeros(shape)
+    pulse[0, 0] = 1.0
+    assert value == pytest.approx(float(alone.displacement(pulse)[0, 0]), rel=1e-15)
+
+
 def test_displacement_returns_fresh_arrays_and_leaves_input_alone():
     operator = HalfSpace((8, 8), 1.0)
     pressure = np.ones((8, 8))

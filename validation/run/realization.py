@@ -151,7 +151,11 @@ def _surface_maker(task: RealizationTask, log: _Log) -> Callable[[], np.ndarray]
     def heights() -> np.ndarray:
         with lock:
             if not sampled:
-                sampled.append(surface_heights(task.surface, task.seed))
+                made = surface_heights(task.surface, task.seed)
+                # read-only: every model shares this one array (the reference's solver copies
+                # a writable one, 32 MB at 2048^2)
+                made.setflags(write=False)
+                sampled.append(made)
                 log.did("surface")
         return sampled[0]
     return heights
