@@ -54,6 +54,7 @@ import warnings
 import numpy as np
 
 from bem import checks
+from bem.face_matrix import FaceMatrix
 from bem.flow_faces import Faces
 from bem.flow_solver import FlowStart, _solve_pressure, next_start
 from bem.warnings import ConvergenceWarning
@@ -163,12 +164,12 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     """The finite-volume system ``A p = b`` of the spanning cells for a unit pressure drop along
     axis 1, and the faces to evaluate the dissipation on.
 
-    Returns ``(A, b, faces, boundary)``: ``faces`` are the faces between cells
+    Returns ``(A, b, faces, boundary)``: ``A`` held by its faces
+    (:class:`bem.face_matrix.FaceMatrix`: one coefficient per face, not the compressed rows of
+    its 20 million entries at 2048^2), ``faces`` the faces between cells for the dissipation
     (:class:`bem.flow_faces.Faces`: flux ``T (p_tail - p_head + drop)``, drop = the mean
     gradient's share when periodic) and ``boundary`` is ``(cell, conductance, edge_pressure)``
     for the half-faces to the inlet and outlet edges (empty when periodic).
-    ``A`` is assembled row by row in CSR (each unknown's five stencil slots), without the
-    coordinate triplets of its 20 million entries at 2048^2, which took 0.5 GB more.
     """
     import scipy.sparse
     import scipy.sparse.csgraph
@@ -178,12 +179,9 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
     unknowns = int(np.count_nonzero(cells))
     index[cells] = np.arange(unknowns, dtype=np.int32)
     drop = 1.0 / columns if periodic else 0.0   # G h: the mean-gradient drop across one face
-    # the CSR rows' five slots per unknown: the faces before it along axis 0 and axis 1, the
-    # diagonal, the faces after it along axis 1 and axis 0 (column -1 where no face is open)
-    stencil = np.full((unknowns, 5), -1, dtype=np.int32)
-    values = np.zeros((unknowns, 5))
+    after = {}   # axis -> the coefficient -T of each unknown's face to the next cell
     faces = []   # (tail, head, conductance) per axis, for the diagonal, b and the grounding
-    for axis, before, after in ((1, 1, 3), (0, 0, 4)):
+    for axis in (1, 0):
         neighbour = np.roll(index, -1, axis=axis)
         t = _harmonic_mean(k, np.roll(k, -1, axis=axis))
         open_face = (index >= 0) & (neighbour >= 0) & (t > 0)
@@ -193,12 +191,8 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
             open_face[tuple(edge)] = False
         faces.append((index[open_face], neighbour[open_face], t[open_face]))
         t[~open_face] = 0.0
-        neighbour[~open_face] = -1
-        stencil[:, after], values[:, after] = neighbour[cells], -t[cells]
-        # the face before a cell is the face after its previous neighbour along the axis
-        opposite = np.where(np.roll(open_face, 1, axis=axis), np.roll(index, 1, axis=axis), -1)
-        stencil[:, before], values[:, before] = opposite[cells], -np.roll(t, 1, axis=axis)[cells]
-    del neighbour, t, open_face, opposite
+        after[axis] = -t[cells]
+    del neighbour, t, open_face
     tail, head, t = (np.concatenate([face[part] for face in faces]) for part in range(3))
     diagonal = np.bincount(tail, t, unknowns) + np.bincount(head, t, unknowns)
     if periodic:
@@ -222,25 +216,8 @@ def _flow_system(k: np.ndarray, cells: np.ndarray, periodic: bool):
         rhs += np.bincount(inlet, t_in, unknowns)   # inlet pressure 1, outlet 0
         boundary = (np.concatenate([inlet, outlet]), np.concatenate([t_in, t_out]),
                     np.concatenate([np.ones(inlet.size), np.zeros(outlet.size)]))
-    stencil[:, 2], values[:, 2] = np.arange(unknowns, dtype=np.int32), diagonal
-    return _stencil_matrix(stencil, values), rhs, Faces(k, index, periodic, drop), boundary
-
-
-def _stencil_matrix(stencil: np.ndarray, values: np.ndarray):
-    """The CSR matrix of a 5-point stencil: row ``u`` holds ``values[u, s]`` in column
-    ``stencil[u, s]`` for its five slots ``s`` (column -1: no entry), in canonical form: each
-    row's columns sorted (the slots are in column order but where a neighbour lies across a
-    periodic edge) and coinciding ones summed (a periodic side of two cells)."""
-    import scipy.sparse
-
-    present = stencil >= 0
-    indptr = np.zeros(stencil.shape[0] + 1, dtype=np.int32)   # (20 million entries at 2048^2)
-    np.cumsum(np.count_nonzero(present, axis=1), out=indptr[1:])
-    matrix = scipy.sparse.csr_array((values[present], stencil[present], indptr),
-                                    shape=(stencil.shape[0], stencil.shape[0]))
-    matrix.has_canonical_format = False
-    matrix.sum_duplicates()   # (sorts each row's columns; in place)
-    return matrix
+    matrix = FaceMatrix(index, after[1], after[0], diagonal, periodic)
+    return matrix, rhs, Faces(k, index, periodic, drop), boundary
 
 
 def _dissipation(pressure: np.ndarray, faces: Faces, boundary,

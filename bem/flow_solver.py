@@ -178,7 +178,7 @@ def _compressed_rows(hierarchy) -> None:
     whose Gauss-Seidel sweep and products are several times slower per unknown than CSR's (a
     sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
     in CSR the solve took 20 % less, the same iterates); the compiled sweeps of
-    :class:`bem.multigrid_cycle.VCycle` take CSR only. The restriction is the interpolation's
+    :class:`bem.multigrid_cycle.VCycle` take CSR (or a system held by its faces) only. The restriction is the interpolation's
     transpose (pyAMG's for a symmetric system), kept as its CSC view rather than a copy (128 MB
     at 2048^2; the same products to the bit: both sum a coarse entry's fine terms in the same
     order)."""
@@ -252,11 +252,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     # (few unknowns on a large grid, one level: the LU is the whole solve)
     if solved_directly(cells.size, periodic, start) or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
-    # D A D in place (no copies of a matrix of 20 million entries at 2048^2)
-    scaled = matrix.tocsr()
-    scale = 1.0 / np.sqrt(scaled.diagonal())
-    scaled.data *= np.repeat(scale, np.diff(scaled.indptr))
-    scaled.data *= scale[scaled.indices]
+    # D A D in place (the matrix held by its faces, bem.face_matrix)
+    scale = 1.0 / np.sqrt(matrix.diagonal())
+    matrix.scale(scale)
+    scaled = matrix
     rhs *= scale
     previous = None if start is None else start.pressure
     iterations, guess = 0, None
@@ -271,6 +270,7 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
             _warn_unsettled(settled, cells.size, iterations)
             return solution * scale, iterations
         guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
+    scaled = scaled.tocsr()   # (pyAMG's coarsening reads compressed rows)
     solution, extra, settled = _conjugate_gradients(
         scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True,
                             factor_options=_LU_OPTIONS), None,

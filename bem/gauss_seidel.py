@@ -1,4 +1,5 @@
-"""Gauss-Seidel sweeps of a sparse matrix in CSR form, compiled, releasing the GIL.
+"""Gauss-Seidel sweeps of a sparse matrix in CSR form (or held by its faces,
+:class:`bem.face_matrix.FaceMatrix`), compiled, releasing the GIL.
 
 The smoother of the Reynolds solves' multigrid (:mod:`bem.flow_solver`). pyAMG's own sweep
 (``pyamg.relaxation.relaxation.gauss_seidel``) computes the same iterate but holds the GIL for
@@ -31,13 +32,20 @@ def _sweep(indptr, indices, data, x, b, first, stop, step):   # pragma: no cover
             x[row] = (b[row] - total) / diagonal
 
 
-def _rows(matrix):
-    """The CSR arrays of ``matrix`` (a TypeError for any other form: BSR's blocks, say, would
-    be swept as something else)."""
-    if getattr(matrix, "format", None) != "csr":
-        raise TypeError(f"matrix must be a scipy.sparse matrix in CSR form, got "
-                        f"{type(matrix).__name__} ({getattr(matrix, 'format', 'not sparse')})")
-    return matrix.indptr, matrix.indices, matrix.data
+def _swept(matrix, x: np.ndarray, b: np.ndarray, forward: bool) -> None:
+    """The sweep of ``matrix`` in CSR form or held by its faces (a TypeError for any other
+    form: BSR's blocks, say, would be swept as something else)."""
+    form = getattr(matrix, "format", None)
+    if form == "faces":
+        matrix.sweep(x, b, forward=forward)
+    elif form == "csr":
+        rows = matrix.shape[0]
+        _sweep(matrix.indptr, matrix.indices, matrix.data, x, b,
+               *((0, rows, 1) if forward else (rows - 1, -1, -1)))
+    else:
+        raise TypeError(f"matrix must be a scipy.sparse matrix in CSR form or a "
+                        f"bem.face_matrix.FaceMatrix, got {type(matrix).__name__} "
+                        f"({form or 'not sparse'})")
 
 
 def forward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
@@ -47,8 +55,9 @@ def forward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
 
     Parameters
     ----------
-    matrix : scipy.sparse.csr_matrix or csr_array
-        Square matrix in CSR form (float64 entries).
+    matrix : scipy.sparse.csr_matrix, csr_array or bem.face_matrix.FaceMatrix
+        Square matrix in CSR form (float64 entries), or a 5-point matrix held by its faces
+        (swept in the order of its unknowns, each row summed in the order of its columns).
     x : numpy.ndarray
         Current iterate (float64, contiguous), updated in place.
     b : numpy.ndarray
@@ -57,13 +66,13 @@ def forward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
     Raises
     ------
     TypeError
-        ``matrix`` not in CSR form.
+        ``matrix`` neither in CSR form nor held by its faces.
     """
-    _sweep(*_rows(matrix), x, b, 0, matrix.shape[0], 1)
+    _swept(matrix, x, b, True)
 
 
 def backward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
     """One Gauss-Seidel sweep over the rows in decreasing order, in place (otherwise as
     :func:`forward_sweep`): after a forward sweep, the symmetric sweep that keeps a V-cycle
     symmetric."""
-    _sweep(*_rows(matrix), x, b, matrix.shape[0] - 1, -1, -1)
+    _swept(matrix, x, b, False)

@@ -23,13 +23,17 @@ at 29 %; whole blocks took 47, 812 (191 s) and 58 under a looser stopping rule
 The interpolation is piecewise constant on the aggregates, fitted to the near-null vector (what
 pyAMG's ``fit_candidates`` computes for one candidate), and the coarse operators are the
 Galerkin products (a compiled merge of each aggregate's rows), held in CSR with the restriction
-as the interpolation's transpose (a view, no copy).
+as the interpolation's transpose (a view, no copy). The finest operator may be the flow system
+held by its faces (:class:`bem.face_matrix.FaceMatrix`): its aggregates and Galerkin product are
+read from the faces, and it stays the finest level's operator as it is.
 """
 
 from __future__ import annotations
 
 import numba
 import numpy as np
+
+from bem.face_matrix import face_row
 
 __all__ = ["BLOCK_STRENGTH", "aggregates", "block_hierarchy"]
 
@@ -76,6 +80,67 @@ def _parts(indptr, indices, data, block, blocks, strength):  # pragma: no cover 
             elif column > row:
                 one, other = _root(parent, row), _root(parent, column)
                 parent[max(one, other)] = min(one, other)
+    return _labels(parent, anchored, block, blocks)
+
+
+@numba.njit(nogil=True, cache=True)
+def _face_parts(index, right, down, periodic, block, blocks,
+                strength):  # pragma: no cover (compiled)
+    """:func:`_parts` of a matrix held by its faces (:class:`bem.face_matrix.FaceMatrix`): each
+    open face tested once, from the unknown before it."""
+    unknowns = right.size
+    largest = np.zeros(unknowns)
+    rows, columns = index.shape
+    for j in range(rows):
+        for i in range(columns):
+            row = index[j, i]
+            if row < 0:
+                continue
+            for axis in range(2):
+                column, value = _face_after(index, right, down, periodic, j, i, row, axis)
+                if column >= 0 and value != 0.0:
+                    largest[row] = max(largest[row], abs(value))
+                    largest[column] = max(largest[column], abs(value))
+    parent = np.arange(unknowns)
+    anchored = np.zeros(unknowns, dtype=np.bool_)
+    for j in range(rows):
+        for i in range(columns):
+            row = index[j, i]
+            if row < 0:
+                continue
+            for axis in range(2):
+                column, value = _face_after(index, right, down, periodic, j, i, row, axis)
+                value = abs(value)
+                if column < 0 or value == 0.0 or (value < strength * largest[row]
+                                                  and value < strength * largest[column]):
+                    continue
+                if block[column] != block[row]:
+                    anchored[row] = anchored[column] = True
+                else:
+                    one, other = _root(parent, row), _root(parent, column)
+                    parent[max(one, other)] = min(one, other)
+    return _labels(parent, anchored, block, blocks)
+
+
+@numba.njit(nogil=True, cache=True, inline="always")
+def _face_after(index, right, down, periodic, j, i, row, axis):   # pragma: no cover (compiled)
+    """The unknown one cell further along ``axis`` from unknown ``row`` at (j, i) (-1: none)
+    and the coefficient of the face between them."""
+    rows, columns = index.shape
+    if axis == 1:
+        if i + 1 < columns:
+            return np.int64(index[j, i + 1]), right[row]
+        return np.int64(index[j, 0] if periodic else -1), right[row]
+    if j + 1 < rows:
+        return np.int64(index[j + 1, i]), down[row]
+    return np.int64(index[0, i] if periodic else -1), down[row]
+
+
+@numba.njit(nogil=True, cache=True)
+def _labels(parent, anchored, block, blocks):  # pragma: no cover (compiled)
+    """The aggregates of :func:`_parts` from the union-find ``parent`` of the strong
+    connections inside blocks and whether a strong connection leaves each unknown's block."""
+    rows = parent.size
     size = np.zeros(rows, dtype=np.int64)
     roots = np.empty(rows, dtype=np.int64)
     for row in range(rows):
@@ -120,8 +185,13 @@ def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
     coarse_rows, coarse_columns = rows // 2, columns // 2
     width = int(coarse_columns.max(initial=0)) + 1
     block = coarse_rows * width + coarse_columns
-    label, count = _parts(matrix.indptr, matrix.indices, matrix.data, block,
-                          int(block.max(initial=0)) + 1, BLOCK_STRENGTH)
+    blocks = int(block.max(initial=0)) + 1
+    if getattr(matrix, "format", None) == "faces":
+        label, count = _face_parts(matrix.index, matrix.right, matrix.down, matrix.periodic,
+                                   block, blocks, BLOCK_STRENGTH)
+    else:
+        label, count = _parts(matrix.indptr, matrix.indices, matrix.data, block, blocks,
+                              BLOCK_STRENGTH)
     operator = scipy.sparse.csr_matrix(
         (np.ones(unknowns), label, np.arange(unknowns + 1, dtype=np.int32)),
         shape=(unknowns, count))
@@ -149,6 +219,7 @@ def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: in
     rows, columns = np.nonzero(cells)
     matrix, candidates, built = scaled, np.asarray(near_null, dtype=np.float64).reshape(-1), []
     for _ in range(levels - 1):
+        fine_rows, fine_columns = rows, columns
         operator, rows, columns = aggregates(matrix, rows, columns)
         label, count = operator.indices, operator.shape[1]
         norms = np.sqrt(np.bincount(label, weights=candidates * candidates, minlength=count))
@@ -161,8 +232,13 @@ def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: in
         built.append(level)
         order = np.argsort(label, kind="stable").astype(np.int32)
         starts = np.searchsorted(label[order], np.arange(count + 1)).astype(np.int64)
-        indptr, indices, data = _galerkin(matrix.indptr, matrix.indices, matrix.data, label,
-                                          weights, starts, order, count)
+        if getattr(matrix, "format", None) == "faces":
+            indptr, indices, data = _face_galerkin(
+                matrix.index, matrix.right, matrix.down, matrix.diagonal(), matrix.periodic,
+                fine_rows, fine_columns, label, weights, starts, order, count)
+        else:
+            indptr, indices, data = _galerkin(matrix.indptr, matrix.indices, matrix.data,
+                                              label, weights, starts, order, count)
         matrix = scipy.sparse.csr_matrix((data, indices, indptr), shape=(count, count))
         candidates = norms
     last = MultilevelSolver.Level()
@@ -209,12 +285,64 @@ def _galerkin(indptr, indices, data, label, weights, starts, members,
                     filled += 1
                 else:
                     out_data[position[column]] += value
-        # sort the row's few columns (insertion sort, values alongside)
-        for a in range(first + 1, filled):
-            key_column, key_value = out_indices[a], out_data[a]
-            b = a - 1
-            while b >= first and out_indices[b] > key_column:
-                out_indices[b + 1], out_data[b + 1] = out_indices[b], out_data[b]
-                b -= 1
-            out_indices[b + 1], out_data[b + 1] = key_column, key_value
+        _sort_row(out_indices, out_data, first, filled)
     return out_indptr, out_indices, out_data
+
+
+@numba.njit(nogil=True, cache=True)
+def _face_galerkin(index, right, down, diagonal, periodic, rows, columns, label, weights,
+                   starts, members, count):   # pragma: no cover (compiled)
+    """:func:`_galerkin` of a matrix held by its faces (:class:`bem.face_matrix.FaceMatrix`,
+    its unknowns at grid positions ``rows``, ``columns``), each row's entries read from its
+    faces (:func:`bem.face_matrix.face_row`)."""
+    row_columns = np.empty(5, dtype=np.int64)
+    row_values = np.empty(5)
+    marker = np.full(count, -1, dtype=np.int64)
+    sizes = np.zeros(count + 1, dtype=np.int64)
+    for aggregate in range(count):
+        for member in range(starts[aggregate], starts[aggregate + 1]):
+            row = members[member]
+            entries = face_row(index, right, down, diagonal, periodic, rows[row],
+                               columns[row], row_columns, row_values)
+            for entry in range(entries):
+                column = label[row_columns[entry]]
+                if marker[column] != aggregate:
+                    marker[column] = aggregate
+                    sizes[aggregate + 1] += 1
+    out_indptr = np.cumsum(sizes).astype(np.int32)
+    out_indices = np.empty(out_indptr[-1], dtype=np.int32)
+    out_data = np.empty(out_indptr[-1])
+    position = np.full(count, -1, dtype=np.int64)
+    for aggregate in range(count):
+        first = out_indptr[aggregate]
+        filled = first
+        for member in range(starts[aggregate], starts[aggregate + 1]):
+            row = members[member]
+            row_weight = weights[row]
+            entries = face_row(index, right, down, diagonal, periodic, rows[row],
+                               columns[row], row_columns, row_values)
+            for entry in range(entries):
+                fine = row_columns[entry]
+                column = label[fine]
+                value = row_weight * row_values[entry] * weights[fine]
+                if position[column] < first:
+                    position[column] = filled
+                    out_indices[filled] = column
+                    out_data[filled] = value
+                    filled += 1
+                else:
+                    out_data[position[column]] += value
+        _sort_row(out_indices, out_data, first, filled)
+    return out_indptr, out_indices, out_data
+
+
+@numba.njit(nogil=True, cache=True, inline="always")
+def _sort_row(out_indices, out_data, first, filled):   # pragma: no cover (compiled)
+    """Sort a row's few columns in place (insertion sort, values alongside)."""
+    for a in range(first + 1, filled):
+        key_column, key_value = out_indices[a], out_data[a]
+        b = a - 1
+        while b >= first and out_indices[b] > key_column:
+            out_indices[b + 1], out_data[b + 1] = out_indices[b], out_data[b]
+            b -= 1
+        out_indices[b + 1], out_data[b + 1] = key_column, key_value

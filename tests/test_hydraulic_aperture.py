@@ -537,7 +537,8 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
 
 
 def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
-    """The pixel blocks' levels are built in CSR, the restriction a view of the interpolation;
+    """The pixel blocks' coarse levels are built in CSR (the finest is the system held by its
+    faces, bem.face_matrix), the restriction a view of the interpolation;
     smoothed aggregation (periodic gaps) builds its coarse levels as 1 x 1 BSR, which are
     converted to CSR (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
     import pyamg
@@ -558,8 +559,11 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     for periodic in (False, True):
         assert hydraulic_aperture(gap, 1.0, periodic=periodic) > 0.0
         assert len(built[-1].levels) >= 2
+        levels = built[-1].levels
+        # the pixel blocks' finest operator is the system held by its faces, as assembled
+        assert (levels[0].A.format == "faces") != periodic
         assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
-                   for level in built[-1].levels)
+                   for level in levels[0 if periodic else 1:])
         for level in built[-1].levels[:-1]:
             # the restriction is the interpolation's transpose, a view of its arrays
             assert level.P.format == "csr" and level.R.format == "csc"
@@ -884,7 +888,7 @@ def test_the_dissipation_is_the_sum_over_the_listed_faces(periodic, shape):
 @BOTH
 @pytest.mark.parametrize("shape", [(2, 2), (2, 5), (3, 2), (9, 7), (40, 31)])
 def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
-    """The CSR rows assembled slot by slot equal the definition: one 2 x 2 block
+    """The system held by its faces, in compressed rows, equals the definition: one 2 x 2 block
     ``T [[1, -1], [-1, 1]]`` per open face and the boundary half-faces on the diagonal, summed
     from coordinate triplets (where a periodic side of two cells joins two cells twice)."""
     import scipy.sparse
@@ -899,7 +903,8 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
             (np.concatenate([t, t, -t, -t, boundary[1]]),
              (np.concatenate([tail, head, tail, head, boundary[0]]),
               np.concatenate([tail, head, head, tail, boundary[0]]))), shape=(n, n)).toarray()
-        assembled = matrix.toarray()
+        rows = matrix.tocsr()   # (the system is held by its faces, bem.face_matrix)
+        assembled = rows.toarray()
         if periodic:   # one grounded cell per cluster: its diagonal doubled
             grounded = np.flatnonzero(~np.isclose(np.diag(assembled), np.diag(expected),
                                                   rtol=1e-12, atol=0.0))
@@ -908,5 +913,5 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
             np.fill_diagonal(assembled, np.diag(expected))
             assert grounded.size >= 1
         np.testing.assert_allclose(assembled, expected, rtol=1e-12, atol=1e-15)
-        assert matrix.has_canonical_format   # sorted columns, no duplicates
-        assert np.all(np.diff(matrix.indptr) <= 5)
+        assert rows.has_canonical_format   # sorted columns, no duplicates
+        assert np.all(np.diff(rows.indptr) <= 5)
