@@ -29,12 +29,15 @@ __all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "PARALLEL_FACTOR
 
 #: Gaps of more cells than this have their two directions solved one after the other, not
 #: at once, while the caller works beside them: the multigrid solve of a 1024^2 gap peaks at
-#: 0.6-0.9 GB, of a 2048^2 gap at 1.0-1.1 GB (a process solving one gap at 1-8 % contact).
+#: 0.6-0.9 GB, of a 2048^2 gap at 0.8-0.85 GB (a process solving one gap at 1-9 % contact).
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 #: Once the caller waits for the results (:meth:`BackgroundLeakage.results`), gaps of up to
 #: this many cells still waiting have their two directions solved at once where the process
-#: may use two CPUs (two 1024^2 solves: 1.2-1.8 GB).
-FINAL_PARALLEL_LIMIT = 1024 * 1024
+#: may use two CPUs: the caller's contact solves are over and their memory given back
+#: (:func:`bem.contact_curve`), and after a 2048^2 check's path its process held 0.79 GB
+#: between solves and 1.11-1.13 GB with one 2048^2 solve, against 1.86 GB on the path with one
+#: beside it.
+FINAL_PARALLEL_LIMIT = 2048 * 2048
 #: Gaps of more cells than this whose two directions are both to be solved by sparse LU
 #: (:func:`bem.flow_solver.solved_directly`: near percolation) have them solved one after the
 #: other whatever the limits above: the LU of a 1024^2 gap holds 1.2-2.0 GB of a process (40-76

@@ -168,8 +168,9 @@ def _labels(parent, anchored, block, blocks):  # pragma: no cover (compiled)
 
 
 def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
-    """The aggregates of the unknowns of ``matrix`` (CSR) at pixel-block positions ``rows``,
-    ``columns`` (one per unknown): the 2 x 2 blocks of positions, each split into its parts
+    """The aggregates of the unknowns of ``matrix`` (CSR, or a
+    :class:`bem.face_matrix.FaceMatrix` whose unknowns lie at these grid positions) at
+    pixel-block positions ``rows``, ``columns`` (one per unknown): the 2 x 2 blocks of positions, each split into its parts
     joined by strong connections, a part hanging on weak connections alone kept in its block's
     largest part (module docstring).
 
@@ -203,8 +204,9 @@ def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
 def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: int,
                     coarse_solver):
     """A pyAMG multilevel hierarchy of ``levels`` levels of pixel blocks for the Jacobi-scaled
-    matrix ``scaled`` (CSR) of the unknowns ``cells`` (a 2-D map, unknowns in row-major
-    order), with the near-null vector ``near_null`` (one column) and pyAMG's
+    matrix ``scaled`` (CSR, or held by its faces: :class:`bem.face_matrix.FaceMatrix`, the
+    finest level's operator as it is) of the unknowns ``cells`` (a 2-D map, unknowns in
+    row-major order), with the near-null vector ``near_null`` (one column) and pyAMG's
     ``coarse_solver`` (e.g. ``("splu", options)``) on the coarsest level.
 
     The interpolation of an aggregate is the near-null vector on it, normalised (pyAMG's
