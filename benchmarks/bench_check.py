@@ -8,7 +8,7 @@ in-process, the models beside the reference in a second thread), in a fresh proc
 empty cache (so FFTW plans too, as on a machine's first check). Prints per size: wall time,
 process time (the command and its workers), the peak resident memory of the largest process,
 and the share of verdict cells decided by the band alone, at both tolerances (from
-verdicts.csv).
+verdicts.csv); first the machine it ran on (CPU model and count, library versions).
 
 Usage::
 
@@ -31,6 +31,7 @@ import time
 import numpy as np
 
 from validation import self_affine_surface
+from validation.campaigns.bench import machine_description
 from validation.surfaces.topography import write_gwyddion_ascii
 
 
@@ -65,6 +66,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     folder = pathlib.Path(args.keep or tempfile.mkdtemp(prefix="bench-check-"))
     folder.mkdir(parents=True, exist_ok=True)
+    print(f"machine: {machine_description()}")
     print(f"{'size':>6} {'wall [s]':>9} {'process [s]':>12} {'peak RSS [MB]':>14}  decided")
     for n in (int(s) for s in args.sizes.split(",")):
         scan = make_scan(folder / f"scan-{n}.txt", n)

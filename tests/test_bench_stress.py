@@ -5,7 +5,7 @@ import csv
 import numpy as np
 import pytest
 
-from validation.campaigns.bench import observed_order, pareto_front
+from validation.campaigns.bench import machine_description, observed_order, pareto_front
 from validation.cli import main
 
 
@@ -15,6 +15,28 @@ def test_pareto_front_and_observed_order():
     np.testing.assert_array_equal(pareto_front(times, errors), [True, True, False, True, False])
     np.testing.assert_allclose(observed_order([64, 128, 256], [0.4, 0.1, 0.025]), [2.0, 2.0])
     assert np.isnan(observed_order([64, 128], [0.0, 0.1])[0])
+
+
+def test_the_machine_is_described_with_its_cpu_model_and_versions(monkeypatch, tmp_path):
+    import os
+    import platform
+
+    import validation.campaigns.bench as bench
+
+    described = machine_description()
+    assert f"{os.cpu_count()} cores" in described
+    assert f"Python {platform.python_version()}" in described and f"numpy {np.__version__}" in described
+    # where the platform does not name the CPU, its model comes from /proc/cpuinfo
+    cpuinfo = tmp_path / "cpuinfo"
+    cpuinfo.write_text("processor\t: 0\nmodel name\t: Some CPU 9000 @ 3.0GHz\nflags\t: x\n")
+    real_open = open
+    monkeypatch.setattr(platform, "processor", lambda: "")
+    monkeypatch.setattr("builtins.open", lambda path, *args, **kwargs: real_open(
+        cpuinfo if path == "/proc/cpuinfo" else path, *args, **kwargs))
+    assert bench._processor() == "Some CPU 9000 @ 3.0GHz"
+    assert "Some CPU 9000 @ 3.0GHz" in machine_description()
+    monkeypatch.setattr("builtins.open", lambda *args, **kwargs: (_ for _ in ()).throw(OSError))
+    assert bench._processor() == ""
 
 
 @pytest.mark.slow      # 3-8 s: every method on two surfaces, with the figure

@@ -39,7 +39,7 @@ import numpy as np
 
 from validation.common import models as _models
 
-__all__ = ["BenchRow", "run_bench", "pareto_front", "observed_order"]
+__all__ = ["BenchRow", "machine_description", "run_bench", "pareto_front", "observed_order"]
 
 #: The exact reference, swept over grids and tolerances (the registry's reference model).
 REFERENCE = _models.reference_names()[0]
@@ -225,7 +225,12 @@ def _memory(config: BenchConfig, log) -> list[tuple[str, int, float, float]]:
     return out
 
 
-def _versions() -> str:
+def machine_description() -> str:
+    """The machine and software a benchmark ran on, in one line: architecture, CPU model (from
+    ``/proc/cpuinfo`` where the platform does not name it), CPU count, operating system, and the
+    versions of this package, Python, numpy, scipy and pyFFTW."""
+    import os
+
     import scipy
 
     import bem.fft
@@ -236,9 +241,22 @@ def _versions() -> str:
     if bem.fft.have_pyfftw():
         import pyfftw
         parts.append(f"pyFFTW {pyfftw.__version__}")
-    import os
-    return (f"{platform.machine()} {platform.processor() or ''} {os.cpu_count()} cores, "
+    return (f"{platform.machine()} {_processor()} {os.cpu_count()} cores, "
             f"{platform.system()} {platform.release()}; " + ", ".join(parts))
+
+
+def _processor() -> str:
+    """The CPU's model name, or '' where neither the platform nor ``/proc/cpuinfo`` says."""
+    if platform.processor():
+        return platform.processor()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as stream:
+            for line in stream:
+                if line.lower().startswith("model name"):
+                    return line.partition(":")[2].strip()
+    except OSError:
+        pass
+    return ""
 
 
 def run_bench(out: str | pathlib.Path, *, quick: bool = False, log=print) -> pathlib.Path:
@@ -246,7 +264,7 @@ def run_bench(out: str | pathlib.Path, *, quick: bool = False, log=print) -> pat
     config = QUICK if quick else FULL
     out = pathlib.Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    log(_versions())
+    log(machine_description())
     rows: list[BenchRow] = []
     for D in (2.05, 2.95):
         rows += _bench_surface(D, config, log)
@@ -262,7 +280,7 @@ def run_bench(out: str | pathlib.Path, *, quick: bool = False, log=print) -> pat
                              r.separation, r.conductance, r.converged])
 
     lines = [f"# Run time against error ({'quick' if quick else 'full'})\n",
-             f"Machine: {_versions()}.\n",
+             f"Machine: {machine_description()}.\n",
              f"Reference: BEM N = {config.reference_n}, tol = {config.reference_tol:g}; "
              f"{config.load_count} loads, Load = 1e-4 … 1e-2 (Load = W/(E* L²)), WM rms slope 0.1. "
              "Errors are the largest over the load path; separation error in units of σ.\n"]
