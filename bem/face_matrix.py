@@ -47,6 +47,9 @@ class FaceMatrix:
 
     def __init__(self, index: np.ndarray, right: np.ndarray, down: np.ndarray,
                  diagonal: np.ndarray, periodic: bool) -> None:
+        if periodic and min(index.shape) < 2:
+            raise ValueError(f"index must be at least 2 x 2 on a periodic grid (a cell's face to "
+                             f"itself is no coupling), got shape {index.shape}")
         self.index, self.right, self.down = index, right, down
         self._diagonal, self.periodic = diagonal, bool(periodic)
         self.shape = (diagonal.size, diagonal.size)

@@ -179,9 +179,9 @@ def _compressed_rows(hierarchy) -> None:
     sweep of the 512^2 second level of a 1024^2 gap 17 ms against 14 ms for the 1024^2 first;
     in CSR the solve took 20 % less, the same iterates); the compiled sweeps of
     :class:`bem.multigrid_cycle.VCycle` take CSR (or a system held by its faces) only. The
-    restriction is the interpolation's transpose (pyAMG's for a symmetric system), kept as its CSC view rather than a copy (128 MB
-    at 2048^2; the same products to the bit: both sum a coarse entry's fine terms in the same
-    order)."""
+    restriction is the interpolation's transpose (pyAMG's for a symmetric system), kept as its
+    CSC view rather than a copy (128 MB at 2048^2; the same products to the bit: both sum a
+    coarse entry's fine terms in the same order)."""
     for level in hierarchy.levels:
         level.A = level.A.tocsr()
         if hasattr(level, "P"):

@@ -57,7 +57,9 @@ def forward_sweep(matrix, x: np.ndarray, b: np.ndarray) -> None:
     ----------
     matrix : scipy.sparse.csr_matrix, csr_array or bem.face_matrix.FaceMatrix
         Square matrix in CSR form (float64 entries), or a 5-point matrix held by its faces
-        (swept in the order of its unknowns, each row summed in the order of its columns).
+        (swept in the order of its unknowns, each row summed above, left, right, below: in the
+        order of its columns but across a periodic edge, where the sum differs from the CSR
+        sweep's by rounding).
     x : numpy.ndarray
         Current iterate (float64, contiguous), updated in place.
     b : numpy.ndarray

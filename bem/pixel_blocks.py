@@ -168,11 +168,13 @@ def _labels(parent, anchored, block, blocks):  # pragma: no cover (compiled)
 
 
 def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
-    """The aggregates of the unknowns of ``matrix`` (CSR, or a
-    :class:`bem.face_matrix.FaceMatrix` whose unknowns lie at these grid positions) at
-    pixel-block positions ``rows``, ``columns`` (one per unknown): the 2 x 2 blocks of positions, each split into its parts
+    """The aggregates of the unknowns of ``matrix`` at pixel-block positions ``rows``,
+    ``columns`` (one per unknown): the 2 x 2 blocks of positions, each split into its parts
     joined by strong connections, a part hanging on weak connections alone kept in its block's
-    largest part (module docstring).
+    largest part (module docstring). ``matrix`` is in CSR, or a non-periodic
+    :class:`bem.face_matrix.FaceMatrix` whose unknowns lie at these grid positions (a periodic
+    one is read in CSR: on a grid two cells wide two of its faces join the same cells, and
+    their connection is their sum).
 
     Returns
     -------
@@ -187,6 +189,8 @@ def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
     width = int(coarse_columns.max(initial=0)) + 1
     block = coarse_rows * width + coarse_columns
     blocks = int(block.max(initial=0)) + 1
+    if getattr(matrix, "format", None) == "faces" and matrix.periodic:
+        matrix = matrix.tocsr()
     if getattr(matrix, "format", None) == "faces":
         label, count = _face_parts(matrix.index, matrix.right, matrix.down, matrix.periodic,
                                    block, blocks, BLOCK_STRENGTH)
@@ -204,8 +208,9 @@ def aggregates(matrix, rows: np.ndarray, columns: np.ndarray):
 def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: int,
                     coarse_solver):
     """A pyAMG multilevel hierarchy of ``levels`` levels of pixel blocks for the Jacobi-scaled
-    matrix ``scaled`` (CSR, or held by its faces: :class:`bem.face_matrix.FaceMatrix`, the
-    finest level's operator as it is) of the unknowns ``cells`` (a 2-D map, unknowns in
+    matrix ``scaled`` (CSR, or held by its faces: a non-periodic
+    :class:`bem.face_matrix.FaceMatrix` stays the finest level's operator as it is) of the
+    unknowns ``cells`` (a 2-D map, unknowns in
     row-major order), with the near-null vector ``near_null`` (one column) and pyAMG's
     ``coarse_solver`` (e.g. ``("splu", options)``) on the coarsest level.
 
@@ -219,6 +224,8 @@ def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: in
     from pyamg.multilevel import MultilevelSolver
 
     rows, columns = np.nonzero(cells)
+    if getattr(scaled, "format", None) == "faces" and scaled.periodic:
+        scaled = scaled.tocsr()   # (aggregates: a periodic system is read in CSR)
     matrix, candidates, built = scaled, np.asarray(near_null, dtype=np.float64).reshape(-1), []
     for _ in range(levels - 1):
         fine_rows, fine_columns = rows, columns
@@ -241,6 +248,7 @@ def block_hierarchy(scaled, near_null: np.ndarray, cells: np.ndarray, levels: in
         else:
             indptr, indices, data = _galerkin(matrix.indptr, matrix.indices, matrix.data,
                                               label, weights, starts, order, count)
+        del fine_rows, fine_columns   # (a level's grid positions: 67 MB on a 2048^2 grid)
         matrix = scipy.sparse.csr_matrix((data, indices, indptr), shape=(count, count))
         candidates = norms
     last = MultilevelSolver.Level()

@@ -116,3 +116,24 @@ def test_closed_faces_have_no_entry():
     assert rows.nnz == 4 + 2 * 3
     np.testing.assert_array_equal(rows.toarray(), [[3, 0, -2, 0], [0, 4, 0, -3],
                                                    [-2, 0, 4, -1], [0, -3, -1, 2]])
+
+
+@pytest.mark.parametrize("shape", [(2, 7), (6, 2), (2, 2)])
+def test_a_periodic_system_two_cells_wide_is_aggregated_as_its_compressed_rows(shape):
+    # two faces join the same two cells there: their connection is their sum, as in CSR
+    for seed in range(12):
+        matrix, cells = _system(shape, True, seed=seed)
+        positions = np.nonzero(cells)
+        by_faces, by_rows = aggregates(matrix, *positions), aggregates(matrix.tocsr(), *positions)
+        np.testing.assert_array_equal(by_faces[0].indices, by_rows[0].indices)
+        levels = block_hierarchy(matrix, np.ones((matrix.shape[0], 1)), cells, 2, "splu").levels
+        assert levels[0].A.format == "csr"
+
+
+@pytest.mark.parametrize("shape", [(1, 5), (4, 1)])
+def test_a_periodic_axis_of_one_cell_is_refused(shape):
+    n = shape[0] * shape[1]
+    index = np.arange(n, dtype=np.int32).reshape(shape)
+    with pytest.raises(ValueError, match="at least 2 x 2 on a periodic grid"):
+        FaceMatrix(index, np.zeros(n), np.zeros(n), np.ones(n), True)
+    FaceMatrix(index, np.zeros(n), np.zeros(n), np.ones(n), False)   # a window may be one wide

@@ -348,6 +348,13 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
     assert flow._together(large, {})
     monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
+    # a periodic gap above the LU's limit (coarsened algebraically) stays one at a time
+    periodic = BackgroundLeakage(1.0, periodic=True)
+    periodic._finishing = True
+    monkeypatch.setattr(bem.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40 - 1)
+    assert periodic._together(large, {})
+    monkeypatch.setattr(bem.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40)
+    assert not periodic._together(large, {})
     monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 1)
     assert flow._together(large, {})
     assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)), {})
