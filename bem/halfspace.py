@@ -321,10 +321,8 @@ class HalfSpace:
         """
         if self._influence is None:
             ny, nx = self.shape
-            if self.mirror:   # the response to unit pressure on pixel (0, 0) and its images
-                pulse = np.zeros(self.shape)
-                pulse[0, 0] = 1.0
-                influence = self.displacement(pulse)
+            if self.mirror:
+                influence = self._pulse_response()
             elif self.periodic:
                 inverse = RealFFT2(self.shape, backend="scipy", threads=1)
                 influence = inverse.inverse(self.kernel_spectrum.astype(complex))
@@ -355,18 +353,19 @@ class HalfSpace:
 
     @property
     def self_influence(self) -> float:
-        """Displacement of a pixel under unit pressure on itself [length/pressure]; computed on
-        first use and kept. A mirror operator, whose solver has no use for :attr:`influence`
-        (no direct sums), takes it from one product and keeps the number alone, not the
-        influence coefficients of the whole grid (32 MB at 2048^2)."""
+        """Displacement of a pixel under unit pressure on itself [length/pressure], kept; a
+        mirror operator (no direct sums) keeps it without :attr:`influence` (32 MB at 2048^2)."""
         if self._self_influence is None:
-            if self._influence is None and self.mirror:
-                pulse = np.zeros(self.shape)
-                pulse[0, 0] = 1.0
-                self._self_influence = float(self.displacement(pulse)[0, 0])
-            else:
-                self._self_influence = float(self.influence[0, 0])
+            fresh = self._influence is None and self.mirror
+            self._self_influence = float((self._pulse_response() if fresh
+                                          else self.influence)[0, 0])
         return self._self_influence
+
+    def _pulse_response(self) -> np.ndarray:
+        """The displacement under unit pressure on pixel (0, 0) (and a mirror's images)."""
+        pulse = np.zeros(self.shape)
+        pulse[0, 0] = 1.0
+        return self.displacement(pulse)
 
     def _add_sources(self, flat_indices: np.ndarray, values: np.ndarray, out: np.ndarray,
                      work: np.ndarray) -> None:

@@ -320,11 +320,8 @@ def contact_curve(
             flow.submit(int(index), solution.fluid_gap)
         if callback is not None:
             callback(int(index), solution)
-        # the next point is solved without this one's gap and displacement held (68 MB at
-        # 2048^2; its pressure, the next start's fallback, stays with ``starts``)
-        del solution
-    # the contact solves are done: their operator, work arrays and starts are given back before
-    # the Reynolds solves still waiting are finished (0.3 GB at 2048^2, room for those solves)
+        del solution   # (not held through the next solve: 68 MB at 2048^2)
+    # the contact solves' memory given back before the last Reynolds solves (0.3 GB at 2048^2)
     del operator, workspace, starts, z_device
     if want_leakage:
         for index, value in flow.results().items():

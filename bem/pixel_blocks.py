@@ -304,7 +304,9 @@ def _face_galerkin(index, right, down, diagonal, periodic, rows, columns, label,
                    starts, members, count):   # pragma: no cover (compiled)
     """:func:`_galerkin` of a matrix held by its faces (:class:`bem.face_matrix.FaceMatrix`,
     its unknowns at grid positions ``rows``, ``columns``), each row's entries read from its
-    faces (:func:`bem.face_matrix.face_row`)."""
+    faces (:func:`bem.face_matrix.face_row`). The two passes are written out as in
+    :func:`_galerkin`: shared compiled helpers for them (or one row reader for both forms) made
+    both products 1.3-3.5 times slower."""
     row_columns = np.empty(5, dtype=np.int64)
     row_values = np.empty(5)
     marker = np.full(count, -1, dtype=np.int64)
