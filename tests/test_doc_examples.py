@@ -11,7 +11,10 @@ Documents: README.md, docs/index.md and docs/guide/*.md. Each fenced block runs 
   the example scan);
 * ``text``: program output or a listing, not code.
 
-A block right after a line ``<!-- not run: REASON -->`` is not run; REASON is a key of
+A block right after a line ``<!-- needs: MODULE -->`` uses an optional package (pandas, or an
+extra's): it runs where that imports and is skipped, saying so, where it does not (the
+README's test command installs no extra). A block right after a line
+``<!-- not run: REASON -->`` is not run; REASON is a key of
 :data:`NOT_RUN`, which says why such a block cannot run here, and such blocks stay few. A
 ``pending`` block (a command or key written up before it is in the program) must lie in a
 section marked ``<!-- BEGIN ... -->`` / ``<!-- END ... -->``, to be run once it lands.
@@ -60,6 +63,7 @@ LANGUAGES = ("python", "bash", "toml", "text")
 
 _FENCE = re.compile(r"^(`{3,})([^`\s]*)\s*$")
 _NOT_RUN = re.compile(r"^<!-- not run: ([\w-]+) -->$")
+_NEEDS = re.compile(r"^<!-- needs: ([\w, ]+) -->$")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -70,6 +74,7 @@ class Block:
     code: str
     not_run: str | None
     marked: bool        # inside a <!-- BEGIN ... --> / <!-- END ... --> section
+    needs: tuple[str, ...] = ()   # optional packages it imports
 
     def __str__(self) -> str:
         return f"{self.document}:{self.line}"
@@ -92,10 +97,13 @@ def _blocks(path: pathlib.Path) -> list[Block]:
         end = next(k for k in range(number + 1, len(lines)) if lines[k].strip() == fence.group(1))
         before = next((lines[k].strip() for k in range(number - 1, -1, -1) if lines[k].strip()), "")
         reason = _NOT_RUN.match(before)
+        needs = _NEEDS.match(before)
         language = fence.group(2)
         if not language.startswith("{"):  # a MyST directive (toctree) is not a code block
             blocks.append(Block(name, number + 1, language, "\n".join(lines[number + 1:end]) + "\n",
-                                reason.group(1) if reason else None, marked))
+                                reason.group(1) if reason else None, marked,
+                                tuple(m.strip() for m in needs.group(1).split(",")) if needs
+                                else ()))
         number = end + 1
     return blocks
 
@@ -136,6 +144,9 @@ def test_the_blocks_left_out_are_few_and_say_why():
 
 @pytest.mark.parametrize("block", _run("python"), ids=str)
 def test_python_block_runs(block, capsys, monkeypatch):
+    for module in block.needs:
+        pytest.importorskip(module, reason=f"{block} uses {module}, an optional package that is "
+                                           f"not installed")
     monkeypatch.chdir(ROOT)
     namespace: dict = {"__name__": "__doc_example__"}
     exec(compile(block.code, str(block), "exec"), namespace)

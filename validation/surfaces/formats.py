@@ -48,7 +48,13 @@ Loaded = tuple[np.ndarray, tuple | None, str | None, str]
 
 
 class _Unreadable(ValueError):
-    """This reader cannot parse the file (another one may)."""
+    """This reader cannot parse the file (another one may: ``elsewhere``; False for a text
+    file that is not a matrix of numbers, which SurfaceTopography does not make a map of
+    either, so that its absence is not the user's problem)."""
+
+    def __init__(self, message: str, *, elsewhere: bool = True) -> None:
+        super().__init__(message)
+        self.elsewhere = elsewhere
 
 
 def _quote(error: BaseException) -> str:
@@ -78,8 +84,9 @@ def _read_npy(path: pathlib.Path) -> Loaded:
 
 def _read_text(path: pathlib.Path) -> Loaded:
     """Plain-text matrix; header keys Width/Height/Value units (Gwyddion ASCII) are honoured.
-    Two or three columns are taken for a list of points (x, z or x, y, z) and left to
-    SurfaceTopography, which reads those: a height matrix so narrow is of no use anyway."""
+    Three columns are taken for a list of points (x, y, z) and left to SurfaceTopography,
+    which reads those; two for a profile (x, z), refused: a height matrix so narrow is of no
+    use anyway."""
     with path.open("rb") as stream:
         if b"\0" in stream.read(4096):
             raise _Unreadable("a binary file, not a text matrix")
@@ -94,11 +101,11 @@ def _read_text(path: pathlib.Path) -> Loaded:
                 first_data = line
                 break
     if not first_data:
-        raise _Unreadable("no numbers in it (an empty text file)")
+        raise _Unreadable("no numbers in it (an empty file)", elsewhere=False)
     fields = [f for f in re.split(r"[\s;]+|,(?=\s*[-+.\d])|,\s*$", first_data.strip()) if f]
     if fields and not any(_is_number(f) or _is_number(f.replace(",", ".")) for f in fields):
         raise _Unreadable(f"its first line is not numbers ({first_data.strip()[:40]!r}...): a "
-                          f"header row? Remove it, or start it with '#'")
+                          f"header row? Remove it, or start it with '#'", elsewhere=False)
     delimiter, decimal_comma = None, False
     if "," in first_data:                   # "1.5, 2.5" separates; "1,5\t2,5" is a decimal comma
         delimiter = "," if all(_is_number(field) for field in first_data.split(",")) else None
@@ -108,10 +115,14 @@ def _read_text(path: pathlib.Path) -> Loaded:
             lines = (line.replace(",", ".") for line in stream) if decimal_comma else stream
             heights = np.loadtxt(lines, comments="#", delimiter=delimiter, ndmin=2)
     except ValueError as error:
-        raise _Unreadable(f"not a numeric matrix ({_quote(error)})") from None
-    if heights.shape[1] in (2, 3):
-        raise _Unreadable(f"{heights.shape[1]} columns of {heights.shape[0]} numbers: a list "
-                          "of points (x, z or x, y, z), not a height matrix")
+        raise _Unreadable(f"not a numeric matrix ({_quote(error)})", elsewhere=False) from None
+    if heights.shape[1] == 2:
+        raise ValueError(f"{path}: two numbers per row, a profile (a line scan: positions and "
+                         f"heights) or a map two points wide: not a height map; a map needs at "
+                         f"least 32 x 32 points")
+    if heights.shape[1] == 3:
+        raise _Unreadable(f"3 columns of {heights.shape[0]} numbers: a list of points (x, y, "
+                          "z), not a height matrix")
     unit = header.get("value units")
     size = None
     if "width" in header or "height" in header:
@@ -239,7 +250,7 @@ def load_map(path: pathlib.Path, reader: str = "auto", channel: int | None = Non
                  else ("surfacetopography", "builtin"))
     else:
         order = (reader,)
-    failures, missing = [], None
+    failures, missing, elsewhere = [], None, False
     for name in order:
         what, attempt = _ATTEMPTS[name]
         if name == "builtin" and path.suffix.lower() == ".npy":
@@ -249,9 +260,13 @@ def load_map(path: pathlib.Path, reader: str = "auto", channel: int | None = Non
             break
         except _Unreadable as error:
             failures.append(f"{what}: {error}")
+            elsewhere = elsewhere or error.elsewhere
         except ImportError as error:
             missing = error
     else:
+        if missing is not None and not elsewhere and path.suffix.lower() in BUILTIN_SUFFIXES:
+            # a text file that is no matrix of numbers: the extra would not read it either
+            raise ValueError(f"{path}: cannot read it as a height map ({'; '.join(failures)})")
         if missing is not None:   # the extra first: what the user has to do
             tried = (f" (the built-in reader, tried too: {'; '.join(failures)})" if failures
                      else "")
