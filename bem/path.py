@@ -391,8 +391,9 @@ def error_estimates(fine: ContactCurve, coarse: ContactCurve, spacing: float) ->
     out = {}
     for name in _ERROR_QUANTITIES:
         a, b = getattr(fine, name), getattr(coarse, name)
-        if a is not None and b is not None:
-            out[f"{name}_error"] = ERROR_FACTOR * np.abs(a - b)
+        if a is not None and b is not None:   # equal, infinite too (full contact): no error
+            with np.errstate(invalid="ignore"):
+                out[f"{name}_error"] = ERROR_FACTOR * np.where(a == b, 0.0, np.abs(a - b))
     out["mean_gap_error"] = ERROR_FACTOR * np.abs(
         np.asarray(fine.extras["mean_gap"]) - np.asarray(coarse.extras["mean_gap"]))
     floor = PERIMETER_COEFFICIENT_UNCERTAINTY * spacing * np.asarray(

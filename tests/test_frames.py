@@ -213,7 +213,7 @@ def test_the_check_answers_in_the_interface_frame_and_adds_the_nominal_contact(t
     # in the scene's length unit (the answer's: nm for these heights)
     assert scene.nominal_size == pytest.approx(1e-2 / LENGTH_UNITS[scene.surface.unit])
     for bad, match in (("10", "needs a unit"), ("-1mm", "--nominal-size"),
-                       ("10um", "at least the scan's side")):
+                       ("10um", "at least the scan's longer side")):
         with pytest.raises(ValueError, match=match):
             check_request(_check_args(scan, physical_size="64um", file_unit="nm", nominal_size=bad))
 

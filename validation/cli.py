@@ -24,6 +24,7 @@ import argparse
 import functools
 import os
 import pathlib
+import re
 import shlex
 import signal
 import sys
@@ -332,10 +333,21 @@ VALUE_OPTIONS = ("--e-star", "--pressure", "--short-cutoff", "--physical-size", 
                  "--file-unit", "--tiles", "--jobs")
 
 
+#: A length as a value of its own (``7.8um``, ``7.8 um``): the second of two sizes.
+_LENGTH_VALUE = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*[A-Za-z\u00b5\u03bc\u00c5\u212b]+\s*")
+
+
 def _joined_values(argv: list[str]) -> list[str]:
-    """``--option -value`` as ``--option=-value`` for :data:`VALUE_OPTIONS`."""
+    """``--option -value`` as ``--option=-value`` for :data:`VALUE_OPTIONS`, and the two values
+    of ``--physical-size WIDTH HEIGHT`` as one (``WIDTH x HEIGHT``; a second value is a length
+    with its unit, never a file's name)."""
     out, k = [], 0
     while k < len(argv):
+        if argv[k] == "--physical-size" and k + 2 < len(argv) \
+                and _LENGTH_VALUE.fullmatch(argv[k + 2]) and not os.path.exists(argv[k + 2]):
+            out.append(f"--physical-size={argv[k + 1]} x {argv[k + 2]}")
+            k += 3
+            continue
         if argv[k] in VALUE_OPTIONS and k + 1 < len(argv) and argv[k + 1].startswith("-") \
                 and not argv[k + 1].startswith("--"):
             out.append(f"{argv[k]}={argv[k + 1]}")

@@ -20,8 +20,10 @@ import re
 import shlex
 import sys
 import time
+import warnings
 
 from validation.check.library import check_scenes, make_request, run_request
+from validation.check.plausible import PlausibilityWarning
 from validation.check.request import CheckRequest
 
 __all__ = ["add_parser", "check_request", "run_check"]
@@ -60,7 +62,16 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
     """The ``check`` command (see the module docstring); ``run_pipeline`` is the command
     line's way of running a report (:func:`validation.cli.run_pipeline`)."""
     try:
-        request = check_request(args)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", PlausibilityWarning)
+            request = check_request(args)
+        for warning in caught:
+            if issubclass(warning.category, PlausibilityWarning):
+                print(f"warning: {warning.message}{_options_hint(str(warning.message))}",
+                      file=sys.stderr)
+            else:
+                warnings.warn_explicit(warning.message, warning.category, warning.filename,
+                                       warning.lineno)
         args.out = args.out or f"check-{request.path.stem}"
         if args.jobs == 0:
             args.jobs = 1 if request.tiles == 1 else (os.cpu_count() or 1)
@@ -106,8 +117,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     check.add_argument("--resample", choices=("finer", "coarser"), default=None,
                        help="pixels that are not square (an optical profilometer's): resample "
                             "one axis onto the finer or the coarser spacing (default: refuse)")
-    check.add_argument("--physical-size", default=None, metavar="LENGTH",
-                       help="the scan's width, e.g. '10 um', if the file does not state it")
+    check.add_argument("--physical-size", default=None, metavar="SIZE",
+                       help="the scan's size if the file does not state it: its width for a "
+                            "square map ('10um'), or width and height ('10um x 7.8um', "
+                            "'10um,7.8um' or two values: --physical-size 10um 7.8um)")
     check.add_argument("--file-unit", default=None, metavar="UNIT",
                        help="the unit of the file's heights (nm, um, ...) if it does not state it")
     check.add_argument("--nominal-size", default=None, metavar="LENGTH",

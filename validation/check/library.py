@@ -26,14 +26,17 @@ from dataclasses import replace
 import numpy as np
 
 from bem.device import array_module
+from validation.check.plausible import plausibility
 from validation.check.request import CheckRequest, scene_text
 from validation.check.result import CheckResult
-from validation.check.units import parse_length, parse_pressure, parse_pressure_range
+from validation.check.units import parse_length, parse_pressure, parse_pressure_range, \
+    parse_size, unitless
 from validation.common import models as registry
 from validation.scenes.reader import parse_scene
 from validation.surfaces.spec import MIN_TILE
-from validation.surfaces.topography import Topography
+from validation.surfaces.topography import MIN_SIDE, Topography
 from validation.surfaces.units import LENGTH_UNITS
+from validation.surfaces.wm import surface_statistics
 
 __all__ = ["check_scan", "check_scenes", "is_check_scene", "make_request", "request_of_scene",
            "run_request"]
@@ -68,8 +71,58 @@ def _scratch_scan(heights: np.ndarray, cache_dir: str | None) -> pathlib.Path:
     return path
 
 
-def _scan_source(scan, spacing, file_unit, physical_size, cache_dir):
-    """(path, physical_size, file_unit, scratch) of a path, a Topography or a height array."""
+def _size_text(width: float, height: float) -> str | tuple[str, str]:
+    """A size [m] as the scene writes it: one length for a square map, else [width, height]."""
+    if math.isclose(width, height, rel_tol=1e-12):
+        return f"{width!r} m"
+    return (f"{width!r} m", f"{height!r} m")
+
+
+def _spacing(spacing) -> float:
+    """A height array's pixel size [m]: a number in metres or a string with its unit."""
+    if spacing is None:
+        raise ValueError("a height array needs its spacing: spacing=1e-9 (metres) or "
+                         "spacing='1nm'")
+    pixel, has_unit = parse_length("spacing", spacing)
+    if isinstance(spacing, str) and not has_unit:
+        raise unitless("spacing", spacing)
+    if not pixel > 0:
+        raise ValueError(f"spacing must be a positive length, got {spacing!r}")
+    return pixel
+
+
+def _array_heights(scan: np.ndarray, fill) -> np.ndarray:
+    """A height array as a real 2-D float map, refused with what it is (never a file's name):
+    complex, not numbers, not 2-D, too small, infinite, or missing points without ``fill``."""
+    heights = np.asarray(scan)
+    described = f"shape {heights.shape} of {heights.dtype}"
+    if np.iscomplexobj(heights):
+        raise ValueError(f"scan as an array must hold real heights, got complex numbers "
+                         f"({described}): pass its real part (or its modulus) if that is the "
+                         f"height")
+    if heights.ndim != 2 or not np.issubdtype(heights.dtype, np.number):
+        raise ValueError(f"scan as an array must be a 2-D map of heights, got {described}")
+    if min(heights.shape) < MIN_SIDE:
+        raise ValueError(f"scan as an array is a map of {heights.shape[0]} x {heights.shape[1]} "
+                         f"points; the contact models need at least {MIN_SIDE} x {MIN_SIDE}")
+    heights = heights.astype(float)
+    infinite = np.isinf(heights)
+    if infinite.any():
+        raise ValueError(f"scan as an array holds {int(infinite.sum())} infinite height(s) "
+                         f"(of {heights.size}): heights must be finite (NaN marks a missing "
+                         f"point)")
+    missing = int(np.isnan(heights).sum())
+    if missing == heights.size:
+        raise ValueError(f"scan as an array has no valid height: all {heights.size} are NaN")
+    if missing and fill is None:
+        raise ValueError(f"scan as an array has {missing} of {heights.size} points missing "
+                         f"(NaN): pass fill='mean' or fill='interpolate'")
+    return heights
+
+
+def _scan_source(scan, spacing, file_unit, physical_size, fill, cache_dir):
+    """(path, physical_size, file_unit, scratch) of a path, a Topography or a height array;
+    a size is one length (square) or (width, height)."""
     if isinstance(scan, (str, os.PathLike)):
         if spacing is not None:
             raise ValueError("spacing is for a height array; a file states its size (or give "
@@ -77,25 +130,21 @@ def _scan_source(scan, spacing, file_unit, physical_size, cache_dir):
         return pathlib.Path(scan), physical_size, file_unit, False
     if isinstance(scan, Topography):
         metres = LENGTH_UNITS[scan.unit]
-        size = f"{scan.physical_size[0] * metres:.17g} m"
+        size = _size_text(*(side * metres for side in scan.physical_size))
         return _scratch_scan(scan.heights * metres, cache_dir), size, "m", True
     if isinstance(scan, np.ndarray):
-        heights = np.asarray(scan)
-        if heights.ndim != 2 or not np.issubdtype(heights.dtype, np.number):
-            raise ValueError(f"scan as an array must be a 2-D map of heights, got shape "
-                             f"{heights.shape} of {heights.dtype}")
-        if spacing is None:
-            raise ValueError("a height array needs its spacing: spacing=1e-9 (metres) or "
-                             "spacing='1nm'")
-        pixel, has_unit = parse_length("spacing", spacing)
-        if not pixel > 0:
-            raise ValueError(f"spacing must be a positive length, got {spacing!r}")
-        scale = LENGTH_UNITS[file_unit] if file_unit else 1.0
+        if physical_size is not None:
+            raise ValueError("physical_size is for a file that does not state its size; a "
+                             "height array's size is its spacing times its shape")
+        heights = _array_heights(scan, fill)
+        pixel = _spacing(spacing)
         if file_unit and file_unit not in LENGTH_UNITS:
             raise ValueError(f"file_unit must be one of {', '.join(LENGTH_UNITS)}, got "
                              f"{file_unit!r}")
-        size = f"{pixel * heights.shape[1]:.17g} m"
-        return _scratch_scan(heights * scale, cache_dir), size, "m", True
+        scale = LENGTH_UNITS[file_unit] if file_unit else 1.0
+        rows, columns = heights.shape
+        return (_scratch_scan(heights * scale, cache_dir), _size_text(pixel * columns, pixel * rows),
+                "m", True)
     raise TypeError(f"scan must be a file path, a Topography or a 2-D height array, got "
                     f"{type(scan).__name__}")
 
@@ -128,23 +177,19 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
     """
     array_module(device, "--device")   # a GPU asked for where there is none: said first
     path, physical_size, file_unit, scratch = _scan_source(scan, spacing, file_unit,
-                                                           physical_size, cache_dir)
+                                                           physical_size, fill, cache_dir)
     if not scratch and not path.is_file():
         raise ValueError(f"scan {str(path)!r} names no file")
     if e_star is not None:
         pascals, has_unit = parse_pressure("--e-star", e_star)
         if not has_unit and isinstance(e_star, str):
-            raise ValueError(f"--e-star needs a unit, e.g. 115GPa, got {e_star!r}")
+            raise unitless("--e-star", e_star, "pressure")
         e_star = pascals
     pressure_range = None if pressures is None else parse_pressure_range(_pressure_text(pressures))
     if pressure_range is not None:
         pressure_range.dimensionless(e_star)   # pressures in Pa need E*: said now
-    if physical_size is not None:
-        _, has_unit = parse_length("--physical-size", physical_size)
-        if not has_unit and isinstance(physical_size, str):
-            raise ValueError(f"--physical-size needs a unit, e.g. '10um', got {physical_size!r}")
-        if not isinstance(physical_size, str):
-            physical_size = f"{float(physical_size):.17g} m"
+    if physical_size is not None and not scratch:
+        physical_size = _size_text(*parse_size("--physical-size", physical_size))
     if isinstance(tiles, bool) or not isinstance(tiles, (int, np.integer)) or tiles < 1 \
             or round(tiles ** 0.5) ** 2 != tiles:
         raise ValueError(f"--tiles must be a square number >= 1 (1, 4, 9, ...), got {tiles!r}")
@@ -169,7 +214,29 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
         request = replace(request, short_cutoff=_cutoff(short_cutoff, request))
     if nominal_size is not None:
         request = replace(request, nominal_size=_nominal_size(nominal_size, request))
+    _plausible(request)
     return request
+
+
+def _plausible(request: CheckRequest) -> None:
+    """The scan and the pressures checked for their units before any solve
+    (:mod:`validation.check.plausible`); a flat scan is said first."""
+    scan = request.read("m")
+    low, high, _ = request.loads(scan)
+    slope = surface_statistics(scan.heights, scan.spacing).rms_gradient
+    plausibility("the height array" if request.scratch else request.name, scan.heights,
+                 scan.spacing, scan.physical_size, slope,
+                 None if request.pressures is None else (low, high), request.e_star)
+
+
+#: The name of a height array's copy in the cache (:func:`_scratch_scan`).
+_SCRATCH_NAME = re.compile(r"[^\s'\"]*scan-[0-9a-f]{20}\.npy")
+
+
+def _user_words(message: str) -> str:
+    """A message as the user reads it: the command line's options named as keywords, and a
+    height array's copy in the cache named as the array."""
+    return _SCRATCH_NAME.sub("the height array", _keywords(message))
 
 
 def _cutoff(value, request: CheckRequest) -> str:
@@ -180,8 +247,7 @@ def _cutoff(value, request: CheckRequest) -> str:
     if match is None:
         metres, has_unit = parse_length("--short-cutoff", value)
         if not has_unit and isinstance(value, str):
-            raise ValueError(f"--short-cutoff needs a unit (20nm, 0.5um) or pixels (8px), "
-                             f"got {value!r}")
+            raise ValueError(f"{unitless('--short-cutoff', value)}; or pixels: '{value}px'")
         return f"{metres:.6g} m"
     return f"{float(match.group(1)) * request.read('m').spacing:.6g} m"
 
@@ -190,15 +256,15 @@ def _nominal_size(value, request: CheckRequest) -> float:
     """The nominal contact's side in metres: a length, at least the scan's side."""
     metres, has_unit = parse_length("--nominal-size", value)
     if not has_unit and isinstance(value, str):
-        raise ValueError(f"--nominal-size needs a unit, e.g. 10mm, got {value!r}")
+        raise unitless("--nominal-size", value)
     if not metres > 0:
         raise ValueError(f"--nominal-size must be a positive length, got {value!r}")
     scan = request.read("m")
-    side = math.sqrt(scan.heights.size) * scan.spacing
+    side = max(scan.physical_size)
     if metres < side * (1 - 1e-9):
-        raise ValueError(f"--nominal-size must be at least the scan's side ({side:.4g} m): the "
-                         f"scan is a sample of the interface inside the nominal contact; got "
-                         f"{value!r}")
+        raise ValueError(f"--nominal-size must be at least the scan's longer side "
+                         f"({side:.4g} m): the scan is a sample of the interface inside the "
+                         f"nominal contact; got {value!r}")
     return metres
 
 
@@ -237,6 +303,9 @@ def request_of_scene(scene) -> CheckRequest:
     size = s.physical_size
     if isinstance(size, (int, float)):
         size = f"{size * LENGTH_UNITS[s.unit]:.17g} m"
+    elif isinstance(size, (tuple, list)):
+        size = tuple(f"{v * LENGTH_UNITS[s.unit]:.17g} m" if isinstance(v, (int, float)) else v
+                     for v in size)
     return CheckRequest(pathlib.Path(s.path), scene.physical_e_star, None, cutoff,
                         options.get("fill"), size, s.file_unit, 1,
                         None if s.resample == "none" else s.resample, nominal, scene.models,
@@ -345,6 +414,6 @@ def check_scan(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=Non
                                device=device, cache_dir=cache_dir)
         scenes, text = check_scenes(request)
     except (ValueError, TypeError) as error:
-        raise type(error)(_keywords(str(error))) from None
+        raise type(error)(_user_words(str(error))) from None
     with _wisdom(cache_dir):
         return run_request(request, scenes, text, cache_dir=cache_dir, progress=progress)

@@ -75,8 +75,11 @@ class CheckRequest:
         Short-wavelength cutoff as the scene key writes it (``"20 nm"``), or None.
     fill : str or None
         ``"mean"`` or ``"interpolate"`` for missing points, or None (missing points refused).
-    physical_size, file_unit : str or None
-        For a file that states neither its size nor its height unit (``"10 um"``, ``"nm"``).
+    physical_size : str, (str, str) or None
+        For a file that does not state its size: its width, or (width, height), with units
+        (``"10 um"``, ``("10 um", "7.8 um")``).
+    file_unit : str or None
+        For a file that does not state its height unit (``"nm"``).
     tiles : int
         1: the whole scan; k²: also the scan cut into k x k tiles, as a second reading of how
         the answer varies across the scan.
@@ -101,7 +104,7 @@ class CheckRequest:
     pressures: PressureRange | None = None
     short_cutoff: str | None = None
     fill: str | None = None
-    physical_size: str | None = None
+    physical_size: str | tuple[str, str] | None = None
     file_unit: str | None = None
     tiles: int = 1
     resample: str | None = None
@@ -122,7 +125,7 @@ class CheckRequest:
                    if value is not None}
         return read_topography(self.path, physical_size=self.physical_size,
                                file_unit=self.file_unit, height_unit=unit, detrend="plane",
-                               **options)
+                               square="keep", **options)
 
     def unit(self, scan_in_metres: Topography) -> str:
         """The length unit of the answer (nm, um, mm) from the scan's rms height."""
@@ -135,7 +138,7 @@ class CheckRequest:
                    if value is not None}
         raw = read_topography(self.path, physical_size=self.physical_size,
                               file_unit=self.file_unit, height_unit=scan.unit, detrend=None,
-                              **options)
+                              square="keep", **options)
         return float(np.std(scan.heights)) <= 1e-9 * float(np.std(raw.heights))
 
     def loads(self, scan: Topography) -> tuple[float, float, int]:
@@ -198,7 +201,7 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
                           "description": description})
     lines += [""] + _table("surface", {
         "family": "file", "path": str(request.path.resolve()), "unit": unit,
-        "detrend": "plane", "tiles": tiles, "fill": request.fill,
+        "detrend": "plane", "square": "keep", "tiles": tiles, "fill": request.fill,
         "short_cutoff": request.short_cutoff, "resample": request.resample,
         "physical_size": request.physical_size,
         "file_unit": request.file_unit})

@@ -19,7 +19,8 @@ from validation.surfaces.units import LENGTH_UNITS, PRESSURE_UNITS, format_lengt
 from validation.surfaces.units import parse_length as _length
 
 __all__ = ["PRESSURE_UNITS", "PressureRange", "format_length", "format_pressure",
-           "length_unit_for", "parse_length", "parse_pressure", "parse_pressure_range"]
+           "length_unit_for", "parse_length", "parse_pressure", "parse_pressure_range",
+           "parse_size", "unitless"]
 
 _QUANTITY = re.compile(r"\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(\S*)\s*")
 
@@ -73,6 +74,66 @@ def parse_length(name: str, text: str | float) -> tuple[float, bool]:
     if not math.isfinite(number):
         raise ValueError(f"{name} must be a finite length, got {text!r}")
     return (number * LENGTH_UNITS[unit.strip()], True) if unit else (number, False)
+
+
+def unitless(name: str, text: str, kind: str = "length") -> ValueError:
+    """The error for a number written as text without its unit (``spacing="10"``,
+    ``--e-star 115``): it names the units the number could mean, since a bare string is more
+    often a unit left out than metres or pascals meant."""
+    units, plain = (("nm", "um", "mm"), "metres") if kind == "length" else \
+        (("MPa", "GPa"), "pascals")
+    examples = [repr(f"{str(text).strip()}{unit}") for unit in units]
+    return ValueError(f"{name} needs a unit, e.g. {', '.join(examples[:-1])} or {examples[-1]}, "
+                      f"got {text!r} (in Python a number, not text, is read in {plain})")
+
+
+#: Between a width and a height: x, × or *; a comma after a unit ("10um,7.8um"; "1,5 nm" is a
+#: decimal comma); or a space before the next number ("10um 7.8um").
+_SIZE_SEPARATOR = re.compile(r"\s*[x\u00d7*]\s*|(?<=[^\d\s.,]),\s*|\s+(?=[-+.\d])")
+
+
+def parse_size(name: str, value) -> tuple[float, float]:
+    """A map's physical size as (width, height) [m]: one length for a square map
+    (``"10um"``, ``1e-5``), or its width and height as a pair (``("10um", "7.8um")``,
+    ``(1e-5, 7.8e-6)``) or one string (``"10um x 7.8um"``, ``"10um,7.8um"``,
+    ``"10 x 7.8 um"``: a unit written once, after the height, is the width's too). Numbers
+    are metres; a string needs its unit.
+
+    Raises
+    ------
+    ValueError, TypeError
+        Naming ``name``: not one or two positive lengths, or a string without a unit.
+    """
+    if isinstance(value, (tuple, list)):
+        if len(value) != 2:
+            raise ValueError(f"{name} must be a length or (width, height), got {value!r}")
+        parts = list(value)
+    elif isinstance(value, str):
+        parts = [p for p in _SIZE_SEPARATOR.split(value.strip()) if p]
+        if len(parts) not in (1, 2):
+            raise ValueError(f"{name} must be a length ('10um') or width and height ('10um x "
+                             f"7.8um'), got {value!r}")
+        if len(parts) == 2:
+            bare = [_is_bare(p) for p in parts]
+            if bare[0] and not bare[1]:    # "10 x 7.8 um": the unit once, for both
+                parts[0] = parts[0] + _length(name, parts[1])[1]
+    else:
+        parts = [value, value]
+    sizes = []
+    for part in parts:
+        metres, has_unit = parse_length(name, part)
+        if isinstance(part, str) and not has_unit:
+            raise unitless(name, value if isinstance(value, str) else part)
+        sizes.append(metres)
+    return (sizes[0], sizes[-1])
+
+
+def _is_bare(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
 
 
 @dataclass(frozen=True)
