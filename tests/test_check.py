@@ -107,7 +107,7 @@ def _stiffness_table(load, stiffness, unit="N/m³"):
     from validation.check.physical import PhysicalTable
 
     load = np.asarray(load, float)
-    return PhysicalTable("conductance", "K", unit, load, load * 115e9, np.asarray(stiffness),
+    return PhysicalTable("stiffness", "K", unit, load, load * 115e9, np.asarray(stiffness),
                          0.01 * np.asarray(stiffness), {}, {}, 0.2)
 
 
@@ -186,7 +186,7 @@ def test_one_cap_is_hertz_in_physical_units(checked):
     _, out = checked
     area_fraction = _values(out, "area", "discrete_no_interaction")
     reference = _values(out, "area", "bem")
-    stiffness = _values(out, "conductance", "discrete_no_interaction")
+    stiffness = _values(out, "stiffness", "discrete_no_interaction")
     nominal = (SIDE * 1e-6) ** 2                                  # m^2
     for k, pressure in enumerate(np.geomspace(2e6, 10e6, 3)):
         assert float(reference[k]["pressure_Pa"]) == pytest.approx(pressure, rel=1e-9)

@@ -218,3 +218,13 @@ def test_the_glance_says_where_the_reference_is_in_full_contact():
     assert "Persson holds at every pressure, 2 of them in full contact (1 MPa to 10 MPa)" in lines
     open_ = "\n".join(glance_lines([_table("area", [0.01, 0.1, 0.3], ["holds"] * 3)]))
     assert "Persson holds everywhere." in open_ and "Full contact" not in open_
+
+
+@pytest.mark.parametrize("value, digits, text", [
+    (1567.0, 3, "1570"), (0.00123, 3, "0.00123"), (12.34, 3, "12.3"), (0.5, 3, "0.5"),
+    (999.7, 3, "1000"), (999.7, 4, "999.7"), (2.0, 3, "2"), (123456.0, 3, "123000"),
+    (1e7, 3, "1e+07"), (1.5e-5, 3, "1.5e-05"), (-1567.2, 3, "-1570"), (0.0, 3, "0")])
+def test_numbers_are_written_without_an_exponent_where_a_reader_writes_none(value, digits, text):
+    from validation.surfaces.units import readable
+
+    assert readable(value, digits) == text

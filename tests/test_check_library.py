@@ -65,6 +65,18 @@ def test_a_table_reads_one_field_and_names_the_others_when_asked_for_one_it_lack
     assert "At a glance" in result.glance() and result.glance() in result.markdown()
 
 
+def test_the_stiffness_has_one_name_and_is_found_by_the_other(result, tmp_path):
+    """The check says "stiffness" in its report, its tables, physical.csv and errors.csv; the
+    ensemble reports' "conductance" finds the same table."""
+    assert "stiffness" in result.fields and "conductance" not in result.fields
+    assert result.table("conductance") is result.table("stiffness")
+    assert result.table("stiffness").unit == "N/m³"
+    result.write_report(tmp_path / "out")
+    assert {row["field"] for row in _rows(tmp_path / "out" / "physical.csv")} >= {"stiffness"}
+    quantities = {row["quantity"] for row in _rows(tmp_path / "out" / "errors.csv")}
+    assert "stiffness" in quantities and "conductance" not in quantities
+
+
 def test_the_result_pickles_and_converts_to_data_frames(result):
     again = pickle.loads(pickle.dumps(result))
     assert again.fields == result.fields

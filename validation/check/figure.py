@@ -26,7 +26,7 @@ def _panel(ax, table) -> None:
                 markersize=3, capsize=2, label="BEM (reference, with band)")
     ax.set_xscale("log")
     positive = table.reference[np.isfinite(table.reference)] > 0
-    if positive.any() and table.field in ("area", "conductance"):
+    if positive.any() and table.field in ("area", "stiffness", "conductance"):
         ax.set_yscale("log")
     ax.set_xlabel("nominal pressure p [Pa]" if table.pressure is not None else "p / E*")
     unit = "%" if table.unit == "" else table.unit

@@ -27,7 +27,8 @@ __all__ = ["CLOSED", "closed_pressures", "glance_lines"]
 CLOSED = 0.99
 
 _COLUMNS = {"area": "area A/A0", "separation": "separation d", "mean_gap": "mean gap ū",
-            "conductance": "stiffness K", "leakage": "leakage h_eff"}
+            "stiffness": "stiffness K", "conductance": "stiffness K",
+            "leakage": "leakage h_eff"}
 
 
 def _pressure(table, k: int) -> str:

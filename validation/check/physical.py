@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from validation.check.units import format_pressure
+from validation.surfaces.units import readable
 from validation.judge.verdicts import FAILS, HOLDS
 from validation.common.labels import model_label, model_order
 from validation.common import models
@@ -38,6 +39,8 @@ __all__ = ["FIELDS", "PhysicalTable", "physical_tables", "table_lines", "write_c
 FIELDS = (("area", "Real contact-area fraction A/A0", "fraction"),
           ("separation", "Separation d", "length"),
           ("mean_gap", "Mean gap ū", "length"),
+          ("stiffness", "Interfacial stiffness per unit area K = S/A0", "stiffness"),
+          # a check scene written before the check spoke of stiffness compares the conductance
           ("conductance", "Interfacial stiffness per unit area K = S/A0", "stiffness"),
           ("leakage", "Effective hydraulic aperture h_eff (leak rate ∝ h_eff³)", "length"))
 _SYMBOLS = {HOLDS: "✔", FAILS: "✘"}
@@ -104,18 +107,20 @@ class PhysicalTable:
         return pandas.DataFrame(columns)
 
 
-def _scale(kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
+def _scale(field: str, kind: str, curve, e_star: float | None, unit: str) -> tuple[float, str]:
     """Factor from the curve's field to the physical value, and the unit written."""
     area = curve.nominal_area
     if kind == "fraction":
         return 1.0 / area, ""
     if kind == "length":
         return 1.0, unit
-    # stiffness per unit area from the conductance 2 S / E*: K = conductance E*_scene / (2 A0)
-    factor = curve.e_star / (2.0 * area)
+    # stiffness per unit area K = S / A0 [E*_scene / length], from S or from the conductance
+    # 2 S / E*: K = conductance E*_scene / (2 A0)
+    factor = 1.0 / area if field == "stiffness" else curve.e_star / (2.0 * area)
+    factor /= curve.e_star                  # in units of the scene's E* ...
     if e_star is None:
         return factor, f"E*/{unit}"
-    return factor * e_star / LENGTH_UNITS[unit], "N/m³"
+    return factor * e_star / LENGTH_UNITS[unit], "N/m³"   # ... times E* [Pa], per metre
 
 
 def _value(curve, name: str) -> np.ndarray | None:
@@ -160,7 +165,7 @@ def _table(realization, comparison, entries, field, heading, kind, e_star, unit,
     reference = _value(reference_curve, field)
     if reference is None:
         return None
-    scale, written = _scale(kind, reference_curve, e_star, unit)
+    scale, written = _scale(field, kind, reference_curve, e_star, unit)
     band = _band(field, reference, np.asarray(first.band, dtype=float),
                  realization.sigma) * scale
     index = len(first.tolerances) - 1
@@ -184,14 +189,14 @@ def _tolerance_text(field: str, tolerance: float, sigma: float, unit: str) -> st
     """A tolerance in the measure its field is judged in: relative (per cent), in units of σ
     (and the scan's length unit), or as the logarithm of the ratio (and the factor)."""
     if field in ("separation", "mean_gap"):
-        return f"{tolerance:g} σ = {tolerance * sigma:.3g} {unit}"
+        return f"{tolerance:g} σ = {readable(tolerance * sigma)} {unit}"
     if field == "leakage":
         return f"{tolerance:g} in ln h_eff, a factor {np.exp(tolerance):.3g}"
     return f"{100 * tolerance:g} %"
 
 
 def _number(value: float) -> str:
-    return "–" if not np.isfinite(value) else f"{value:.3g}"
+    return "–" if not np.isfinite(value) else readable(value)
 
 
 def table_lines(table: PhysicalTable) -> list[str]:

@@ -30,7 +30,7 @@ import numpy as np
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
-from validation.surfaces.units import LENGTH_UNITS
+from validation.surfaces.units import LENGTH_UNITS, readable
 from validation.surfaces.wm import surface_statistics
 
 __all__ = ["CHECK_TOLERANCE", "CheckRequest", "DEFAULT_PRESSURES", "INTERFACE_MODELS", "MAX_REFINED_SIDE",
@@ -55,8 +55,10 @@ INTERFACE_MODELS = ("gw", "discrete_no_interaction", "persson", "gw_spectral", "
 #: The models a nominal contact size adds: the finite frame of that square, improved GW with
 #: its uniform term and the interface reference with the square's bulk sink.
 NOMINAL_MODELS = ("improved_gw", "improved_gw_spectral", "bem_nominal")
-#: Quantities the check compares: everything a tribologist asks of a contact.
-QUANTITIES = ("area", "load", "separation", "conductance", "contacts", "leakage")
+#: Quantities the check compares: everything a tribologist asks of a contact. The normal
+#: stiffness is the check's word for what an ensemble report calls the conductance (Barber's
+#: analogy: conductance = 2 S / E*, the same relative error).
+QUANTITIES = ("area", "load", "separation", "stiffness", "contacts", "leakage")
 
 
 @dataclass(frozen=True)
@@ -193,7 +195,7 @@ def scene_text(request: CheckRequest, name: str, *, tiles: int = 1) -> str:
     e_star = ("E* not given: pressures in units of E*" if request.e_star is None
               else f"E* = {request.e_star:.6g} Pa")
     description = (f"The whole scan {request.name} ({rows} x {columns} pixels, spacing "
-                   f"{scan.spacing:.4g} {unit}) as one surface"
+                   f"{readable(scan.spacing, 4)} {unit}) as one surface"
                    + (f", cut into {tiles} tiles" if tiles > 1 else "")
                    + f"; {e_star}; Load = p / E*.")
     lines = _table(None, {"name": name, "title": f"Your surface: {request.name}"

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from validation.surfaces.units import length_in
+from validation.surfaces.units import length_in, readable
 
 __all__ = ["CONVERGED", "Resolution", "cutoff_text", "resolution", "resolution_lines",
            "SUGGESTED_CUTOFF", "suggested_cutoff", "unjudged"]
@@ -35,9 +35,10 @@ CONVERGED = 0.05
 #: Cutoff suggested when the area is not converged, in pixels of the scan (measured on a 1 nm
 #: AFM scan: the area band fell from a median 55 % to 5 % at 8 pixels).
 SUGGESTED_CUTOFF = 8
-_MEASURE = {"area": "relative", "conductance": "relative", "separation": "in units of σ",
+_MEASURE = {"area": "relative", "stiffness": "relative", "conductance": "relative",
+            "separation": "in units of σ",
             "mean_gap": "in units of σ", "leakage": "log of the ratio"}
-_NAMES = {"area": "contact area", "conductance": "stiffness K",
+_NAMES = {"area": "contact area", "stiffness": "stiffness K", "conductance": "stiffness K",
           "separation": "separation", "mean_gap": "mean gap", "leakage": "leakage h_eff"}
 
 
@@ -120,16 +121,16 @@ def resolution_lines(rows: list[Resolution], *, spacing: float, unit: str,
             f"**The contact area is not converged at this resolution.** Solved on every second "
             f"pixel, the reference's area changes by a median {100 * area.half_grid_median:.0f} % "
             f"(up to {100 * area.half_grid_max:.0f} %): the area is set by roughness at the "
-            + (f"scale of the cutoff ({applied * spacing:.3g} {unit})" if applied else
-               f"scale of the pixel ({spacing:.3g} {unit})")
+            + (f"scale of the cutoff ({readable(applied * spacing)} {unit})" if applied else
+               f"scale of the pixel ({readable(spacing)} {unit})")
             + ", so the areas in the tables above are those of the scan as sampled, and a "
               "finer scan of the same surface would give a smaller one. "
             + (f"The scan was low-pass filtered at {cutoff_text(short_cutoff, spacing, unit)}; a "
                f"longer cutoff converges the area further, e.g. `--short-cutoff "
-               f"{suggested:.3g}px` (= {suggested * spacing:.3g} {unit}). " if applied else
+               f"{suggested:.3g}px` (= {readable(suggested * spacing)} {unit}). " if applied else
                f"To compare the theories on a surface whose area the scan resolves, apply a "
                f"short-wavelength cutoff of several pixels, e.g. `--short-cutoff "
-               f"{suggested:.3g}px` (= {suggested * spacing:.3g} {unit}). ")
+               f"{suggested:.3g}px` (= {readable(suggested * spacing)} {unit}). ")
             + "Every model and the reference then see the same surface without the wavelengths "
               "below the cutoff, and the answer holds for that cutoff, which the report names.\n")
     elif area is not None:
@@ -158,7 +159,7 @@ def unjudged(rows: list[Resolution], *, spacing: float, unit: str,
     if area is None or area.converged:
         return {}
     pixels = suggested_cutoff(spacing, unit, short_cutoff)
-    option = (f"short-wavelength cutoff of {pixels:.3g} px = {pixels * spacing:.3g} {unit} "
+    option = (f"short-wavelength cutoff of {pixels:.3g} px = {readable(pixels * spacing)} {unit} "
               f"(`--short-cutoff {pixels:.3g}px`, `short_cutoff=\"{pixels:.3g}px\"`)")
     return {"area": f"not judged at this resolution: on every second pixel the reference's area "
                     f"changes by a median {100 * area.half_grid_median:.0f} % (below); apply a "
@@ -169,4 +170,4 @@ def cutoff_text(short_cutoff: str, spacing: float, unit: str) -> str:
     """A short-wavelength cutoff as the scene key writes it (``"7.8125e-09 m"``) in the scan's
     length ``unit`` and in pixels of ``spacing`` [unit]: ``7.81 nm (8 px)``."""
     length = length_in("short_cutoff", short_cutoff, unit)
-    return f"{length:.3g} {unit} ({length / spacing:.3g} px)"
+    return f"{readable(length)} {unit} ({length / spacing:.3g} px)"

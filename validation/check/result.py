@@ -26,6 +26,7 @@ from validation.check.physical import PhysicalTable, physical_tables, table_line
 from validation.check.request import CheckRequest
 from validation.check.resolution import cutoff_text, resolution, resolution_lines, unjudged
 from validation.check.units import format_pressure
+from validation.surfaces.units import readable
 
 if TYPE_CHECKING:  # the runner's results, imported where they are made
     from matplotlib.figure import Figure
@@ -34,6 +35,8 @@ if TYPE_CHECKING:  # the runner's results, imported where they are made
 
 __all__ = ["CheckResult", "Markdown", "check_sections"]
 
+#: Other names a table is found by (:meth:`CheckResult.table`): the ensemble reports' word.
+FIELD_ALIASES = {"conductance": "stiffness", "stiffness": "conductance"}
 #: Share of filled points above which the report says so in bold.
 MANY_FILLED = 0.05
 
@@ -93,9 +96,10 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
     e_star = ("E* not given: pressures and stiffness are in units of E*" if request.e_star is None
               else f"E* = {format_pressure(request.e_star)}")
     lines = [f"## Your surface: {request.name}\n",
-             f"The whole scan as one surface: {rows} x {columns} pixels of {s.spacing:.4g} {unit}, "
-             f"plane removed, Sq (rms height) = {float(np.std(request.read(unit).heights)):.4g} "
-             f"{unit}, σ (rms of the summit heights) = {realization.sigma:.4g} {unit}, {e_star}"
+             f"The whole scan as one surface: {rows} x {columns} pixels of "
+             f"{readable(s.spacing, 4)} {unit}, plane removed, Sq (rms height) = "
+             f"{readable(float(np.std(request.read(unit).heights)), 4)} {unit}, σ (rms of the "
+             f"summit heights) = {readable(realization.sigma, 4)} {unit}, {e_star}"
              + (f", low-pass filtered at {cutoff_text(request.short_cutoff, s.spacing, unit)}"
                 if request.short_cutoff else ", no short-wavelength cutoff")
              + _filled_text(request)
@@ -105,7 +109,8 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
                "the tolerance.\n"]
     realizations = result.realizations[0.0]
     method = {field: method_band(realizations, field, reference_name)
-              for field in ("area", "separation", "mean_gap", "conductance", "leakage")}
+              for field in ("area", "separation", "mean_gap", "stiffness", "conductance",
+                            "leakage")}
     rows_ = resolution(half_grid, comparison, refined, method)
     glance = glance_lines(tables, unjudged(rows_, spacing=s.spacing, unit=unit,
                                            short_cutoff=request.short_cutoff))
@@ -172,14 +177,16 @@ class CheckResult:
     def table(self, field: str = "area", frame: str | None = None) -> PhysicalTable:
         """The table of one reference field (shown as Markdown in a notebook): pressures, the
         reference with its band, every model's value and verdict. ``frame`` ("interface" or
-        "finite") where the check answers in both; the first frame by default.
+        "finite") where the check answers in both; the first frame by default. The stiffness
+        is also found as ``"conductance"``, the ensemble reports' word for it.
 
         Raises
         ------
         ValueError
             For a field or frame the check did not compare, naming the ones it did.
         """
-        matches = [t for t in self.tables if t.field == field and frame in (None, t.frame)]
+        matches = [t for t in self.tables if t.field in (field, FIELD_ALIASES.get(field))
+                   and frame in (None, t.frame)]
         if not matches:
             known = ", ".join(repr(f) for f in self.fields)
             frames = ", ".join(repr(f) for f in dict.fromkeys(t.frame for t in self.tables))

@@ -18,6 +18,7 @@ from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, 
 from validation.judge.verdicts import (FAILS, HOLDS, SYMBOLS, UNDECIDED, verdict_counts,
                                        verdict_strip)
 from validation.common.labels import compared_label, model_label, model_rank
+from validation.surfaces.units import readable
 
 if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
@@ -103,7 +104,9 @@ def conventions(populations: bool = True) -> list[str]:
         "## How to read the numbers\n",
         "Dimensionless quantities as in the paper: Area = A/L², Load = W/(E* L²), Separation = "
         "d/σ (σ: standard deviation of the summit heights of each realization), Conductance = "
-        "Cρσ/L² = −2 ∂Load/∂Separation. Errors are taken at equal load against the "
+        "Cρσ/L² = −2 ∂Load/∂Separation (C the electrical or thermal contact conductance, ρ "
+        "the sum of the two bodies' resistivities: by Barber's analogy Cρ = 2S/E*, S the "
+        "normal contact stiffness). Errors are taken at equal load against the "
         "boundary-element (BEM) solution of the same realization: relative for area and "
         "conductance, in units of σ for separation, and for the leakage (the effective "
         "hydraulic aperture h_eff, leak rate ∝ h_eff³) the logarithm of the ratio, "
@@ -358,16 +361,16 @@ def surface_text(scene, count: int) -> str:
         scan = read_map(s)
         rows, columns = s.grid
         cutoff = ("" if s.short_cutoff is None else
-                  f", short-wavelength cutoff {s.short_cutoff_length:.4g} {s.unit} (shorter "
+                  f", short-wavelength cutoff {readable(s.short_cutoff_length, 4)} {s.unit} (shorter "
                   f"wavelengths removed before every model and the BEM see the map)")
         family = (f"measured map `{pathlib.Path(s.path).name}` (SHA-256 "
                   f"{file_digest(s.path)[:12]}…), {' × '.join(map(str, scan.heights.shape))}"
                   f"{' (uncropped)' if s.square == 'keep' else ''} pixels of "
-                  f"{scan.spacing:.4g} {s.unit}"
+                  f"{readable(scan.spacing, 4)} {s.unit}"
                   f"{'' if s.resample == 'none' else f' (resampled to the {s.resample} spacing)'}"
                   f", detrend {s.detrend}{cutoff}; realizations: {s.tiles} "
                   f"non-overlapping tile(s) of {rows} × {columns} pixels, "
-                  f"{columns * s.spacing:.4g} × {rows * s.spacing:.4g} {s.unit}; "
+                  f"{readable(columns * s.spacing, 4)} × {readable(rows * s.spacing, 4)} {s.unit}; "
                   f"lengths in {s.unit}")
     return (f"Surface: {family}; E* = {scene.e_star:g}; BEM "
             f"{'periodic' if scene.bem.periodic else 'non-periodic'}, tol {scene.bem.tol:g}.\n")

@@ -249,7 +249,8 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/atlas.py", "check/__init__.py", "check/command.py",
                                  "check/figure.py", "check/physical.py", "check/request.py",
                                  "check/resolution.py", "check/units.py", "check/glance.py",
-                                 "check/frames.py", "check/library.py", "check/result.py"})
+                                 "check/frames.py", "check/library.py", "check/result.py",
+                                 "check/plausible.py"})
 
 
 def report_version() -> str:

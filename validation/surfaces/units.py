@@ -7,12 +7,13 @@ for the check and the reports.
 
 from __future__ import annotations
 
+import math
 import re
 
 from bem.checks import positive
 
 __all__ = ["LENGTH_UNITS", "PRESSURE_UNITS", "format_length", "format_pressure", "length_in",
-           "length_unit_for", "parse_length", "unit_factor"]
+           "length_unit_for", "parse_length", "readable", "unit_factor"]
 
 #: Metres per unit, for every spelling accepted in files and arguments.
 LENGTH_UNITS: dict[str, float] = {
@@ -77,6 +78,23 @@ PRESSURE_UNITS: dict[str, float] = {
 }
 
 
+def readable(value: float, digits: int = 3) -> str:
+    """``value`` to ``digits`` significant figures, as a reader writes it: without an exponent
+    from 0.001 to a million (``1570``, not ``1.57e+03``; ``0.0123``), with one outside."""
+    value = float(value)
+    if not math.isfinite(value) or value == 0.0:
+        return f"{value:g}"
+    magnitude = math.floor(math.log10(abs(value)))
+    if not -3 <= magnitude < 6:
+        return f"{value:.{digits}g}"
+    decimals = digits - 1 - magnitude
+    rounded = round(value, decimals)
+    if rounded != 0 and math.floor(math.log10(abs(rounded))) > magnitude:   # 999.7 -> 1000
+        decimals -= 1
+    text = f"{rounded:.{max(decimals, 0)}f}"
+    return text.rstrip("0").rstrip(".") if "." in text else text
+
+
 def _shown(value: float) -> float:
     """``value`` as printed to three significant figures (so that 0.99999999 MPa, a pressure
     range's end after a round trip through E*, is shown in MPa, not as 1e+03 kPa)."""
@@ -95,11 +113,11 @@ def format_pressure(pascals: float) -> str:
     """A pressure in the prefix that reads best: ``3.2 MPa``."""
     for unit in ("GPa", "MPa", "kPa"):
         if abs(_shown(pascals / PRESSURE_UNITS[unit])) >= 1.0:
-            return f"{pascals / PRESSURE_UNITS[unit]:.3g} {unit}"
-    return f"{pascals:.3g} Pa"
+            return f"{readable(pascals / PRESSURE_UNITS[unit])} {unit}"
+    return f"{readable(pascals)} Pa"
 
 
 def format_length(metres: float) -> str:
     """A length in the unit that reads best: ``20 nm``."""
     unit = length_unit_for(metres)
-    return f"{metres / LENGTH_UNITS[unit]:.3g} {unit}"
+    return f"{readable(metres / LENGTH_UNITS[unit])} {unit}"
