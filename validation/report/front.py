@@ -24,13 +24,13 @@ if TYPE_CHECKING:  # the report imports this module
     from validation.judge.analysis import Analysis
     from validation.run.runner import SceneResult
 
-__all__ = ["HEADLINE_INTRO", "findings_overview", "front_page", "headline_cell_text", "headline_table",
+__all__ = ["HEADLINE_INTRO", "findings_overview", "headline_intro", "front_page", "headline_cell_text", "headline_table",
            "largest_tolerance", "precision_section", "scene_page", "scenes_section"]
 
 HEADLINE_INTRO = (
-    "Each model's error against the BEM where the BEM's contact area is 0.1 %, 1 %, 10 % and "
-    "30 % of the nominal area (the fractions the load paths reach), interpolated along each "
-    "realization's path in ln(area fraction). A cell reads **mean error (95 % interval over "
+    "Each model's error against the BEM where the BEM's contact area is {fractions} of the "
+    "nominal area (those of 0.1 %, 1 %, 10 % and 30 % that every realization's load path "
+    "reaches), interpolated along each realization's path in ln(area fraction). A cell reads **mean error (95 % interval over "
     "realizations) mark [interval holding 90 % of single surfaces] mark**, the marks ✔ holds, "
     "✘ fails, ? undecided at the scene's largest tolerance, on the mean and per surface; for one "
     "surface (one realization) it reads **error ± reference band mark**; an undecided mean says "
@@ -80,6 +80,16 @@ def headline_cell_text(cell: HeadlineCell | None, index: int) -> str:
                  f"{error_text(cell.surface_high, q, unit=False)}] "
                  f"{SYMBOLS.get(cell.surface_verdicts[index], '?')}")
     return text
+
+
+def headline_intro(analyses: list[Analysis]) -> str:
+    """:data:`HEADLINE_INTRO` with the fractions the headline tables show (those some scene's
+    paths reach; a quick run's shorter paths may not reach 30 %)."""
+    fractions = sorted({c.fraction for a in analyses for cells in a.headlines.values()
+                        for c in (cells or ())})
+    named = [f"{100 * f:g} %" for f in fractions] or ["none of the headline fractions"]
+    text = named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
+    return HEADLINE_INTRO.replace("{fractions}", text)
 
 
 def headline_table(analysis: Analysis) -> list[str]:
@@ -299,7 +309,7 @@ def front_page(figures, analyses: list[Analysis], rows: dict, *, one_scan: bool 
     judged = [a for a in analyses if a.comparisons]
     if judged:
         lines += ["## Headline: each model's error at fixed contact-area fractions\n",
-                  HEADLINE_INTRO]
+                  headline_intro(judged)]
     for analysis in judged:
         scene = analysis.result.scene
         lines.append(f"### [{scene.title}]({scene_page(scene.name)})\n")

@@ -363,8 +363,14 @@ class Scene:
         bem = replace(self.bem, max_grid=self.quick.max_grid)
         quantities = self.quantities if self.quick.quantities is None else tuple(
             q for q in self.quantities if q in self.quick.quantities)
+        ran = (f"Run in quick mode: {realizations} realization(s)"
+               + ("" if surface.family == "file" else f" on {surface.n} × {surface.n} grids")
+               + f", {loads.count} loads, no finer reference unless [quick] max_grid asks for "
+                 f"one; the description above is the scene as written.")
         return replace(self, surface=surface, loads=loads, quantities=quantities, bem=bem,
-                       realizations=realizations, max_realizations=budget)
+                       realizations=realizations, max_realizations=budget,
+                       description=self.description if "Run in quick mode" in self.description
+                       else (self.description.rstrip() + "\n\n" + ran).strip())
 
 
 def scene_warnings(scene: Scene) -> list[str]:
