@@ -4,7 +4,7 @@
 validation: the module docstring, a summary table, then every public function and class defined
 in the module (public: no leading underscore; private modules included). Modules are found with
 :mod:`pkgutil` and imported by name, so a package attribute that shadows a module (``asperity``
-re-exports the function ``dimensionless`` of the module ``asperity.dimensionless``) is no trap.
+re-exports the function ``dimensionless`` of the module ``asperity.gw.dimensionless``) is no trap.
 
 ``python docs/api_pages.py BUILD_DIR`` after ``python -m sphinx -b html docs BUILD_DIR`` reads
 the site's ``objects.inv`` and exits 1, listing them, if a public function or class is missing.

@@ -25,7 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from bem.device import array_module
+from bem.elastic.device import array_module
 from validation.check.request import CheckRequest, scene_text
 from validation.check.result import CheckResult
 from validation.check.units import parse_length, parse_pressure, parse_pressure_range
@@ -262,8 +262,8 @@ def run_request(request: CheckRequest, scenes, scene_text_: str, *, executor=Non
 
 @contextlib.contextmanager
 def _wisdom(cache_dir: str | None):
-    """FFTW wisdom kept with the cache for the run (bem.wisdom), as the command does."""
-    from bem.wisdom import WISDOM_VARIABLE
+    """FFTW wisdom kept with the cache for the run (bem.elastic.wisdom), as the command does."""
+    from bem.elastic.wisdom import WISDOM_VARIABLE
 
     before = os.environ.get(WISDOM_VARIABLE)
     os.environ[WISDOM_VARIABLE] = cache_dir or ""

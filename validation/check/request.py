@@ -93,7 +93,7 @@ class CheckRequest:
         from it keeps its own copy).
     device : str
         Where the reference's contact problems are solved, ``"cpu"`` or ``"gpu"``
-        (:mod:`bem.device`; the scene's ``[bem] device``).
+        (:mod:`bem.elastic.device`; the scene's ``[bem] device``).
     """
 
     path: pathlib.Path

@@ -23,9 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from asperity.spectral_summits import height_derivatives, profile_moments
+from asperity.spectral.spectral_summits import height_derivatives, profile_moments
 
-from bem import checks
+from bem.common import checks
 
 __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistics"]
 
