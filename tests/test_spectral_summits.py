@@ -16,7 +16,8 @@ from asperity import (GreenwoodWilliamson, ImprovedGreenwoodWilliamson, Isotropi
                       SpectralMoments, find_summits, spectral_moments, spectral_summits)
 from asperity.spectral.spectral_summits import SUMMIT_VARIANCE_CONSTANT
 from validation.surfaces.self_affine import self_affine_surface
-from validation.surfaces.wm import surface_statistics, wm_surface
+from validation.surfaces.statistics import surface_statistics
+from validation.surfaces.wm import wm_surface
 
 
 @pytest.mark.parametrize("m0, m2, m4", [(1.0, 1.0, 10.0), (2e-12, 3e-4, 7e4), (1.0, 1.0, 1.5)])

@@ -16,7 +16,7 @@ exception from inside numpy or the standard library escape.
 
 The checks live in :mod:`bem.common.scalar_checks` (numbers, names, objects) and
 :mod:`bem.common.array_checks` (arrays); this module gathers them under one name
-(``from bem import checks``) and adds those of a contact problem: magnitudes in the range the
+(``from bem.common import checks``) and adds those of a contact problem: magnitudes in the range the
 boundary-element solver supports.
 """
 

@@ -31,7 +31,7 @@ from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.units import LENGTH_UNITS
-from validation.surfaces.wm import surface_statistics
+from validation.surfaces.statistics import surface_statistics
 
 __all__ = ["CHECK_TOLERANCE", "CheckRequest", "DEFAULT_PRESSURES", "INTERFACE_MODELS", "MAX_REFINED_SIDE",
            "NOMINAL_MODELS", "QUANTITIES", "scene_text"]

@@ -27,7 +27,7 @@ import numpy as np
 from asperity.spectral.spectrum import power_spectrum_2d
 from bem.common import checks
 from bem.common.checks import integer, positive, real_number
-from validation.surfaces.wm import surface_statistics
+from validation.surfaces.statistics import surface_statistics
 
 __all__ = [
     "power_spectrum",
