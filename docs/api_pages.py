@@ -59,10 +59,13 @@ def module_page(name: str, submodules: list[str]) -> str:
 
 def write_pages(folder: pathlib.Path) -> list[str]:
     """Write ``<module>.rst`` for every module into ``folder`` (only files whose text changed,
-    so incremental builds stay incremental); returns the top-level package page names."""
+    so incremental builds stay incremental) and remove the pages of modules that are gone (a
+    moved module's old page would fail to import); returns the top-level package page names."""
     folder.mkdir(parents=True, exist_ok=True)
+    pages = set()
     for package in PACKAGES:
         names = module_names(package)
+        pages.update(f"{name}.rst" for name in names)
         for name in names:
             depth = name.count(".") + 1
             children = [other for other in names
@@ -71,6 +74,9 @@ def write_pages(folder: pathlib.Path) -> list[str]:
             text = module_page(name, children)
             if not page.exists() or page.read_text(encoding="utf-8") != text:
                 page.write_text(text, encoding="utf-8")
+    for page in folder.glob("*.rst"):
+        if page.name not in pages:
+            page.unlink()
     return list(PACKAGES)
 
 

@@ -159,3 +159,13 @@ def test_every_public_name_is_importable_from_its_package(package):
         origin = getattr(value, "__module__", None)
         if origin is not None and callable(value):
             assert origin.split(".")[0] in {package, "bem"}, (name, origin)
+
+
+def test_the_api_reference_drops_the_pages_of_moved_modules(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(ROOT / "docs"))
+    from api_pages import write_pages
+
+    (tmp_path / "bem.path.rst").write_text("bem.path\n========\n", encoding="utf-8")
+    write_pages(tmp_path)
+    assert not (tmp_path / "bem.path.rst").exists()
+    assert (tmp_path / "bem.contact.path.rst").is_file() and (tmp_path / "bem.rst").is_file()
