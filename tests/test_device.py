@@ -207,7 +207,7 @@ def test_the_device_is_asked_for_everywhere_and_said_clearly(monkeypatch, tmp_pa
     scene = {"name": "g", "surface": {"family": "self-affine", "hurst": 0.8, "rms_slope": 0.1,
                                       "n": 64}, "bem": {"device": "gpu"}}
     assert parse_scene(scene).bem.device == "gpu"
-    with pytest.raises(ValueError, match="bem.elastic.device' must be one of cpu, gpu; got 'tpu'"):
+    with pytest.raises(ValueError, match="bem.device' must be one of cpu, gpu; got 'tpu'"):
         parse_scene({**scene, "bem": {"device": "tpu"}})
     (tmp_path / "g.toml").write_text('name = "g"\n[surface]\nfamily = "self-affine"\n'
                                      'hurst = 0.8\nrms_slope = 0.1\nn = 64\n'

@@ -116,7 +116,7 @@ def test_a_figure_drawn_before_from_the_same_data_comes_from_the_cache(results, 
     first = sweep.realizations[2.2][0]
     bem = first.curves["bem"]
     changed = dataclasses.replace(first, curves={**first.curves, "bem": dataclasses.replace(
-        bem, area=bem.contact.area * 1.01)})
+        bem, area=bem.area * 1.01)})
     moved = dataclasses.replace(sweep, realizations={
         **sweep.realizations, 2.2: [changed] + sweep.realizations[2.2][1:]})
     validation.report.write.write_report([moved, theory], tmp_path / "third", cache_dir=cache)

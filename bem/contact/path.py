@@ -182,12 +182,13 @@ def contact_curve(
         How the area is read from the contact set (:func:`bem.contact.area.contact_area`):
         ``"perimeter"`` (default), ``"subpixel"`` or ``"pixels"``.
     error_estimate : bool
-        Also estimate each point's discretisation error (:func:`bem.contact.path_errors.error_estimates`): the same
-        heights sampled every second point (``heights[::2, ::2]``, spacing 2h, same window) are
-        solved at the same loads or separations, first: their solutions are then the fine
-        points' nested starts, which the path would otherwise solve again to a looser tolerance
-        (16-point path at 512^2: the fine iterations unchanged, 3472 FFT pairs of all sizes
-        against 4544 when the estimate came after the path).
+        Also estimate each point's discretisation error
+        (:func:`~bem.contact.path_errors.error_estimates`): the same heights sampled every second
+        point (``heights[::2, ::2]``, spacing 2h, same window) are solved at the same loads or
+        separations, first: their solutions are then the fine points' nested starts, which the
+        path would otherwise solve again to a looser tolerance (16-point path at 512^2: the fine
+        iterations unchanged, 3472 FFT pairs of all sizes against 4544 when the estimate came
+        after the path).
     mirror : bool
         With ``periodic``: the heights are a quadrant of the period of their even (mirror)
         extension, solved on the quadrant by cosine transforms (:class:`bem.HalfSpace`
