@@ -7,14 +7,14 @@ distance r lowers the surface by P / (pi E* r). Lengths in any consistent unit, 
 unit of E*.
 """
 
-from bem.curve import CURVE_QUANTITIES, ContactCurve
-from bem.flow import hydraulic_aperture
-from bem.halfspace import HalfSpace
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve
+from bem.leakage.flow import hydraulic_aperture
+from bem.elastic.halfspace import HalfSpace
 from bem.interface import InterfaceModel, NominalContactModel
 from bem.model import BoundaryElementModel, ContactModel
-from bem.path import contact_curve, count_contacts
-from bem.solver import ContactSolution, solve_contact
-from bem.warnings import ConvergenceWarning
+from bem.contact.path import contact_curve, count_contacts
+from bem.contact.solver import ContactSolution, solve_contact
+from bem.common.warnings import ConvergenceWarning
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES", "HalfSpace", "solve_contact", "ContactSolution",
            "contact_curve", "count_contacts", "ConvergenceWarning", "ContactModel",

@@ -15,7 +15,7 @@ effect). :class:`InterfaceModel` solves that problem for a height map in one of 
   surface): its even (mirror) extension, 2N x 2M points of period twice the map, solved on the
   periodic half-space. The extension is continuous across the map's edges (no height step, only
   a slope kink along the mirror lines), its height and slope distributions are the map's, and
-  its power spectrum is the one :func:`asperity.spectrum.power_spectrum_2d` gives the map with
+  its power spectrum is the one :func:`asperity.spectral.spectrum.power_spectrum_2d` gives the map with
   ``window="mirror"`` (Persson's theory is computed from the same spectrum). By symmetry the
   pressure and displacement of the extension are even too, so its period is solved on the map
   itself: the half-space operator of the quadrant is a product of type-II cosine transforms
@@ -46,8 +46,8 @@ from typing import Any, Iterable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem import checks
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.common import checks
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve
 from bem.model import BoundaryElementModel, check_points
 
 __all__ = ["EXTENSIONS", "MIRROR_ERROR", "InterfaceModel", "NominalContactModel", "method_error",

@@ -37,7 +37,7 @@ own equations at the returned point -- the number its ``tol`` is compared with:
   conjugate-gradient iteration, the left-hand side of its stopping rule
   (:func:`bem.solve_contact`, ``ContactSolution.residual``).
 * Discrete model: the largest violation of displacement compatibility over the summits, relative
-  to the largest interference (:mod:`asperity.discrete`), and under load control also
+  to the largest interference (:mod:`asperity.discrete.model`), and under load control also
   ``|sum P - W| / W``.
 * Closed forms (GW, improved GW at a load) have no residual; improved GW at a separation solves
   one scalar equation per point and reports only ``converged``.
@@ -52,9 +52,9 @@ from typing import Any, Iterable, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import ArrayLike
 
-from bem import checks
-from bem.checks import points as check_points  # loads and separations of every model
-from bem.curve import CURVE_QUANTITIES, ContactCurve, check_quantities
+from bem.common import checks
+from bem.common.checks import points as check_points  # loads and separations of every model
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve, check_quantities
 
 __all__ = ["ContactModel", "BoundaryElementModel", "check_points", "check_quantities",
            "empty_curve"]
@@ -125,8 +125,8 @@ class BoundaryElementModel:
     def __init__(self, heights: ArrayLike, spacing: float, **options: Any) -> None:
         import inspect
 
-        from bem.path import contact_curve
-        from bem.solver import MINIMUM_GRID
+        from bem.contact.path import contact_curve
+        from bem.contact.solver import MINIMUM_GRID
 
         keywords = inspect.signature(contact_curve).parameters
         unknown = sorted(set(options) - set(keywords) | set(options) & _PER_CALL)
@@ -138,7 +138,7 @@ class BoundaryElementModel:
         heights, spacing, *_ = checks.contact_problem(heights, spacing, **given,
                                                       minimum_grid=MINIMUM_GRID)
         if "device" in options:   # a GPU asked for where there is none: now, not at the first solve
-            from bem.device import array_module
+            from bem.elastic.device import array_module
 
             array_module(options["device"])
         heights.setflags(write=False)
@@ -163,7 +163,7 @@ class BoundaryElementModel:
         return self._solve(values, "separations", quantities)
 
     def _solve(self, values: np.ndarray, keyword: str, quantities) -> ContactCurve:
-        from bem.path import contact_curve
+        from bem.contact.path import contact_curve
 
         want = check_quantities(quantities)
         if values.size == 0:

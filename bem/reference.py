@@ -8,7 +8,8 @@ forces in pressure x length^2.
 Contents
 --------
 * :func:`love_pixel_displacement`: Love's (1929) surface displacement under uniform pressure on
-  a rectangle, in the asinh form that is finite everywhere.
+  a rectangle, in the asinh form that is finite everywhere (the pixel kernel of the operator,
+  defined in :mod:`bem.elastic.kernel`).
 * :data:`UNIFORM_SQUARE_MEAN_DEFLECTION`: mean deflection of a uniformly loaded square, in units
   of p L / E* (0.9464020, the ``m`` of the improved GW theory).
 * :func:`hertz`: sphere on a flat (Hertz): contact radius, approach, peak pressure, pressure and
@@ -26,7 +27,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem.checks import positive as _positive
+from bem.common.checks import positive as _positive
+from bem.elastic.kernel import love_pixel_displacement
 
 __all__ = [
     "love_pixel_displacement",
@@ -49,60 +51,6 @@ UNIFORM_SQUARE_MEAN_DEFLECTION = 4.0 / math.pi * (math.log(1.0 + math.sqrt(2.0))
 #: Deflection at the centre of a uniformly loaded square of side L, in units of p L / E*:
 #: ``4 ln(1 + sqrt 2) / pi``.
 UNIFORM_SQUARE_CENTRE_DEFLECTION = 4.0 * math.log(1.0 + math.sqrt(2.0)) / math.pi
-
-
-
-
-
-def _love_f(X: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """``f(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|)``, each term 0 where its denominator is 0."""
-    abs_x, abs_y = np.abs(X), np.abs(Y)
-    ratio_yx = np.divide(Y, abs_x, out=np.zeros_like(abs_x), where=abs_x > 0)
-    ratio_xy = np.divide(X, abs_y, out=np.zeros_like(abs_y), where=abs_y > 0)
-    return X * np.arcsinh(ratio_yx) + Y * np.arcsinh(ratio_xy)
-
-
-def love_pixel_displacement(x, y, *, half_width_x: float, half_width_y: float | None = None,
-                            pressure: float = 1.0, e_star: float = 1.0) -> np.ndarray:
-    """Surface displacement of a half-space under uniform pressure on a rectangle (Love 1929).
-
-    Uniform pressure ``p`` on ``|x'| <= a, |y'| <= b`` lowers the surface at ``(x, y)`` by::
-
-        u(x, y) = p / (pi E*) [f(x+a, y+b) - f(x+a, y-b) - f(x-a, y+b) + f(x-a, y-b)]
-        f(X, Y) = X asinh(Y/|X|) + Y asinh(X/|Y|)      (each term 0 where its denominator is 0)
-
-    (docs/theory.md, eq. T23). This is the integral of the point-force Green's function
-    ``P / (pi E* r)`` over the rectangle. The asinh form is used because the textbook log form
-    ``X ln(Y + r) + Y ln(X + r)`` evaluates ``0 * log(0)`` (NaN) on some grid points.
-
-    Parameters
-    ----------
-    x, y : array_like
-        Field point coordinates [length], relative to the rectangle's centre; broadcast together.
-    half_width_x, half_width_y : float
-        Half-widths a and b of the loaded rectangle [length]; ``half_width_y`` defaults to
-        ``half_width_x`` (a square pixel).
-    pressure : float
-        Uniform pressure p [pressure], positive in compression.
-    e_star : float
-        Composite modulus E* [pressure].
-
-    Returns
-    -------
-    numpy.ndarray
-        Displacement u [length] into the body (positive under compression), shape of the
-        broadcast ``x, y``. Unit square (a = b = 1/2), p = E* = 1: 1.1221997 at the centre,
-        0.5610999 at a corner.
-    """
-    a = _positive("half_width_x", half_width_x)
-    b = a if half_width_y is None else _positive("half_width_y", half_width_y)
-    e_star = _positive("e_star", e_star)
-    x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
-        raise ValueError("x and y must be finite")
-    total = (_love_f(x + a, y + b) - _love_f(x + a, y - b)
-             - _love_f(x - a, y + b) + _love_f(x - a, y - b))
-    return float(pressure) / (math.pi * e_star) * total
 
 
 @dataclass(frozen=True)

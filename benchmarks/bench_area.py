@@ -2,11 +2,11 @@
 
 One continuous WM surface per D (D = 2.05, 2.5, 2.95; rms slope 0.1 fixed on the 1024 grid,
 seed 9173, L = 1, non-periodic, tol 1e-9) is solved at Load = W/(E* L^2) = 8e-4, 3e-3, 1e-2,
-3e-2 on N = 128, 256, 512, 1024. For each area estimator of :mod:`bem.area` the table gives the
+3e-2 on N = 128, 256, 512, 1024. For each area estimator of :mod:`bem.contact.area` the table gives the
 error against a converged area, the Richardson extrapolation of pixel counts at 512/1024
 (``2 A_1024 - A_512``, first order), cross-checked against the same extrapolation of the
 perimeter-corrected estimator (printed as ``check``). Then the error certificate of
-``bem.contact_curve(error_estimate=True)`` (:func:`bem.path.error_estimates`: twice
+``bem.contact_curve(error_estimate=True)`` (:func:`bem.contact.path_errors.error_estimates`: twice
 ``|Q_N - Q_(N/2)|``, for the area at least 0.015 h times the staircase perimeter)
 against the true error of area, stiffness, separation and mean gap at N = 256 and 512, and how
 often it bounds it.
@@ -31,8 +31,8 @@ import time
 import numpy as np
 
 import bem
-from bem.area import AREA_ESTIMATORS, YASTREBOV_COEFFICIENT, contact_area, contact_edges
-from bem.path import ERROR_FACTOR, PERIMETER_COEFFICIENT_UNCERTAINTY
+from bem.contact.area import AREA_ESTIMATORS, YASTREBOV_COEFFICIENT, contact_area, contact_edges
+from bem.contact.path_errors import ERROR_FACTOR, PERIMETER_COEFFICIENT_UNCERTAINTY
 from validation import wm_surface
 
 DIMENSIONS = (2.05, 2.5, 2.95)
@@ -123,7 +123,7 @@ def mesh_table(cache: pathlib.Path, sizes: tuple[int, ...], dimensions=DIMENSION
             for name in ("area", "stiffness", "separation", "mean_gap"):
                 key = "perimeter" if name == "area" else name
                 estimate = ERROR_FACTOR * np.abs(fine[key] - coarse[key])
-                if name == "area":  # the rule of bem.path.error_estimates
+                if name == "area":  # the rule of bem.contact.path_errors.error_estimates
                     estimate = np.maximum(estimate, PERIMETER_COEFFICIENT_UNCERTAINTY * fine["edges"])
                 true = np.abs(fine[key] - truth[name])
                 certificate.setdefault((name, n), []).append(

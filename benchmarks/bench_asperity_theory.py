@@ -14,7 +14,7 @@ import numpy as np
 
 from asperity import (GreenwoodWilliamson, ImprovedGreenwoodWilliamson, gw_integral,
                       holm_greenwood)
-from asperity.gw_functions import gw_integrals
+from asperity.common.gw_functions import gw_integrals
 
 
 def timed(function, repeats: int) -> tuple[float, float]:

@@ -42,8 +42,8 @@ import tracemalloc
 import numpy as np
 
 import bem
-import bem.fft_threads
-from bem.solver import DEFAULT_TOLERANCE
+import bem.elastic.fft_threads
+from bem.contact.solver import DEFAULT_TOLERANCE
 from validation import wm_surface
 
 LOADS = (2e-3, 1e-2, 3e-2)
@@ -65,7 +65,7 @@ def median_time(function, repeat: int) -> float:
 
 def fft_pair_ms(operator: bem.HalfSpace) -> float:
     """One real FFT pair of the operator's convolution grid [ms], median of 7."""
-    fft = bem.fft.RealFFT2(operator.convolution_shape, threads=operator.threads,
+    fft = bem.elastic.fft.RealFFT2(operator.convolution_shape, threads=operator.threads,
                            planner_effort=operator.planner_effort)
     fft.real_buffer[...] = np.random.default_rng(0).uniform(size=fft.shape)
 
@@ -163,8 +163,8 @@ def main() -> None:
         tamaas_version = tamaas.__version__
     except ImportError:
         tamaas_version = None
-    print(f"FFT backend: {'pyfftw' if bem.fft.have_pyfftw() else 'scipy'}, "
-          f"CPUs {bem.fft_threads.default_threads()}, load average {os.getloadavg()[0]:.1f}, "
+    print(f"FFT backend: {'pyfftw' if bem.elastic.fft.have_pyfftw() else 'scipy'}, "
+          f"CPUs {bem.elastic.fft_threads.default_threads()}, load average {os.getloadavg()[0]:.1f}, "
           f"tol {DEFAULT_TOLERANCE:g}, {'plain' if args.plain else 'preconditioned, nested'}; "
           f"Tamaas: {tamaas_version or 'not importable'}")
     header = ("| N | half-space | load | area | iterations | time (s) | FFT pair (ms) "

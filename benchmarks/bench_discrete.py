@@ -10,7 +10,7 @@ at arbitrary positions: blocked direct sums):
 * the time of one load step solved cold (at_load of the heaviest load alone) and of a 30-step
   load path, with interaction, stiffness included: W / (E* L^2) = geomspace(1e-6, 1e-3, 30),
   and for the random lattice set also geomspace(1e-5, 1e-2, 30) (thousands of contacts; at
-  arbitrary positions that many contacts are slow: see asperity.interaction);
+  arbitrary positions that many contacts are slow: see asperity.discrete.interaction);
 * contacts, area fraction and Newton iterations at the end of the path;
 * the largest relative difference between the lattice FFT and the direct interaction sum.
 

@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 import bem
-from bem.device import array_module
+from bem.elastic.device import array_module
 from validation import self_affine_surface
 
 PRESSURE = 0.005

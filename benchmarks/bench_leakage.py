@@ -9,7 +9,7 @@ aperture is solved for flow along x, periodic and not, by
 * ``direct``: ``bem.hydraulic_aperture`` with every gap solved by sparse LU (SuperLU,
   minimum-degree order on the symmetric pattern, no pivoting);
 * ``multigrid``: ``bem.hydraulic_aperture`` with every gap solved by conjugate gradients
-  preconditioned by the multigrid of ``bem.flow_solver`` (2 x 2 blocks of pixels, split where
+  preconditioned by the multigrid of ``bem.leakage.flow_solver`` (2 x 2 blocks of pixels, split where
   their connections are weak, as aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
   for a periodic gap the algebraic coarsening of ``amg-evo``; stopped when the dissipation is
   known);
@@ -20,7 +20,7 @@ aperture is solved for flow along x, periodic and not, by
 Each row gives the time (matrix assembly and the multigrid's setup included), the iterations
 where known and the aperture's relative difference from ``direct``. Solved gaps are cached in
 ``--cache`` (default bench-out/leakage-cache; not committed). ``bem.hydraulic_aperture`` solves
-gaps up to ``bem.flow_solver.DIRECT_SOLVE_LIMIT`` cells (128^2; periodic ones up to 1024^2)
+gaps up to ``bem.leakage.flow_solver.DIRECT_SOLVE_LIMIT`` cells (128^2; periodic ones up to 1024^2)
 directly and larger ones by ``multigrid``; the measured rows are in docs/guide/benchmarks.md,
 "The leakage reference".
 
@@ -37,7 +37,7 @@ import time
 import numpy as np
 
 import bem
-from bem.flow import _dissipation, _flow_system, spanning_cells
+from bem.leakage.flow import _dissipation, _flow_system, spanning_cells
 from validation import self_affine_surface
 
 LOADS = (0.003, 0.008, 0.015)
@@ -61,17 +61,17 @@ def contact_gap(n: int, load: float, cache: pathlib.Path) -> np.ndarray:
 def project_solver(gap: np.ndarray, periodic: bool, direct: bool) -> float:
     """h_eff / max(gap) by ``bem.hydraulic_aperture`` with every gap solved by sparse LU
     (``direct``) or by its multigrid."""
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     names = ("DIRECT_SOLVE_LIMIT", "PERIODIC_DIRECT_SOLVE_LIMIT")
-    limits = [getattr(bem.flow_solver, name) for name in names]
+    limits = [getattr(bem.leakage.flow_solver, name) for name in names]
     for name in names:
-        setattr(bem.flow_solver, name, gap.size if direct else 0)
+        setattr(bem.leakage.flow_solver, name, gap.size if direct else 0)
     try:
         return bem.hydraulic_aperture(gap, 1.0, periodic=periodic) / gap.max()
     finally:
         for name, limit in zip(names, limits):
-            setattr(bem.flow_solver, name, limit)
+            setattr(bem.leakage.flow_solver, name, limit)
 
 
 def algebraic_multigrid(gap: np.ndarray, periodic: bool) -> tuple[float, int]:
@@ -82,7 +82,7 @@ def algebraic_multigrid(gap: np.ndarray, periodic: bool) -> tuple[float, int]:
     matrix, rhs, faces, boundary = _flow_system(k, spanning_cells(k > 0, periodic=periodic),
                                                 periodic)
     scale = 1.0 / np.sqrt(matrix.diagonal())
-    matrix.scale(scale)   # (the system held by its faces, bem.face_matrix)
+    matrix.scale(scale)   # (the system held by its faces, bem.leakage.face_matrix)
     scaled = matrix.tocsr()
     solver = pyamg.smoothed_aggregation_solver(scaled, B=(1.0 / scale)[:, None],
                                                strength="evolution", coarse_solver="splu")

@@ -1,7 +1,7 @@
 """Benchmark of the mirror (interface) half-space product: one real FFT pair of the folded
-quadrant (:class:`bem.mirror_product.MirrorProduct`, what :class:`bem.HalfSpace` uses with
+quadrant (:class:`bem.elastic.mirror_product.MirrorProduct`, what :class:`bem.HalfSpace` uses with
 ``mirror=True`` on even grids) against type-II/III cosine transforms of the quadrant
-(:class:`bem.fft.CosineTransform2`, FFTW's REDFT10/01 where pyFFTW is installed, scipy's
+(:class:`bem.elastic.fft.CosineTransform2`, FFTW's REDFT10/01 where pyFFTW is installed, scipy's
 otherwise, times the same multiplier).
 
 Per grid N and FFT thread count it prints the median time of one product (of 15, after one
@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 from bem import HalfSpace
-from bem.fft import CosineTransform2
+from bem.elastic.fft import CosineTransform2
 
 
 def median_ms(function, repeat: int = 15) -> float:

@@ -78,10 +78,10 @@ class FFTCounter:
 
     @contextlib.contextmanager
     def active(self):
-        import bem.fft
+        import bem.elastic.fft
 
         originals = {}
-        for cls in (bem.fft.RealFFT2, bem.fft.PaddedRealFFT2):
+        for cls in (bem.elastic.fft.RealFFT2, bem.elastic.fft.PaddedRealFFT2):
             original = cls.execute_forward
             originals[cls] = original
 
@@ -306,7 +306,7 @@ def main() -> None:
     import validation
 
     source = pathlib.Path(validation.__file__).resolve().parent.parent
-    print(f"source {source}; FFT backend {'pyfftw' if bem.fft.have_pyfftw() else 'scipy'}, "
+    print(f"source {source}; FFT backend {'pyfftw' if bem.elastic.fft.have_pyfftw() else 'scipy'}, "
           f"threads {args.threads}, load average {load_average():.1f}", flush=True)
     rows: dict[str, str] = {}
     if "report" not in skip:

@@ -3,7 +3,7 @@
 One WM surface per D (D = 2.05, 2.95; rms slope 0.1, seed 5, L = 1, non-periodic, 256 x 256 by
 default) is solved along Load = W/(E* L^2) = 1e-5 ... 1e-2 (8 points) at solver tolerances
 (T25) 1e-3 ... 1e-8 and at 1e-12, twice: with the stiffness (whose solve waits for a contact
-set that no longer changes, ``bem.constrained_cg``) and without it (Polonsky-Keer's rule alone,
+set that no longer changes, ``bem.contact.constrained_cg``) and without it (Polonsky-Keer's rule alone,
 the pixels that still join or leave counted in the pressure change). The table gives, per
 tolerance, the largest solver error over the points, relative for area and conductance and in
 units of sigma (the rms height here, a stand-in for the summits' one) for separation and mean

@@ -4,7 +4,7 @@
 validation: the module docstring, a summary table, then every public function and class defined
 in the module (public: no leading underscore; private modules included). Modules are found with
 :mod:`pkgutil` and imported by name, so a package attribute that shadows a module (``asperity``
-re-exports the function ``dimensionless`` of the module ``asperity.dimensionless``) is no trap.
+re-exports the function ``dimensionless`` of the module ``asperity.gw.dimensionless``) is no trap.
 
 ``python docs/api_pages.py BUILD_DIR`` after ``python -m sphinx -b html docs BUILD_DIR`` reads
 the site's ``objects.inv`` and exits 1, listing them, if a public function or class is missing.
@@ -59,10 +59,13 @@ def module_page(name: str, submodules: list[str]) -> str:
 
 def write_pages(folder: pathlib.Path) -> list[str]:
     """Write ``<module>.rst`` for every module into ``folder`` (only files whose text changed,
-    so incremental builds stay incremental); returns the top-level package page names."""
+    so incremental builds stay incremental) and remove the pages of modules that are gone (a
+    moved module's old page would fail to import); returns the top-level package page names."""
     folder.mkdir(parents=True, exist_ok=True)
+    pages = set()
     for package in PACKAGES:
         names = module_names(package)
+        pages.update(f"{name}.rst" for name in names)
         for name in names:
             depth = name.count(".") + 1
             children = [other for other in names
@@ -71,6 +74,9 @@ def write_pages(folder: pathlib.Path) -> list[str]:
             text = module_page(name, children)
             if not page.exists() or page.read_text(encoding="utf-8") != text:
                 page.write_text(text, encoding="utf-8")
+    for page in folder.glob("*.rst"):
+        if page.name not in pages:
+            page.unlink()
     return list(PACKAGES)
 
 

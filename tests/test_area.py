@@ -1,4 +1,4 @@
-"""Contact-area estimators (bem.area): exact areas of Hertz and Westergaard contacts, mesh
+"""Contact-area estimators (bem.contact.area): exact areas of Hertz and Westergaard contacts, mesh
 convergence on a small WM surface, and the per-point error estimates of bem.contact_curve."""
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import bem
-from bem.area import AREA_ESTIMATORS, YASTREBOV_COEFFICIENT, contact_area, contact_edges
+from bem.contact.area import AREA_ESTIMATORS, YASTREBOV_COEFFICIENT, contact_area, contact_edges
 from bem.reference import westergaard
 
 
@@ -130,8 +130,8 @@ def test_small_wm_mesh_convergence_and_error_estimate(finest=256):
         assert curve.extras[name].shape == curve.load.shape
     np.testing.assert_allclose(
         curve.extras["area_error"],
-        np.maximum(bem.path.ERROR_FACTOR * np.abs(curve.area - curves[sizes[0]].area),
-                   bem.path.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"]
+        np.maximum(bem.contact.path_errors.ERROR_FACTOR * np.abs(curve.area - curves[sizes[0]].area),
+                   bem.contact.path_errors.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"]
                    / sizes[1]), rtol=1e-12)
 
 
@@ -147,13 +147,13 @@ def test_error_estimate_extras_come_from_the_half_grid(control):
     curve = bem.contact_curve(heights, 1 / 32, quantities=quantities, error_estimate=True,
                               callback=lambda index, s: contacts.__setitem__(index, s.contact), **path)
     coarse = bem.contact_curve(heights[::2, ::2], 1 / 16, quantities=quantities, **path)
-    factor = bem.path.ERROR_FACTOR
+    factor = bem.contact.path_errors.ERROR_FACTOR
     for name in ("separation", "contacts", "stiffness", "conductance"):
         np.testing.assert_allclose(curve.extras[f"{name}_error"],
                                    factor * np.abs(getattr(curve, name) - getattr(coarse, name)))
     np.testing.assert_allclose(curve.extras["mean_gap_error"],
                                factor * np.abs(curve.extras["mean_gap"] - coarse.extras["mean_gap"]))
-    floor = bem.path.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"] / 32
+    floor = bem.contact.path_errors.PERIMETER_COEFFICIENT_UNCERTAINTY * curve.extras["staircase_perimeter"] / 32
     np.testing.assert_allclose(curve.extras["area_error"],
                                np.maximum(factor * np.abs(curve.area - coarse.area), floor))
     np.testing.assert_allclose(curve.extras["staircase_perimeter"] * 32,

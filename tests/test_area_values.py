@@ -1,4 +1,4 @@
-"""The area estimators' exact values on small hand-made contacts (bem.area): the perimeter
+"""The area estimators' exact values on small hand-made contacts (bem.contact.area): the perimeter
 coefficients of each kernel, the edges across the border that count only when periodic, and
 the sub-pixel edge from each crossing's own contact pressure and outside gap, computed here
 independently from eq. T31."""
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy import optimize
 
-from bem.area import YASTREBOV_COEFFICIENT, contact_area, contact_edges
+from bem.contact.area import YASTREBOV_COEFFICIENT, contact_area, contact_edges
 
 
 def _block(shape, rows, columns) -> np.ndarray:

@@ -1,10 +1,10 @@
-"""bem.background.BackgroundCall: the value of a call made in a daemon thread, or its error."""
+"""bem.common.background.BackgroundCall: the value of a call made in a daemon thread, or its error."""
 
 import threading
 
 import pytest
 
-from bem.background import BackgroundCall
+from bem.common.background import BackgroundCall
 
 
 def test_the_call_runs_in_another_daemon_thread_and_returns_its_value():

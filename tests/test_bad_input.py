@@ -3,7 +3,7 @@ scalar and array parameter, against hypothesis-drawn bad values.
 
 A new entry point is covered by adding one row to the table (``validation/campaigns/_bad_input_*.py``);
 ``test_every_exported_name_has_a_row`` fails when an exported name or a public method has none. The
-rules (bem.checks): a value that is never valid gets a ``ValueError``/``TypeError`` naming the
+rules (bem.common.checks): a value that is never valid gets a ``ValueError``/``TypeError`` naming the
 parameter; an extreme but finite value gets a finite result or such an error; valid variants
 (read-only arrays, nested lists, numpy scalars) are accepted.
 """
@@ -19,7 +19,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from bem import checks
+from bem.common import checks
 from validation.campaigns._bad_input_table import NO_ROW
 from validation.campaigns.bad_input import (GOOD, NAMED_DOMAINS, bad_arrays, classify, entry_points,
                                               run_campaign)
@@ -225,7 +225,7 @@ def test_the_fixed_campaign_has_no_bad_outcome():
 
 
 # ---------------------------------------------------------------------------------------------
-# the rules of bem.checks themselves
+# the rules of bem.common.checks themselves
 
 @pytest.mark.parametrize("value", ["0.5", True, np.bool_(False), 1 + 0j, None, [1.0], b"1"])
 def test_real_number_rejects_non_numbers_with_a_type_error_naming_the_parameter(value):

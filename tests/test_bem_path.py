@@ -137,7 +137,7 @@ def test_given_coarse_pressures_replace_the_paths_coarse_solves(monkeypatch):
     """Pressures of the same loads on every other grid point (the path one grid below) start
     those points instead of coarse solves of their own; the path agrees with its own to the
     solver's tolerance."""
-    import bem.path
+    import bem.contact.path
 
     heights, spacing = random_surface(128, 3), 1.0 / 128
     loads = [1e-4, 1e-3, 1e-2]
@@ -146,13 +146,13 @@ def test_given_coarse_pressures_replace_the_paths_coarse_solves(monkeypatch):
     contact_curve(heights[::2, ::2], 2 * spacing, loads=loads, tol=tol,
                   callback=lambda index, solution: kept.__setitem__(index, solution.pressure))
     coarse_solves = []
-    original = bem.path._coarse_start
+    original = bem.contact.path._coarse_start
 
     def spy(*args, **kwargs):
         coarse_solves.append(kwargs["load"])
         return original(*args, **kwargs)
 
-    monkeypatch.setattr(bem.path, "_coarse_start", spy)
+    monkeypatch.setattr(bem.contact.path, "_coarse_start", spy)
     own = contact_curve(heights, spacing, loads=loads, tol=tol)
     assert len(coarse_solves) == 3
     coarse_solves.clear()

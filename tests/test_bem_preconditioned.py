@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bem import HalfSpace, contact_curve, solve_contact
-from bem.preconditioner import InverseKernel
+from bem.contact.preconditioner import InverseKernel
 from validation import wm_surface
 
 #: Loads of the WM surface below giving about 4 %, 18 % and 44 % contact area.

@@ -341,7 +341,7 @@ def test_the_nested_start_interpolates_the_coarse_pressure_linearly(periodic):
     linearly between samples, across the period when periodic, else holding the last one."""
     from types import SimpleNamespace
 
-    from bem.nested_grid import _prolonged
+    from bem.contact.nested_grid import _prolonged
 
     rng = np.random.default_rng(3)
     coarse = rng.random((6, 8))

@@ -1,4 +1,4 @@
-"""Bush-Gibson-Thomas theory (asperity.bush_gibson_thomas) and the elliptic Hertz contact.
+"""Bush-Gibson-Thomas theory (asperity.spectral.bush_gibson_thomas) and the elliptic Hertz contact.
 
 Checked against: the displacement of Hertz's elliptic pressure (quadrature of the Boussinesq
 integral), direct numerical integration of the model's own definition (scipy), Nayak's summit
@@ -13,8 +13,8 @@ import pytest
 from scipy import integrate, special
 
 from asperity import BushGibsonThomas, hertz_elliptic_factors, spectral_summits
-from asperity.bush_gibson_thomas import _curvature_integrals
-from asperity.hertz_elliptic import eccentricity_parameter
+from asperity.spectral.bush_gibson_thomas import _curvature_integrals
+from asperity.spectral.hertz_elliptic import eccentricity_parameter
 from bem import ConvergenceWarning
 
 ROOT_TWO_PI = math.sqrt(2 * math.pi)

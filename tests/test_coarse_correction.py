@@ -1,4 +1,4 @@
-"""The two-level preconditioner of the contact and stiffness solves (bem/coarse_correction.py).
+"""The two-level preconditioner of the contact and stiffness solves (bem/contact/coarse_correction.py).
 
 The contract: each block's own energy ``z_i^T K z_i`` is exact (against products of the
 operator), the preconditioner is symmetric positive definite on the contact set, and the
@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 import scipy.ndimage
 
-import bem.constrained_cg
-import bem.stiffness
+import bem.contact.constrained_cg
+import bem.contact.stiffness
 from bem import HalfSpace, solve_contact
-from bem.coarse_correction import CoarseCorrection, SettlingCorrection, _coarse
-from bem.preconditioner import InverseKernel
-from bem.stiffness import _stiffness
+from bem.contact.coarse_correction import CoarseCorrection, SettlingCorrection, _coarse
+from bem.contact.preconditioner import InverseKernel
+from bem.contact.stiffness import _stiffness
 
 
 def _rough(n: int, seed: int = 3) -> np.ndarray:
@@ -105,7 +105,7 @@ def test_contact_iteration_reaches_the_same_state_in_fewer_iterations(monkeypatc
     heights = 1e-6 * _rough(n)
     load = 0.1 * 1e9 * (n * 1e-6) ** 2   # 37 % contact
     one_level = solve_contact(heights, 1e-6, load=load, e_star=1e9, tol=1e-6, stiffness=True)
-    monkeypatch.setattr(bem.constrained_cg, "TWO_LEVEL_GRID", 0)
+    monkeypatch.setattr(bem.contact.constrained_cg, "TWO_LEVEL_GRID", 0)
     two_level = solve_contact(heights, 1e-6, load=load, e_star=1e9, tol=1e-6, stiffness=True)
     assert one_level.converged and two_level.converged
     np.testing.assert_array_equal(two_level.pressure > 0, one_level.pressure > 0)

@@ -1,4 +1,4 @@
-"""The coarsest level's exact solve of the Reynolds multigrid (bem.multigrid_cycle.CoarseFactor):
+"""The coarsest level's exact solve of the Reynolds multigrid (bem.leakage.multigrid_cycle.CoarseFactor):
 SuperLU's symmetric factor held as L D L^T, which solves what SuperLU's own factor solves."""
 
 import numpy as np
@@ -6,8 +6,8 @@ import pytest
 import scipy.sparse
 import scipy.sparse.linalg
 
-from bem.flow_solver import _LU_OPTIONS
-from bem.multigrid_cycle import CoarseFactor
+from bem.leakage.flow_solver import _LU_OPTIONS
+from bem.leakage.multigrid_cycle import CoarseFactor
 
 
 def _spd(size: int, seed: int):

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 from validation.judge.compare import curve_errors, summarise_errors
 
 

@@ -1,10 +1,10 @@
-"""A load path dealt to concurrent sub-paths (bem.concurrent_path): the same curve as one path."""
+"""A load path dealt to concurrent sub-paths (bem.contact.concurrent_path): the same curve as one path."""
 
 import numpy as np
 import pytest
 
 import bem
-from bem.concurrent_path import CONCURRENT_LIMIT, concurrent_curve, dealt, path_parts
+from bem.contact.concurrent_path import CONCURRENT_LIMIT, concurrent_curve, dealt, path_parts
 from validation import self_affine_surface
 
 N = 64
@@ -41,18 +41,18 @@ def test_sub_paths_give_the_path_in_the_callers_order(heights, parts):
 def test_each_sub_path_starts_from_its_own_points_coarse_pressures(monkeypatch):
     """Coarse pressures given by the caller's index reach the sub-path that solves that point
     (by its own index there): no coarse solve is left, and the curve is the one path's."""
-    import bem.path
+    import bem.contact.path
 
     fine = self_affine_surface(2 * N, hurst=0.8, rms_slope=0.1, rolloff=0.25, seed=3)
     kept = {}
     bem.contact_curve(fine[::2, ::2], 2.0 / (2 * N), loads=LOADS, tol=1e-10,
                       callback=lambda index, solution: kept.__setitem__(index, solution.pressure))
     solves = []
-    original = bem.path._coarse_start
-    monkeypatch.setattr(bem.path, "_coarse_start",
+    original = bem.contact.path._coarse_start
+    monkeypatch.setattr(bem.contact.path, "_coarse_start",
                         lambda *args, **kwargs: solves.append(1) or original(*args, **kwargs))
     one = bem.contact_curve(fine, 1.0 / (2 * N), loads=LOADS, tol=1e-10, coarse_pressures=kept)
-    plain = bem.concurrent_path.contact_curve
+    plain = bem.contact.concurrent_path.contact_curve
     routed = []
 
     def sub_path(heights, spacing, *, loads, coarse_pressures, **options):
@@ -62,7 +62,7 @@ def test_each_sub_path_starts_from_its_own_points_coarse_pressures(monkeypatch):
         return plain(heights, spacing, loads=loads, coarse_pressures=coarse_pressures,
                      **options)
 
-    monkeypatch.setattr(bem.concurrent_path, "contact_curve", sub_path)
+    monkeypatch.setattr(bem.contact.concurrent_path, "contact_curve", sub_path)
     split = concurrent_curve(fine, 1.0 / (2 * N), loads=LOADS, parts=3, tol=1e-10,
                              coarse_pressures=kept)
     assert solves == [] and len(routed) == LOADS.size
@@ -105,7 +105,7 @@ def test_one_part_is_the_plain_path(heights):
 
 
 def test_parts_follow_the_free_cpus(monkeypatch):
-    import bem.concurrent_path as concurrent
+    import bem.contact.concurrent_path as concurrent
 
     monkeypatch.setattr(concurrent, "default_threads", lambda: 4)
     monkeypatch.setattr(concurrent, "running", lambda: 1)

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import bem
-from bem.curve import CURVE_QUANTITIES
+from bem.common.curve import CURVE_QUANTITIES
 from bem.model import ALWAYS_FILLED
 from validation.common import models
 from validation.surfaces.wm import wm_surface
@@ -20,7 +20,7 @@ N = 32
 E_STAR = 2.0
 OPTIONAL = ("contacts", "stiffness", "conductance", "leakage")
 #: Registered models that do not predict ``leakage``: it stays None even when asked for (none:
-#: the BEM's is the Reynolds flow through its gap, bem.flow).
+#: the BEM's is the Reynolds flow through its gap, bem.leakage.flow).
 WITHOUT_LEAKAGE: set[str] = set()
 
 
@@ -245,7 +245,7 @@ def test_the_old_fixed_model_list_warns():
 
 
 def test_the_shared_path_stepper_visits_light_to_heavy_and_answers_in_order():
-    from bem.continuation import follow_path
+    from bem.common.continuation import follow_path
 
     visited = []
 

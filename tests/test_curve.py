@@ -5,7 +5,7 @@ import pickle
 import numpy as np
 import pytest
 
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 
 
 def make(**extra):

@@ -1,4 +1,4 @@
-"""The reference on a GPU (bem.device): the option, its errors, and the GPU code path.
+"""The reference on a GPU (bem.elastic.device): the option, its errors, and the GPU code path.
 
 Without a GPU the code path runs on :mod:`device_double`, a stand-in for CuPy whose arrays
 refuse implicit host conversion as CuPy's do: the solves must equal the CPU's. Tests marked
@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 
 import bem
-import bem.device
-import bem.halfspace
-import bem.preconditioner
-from bem.device import array_module, check_device, to_host
+import bem.elastic.device
+import bem.elastic.halfspace
+import bem.contact.preconditioner
+from bem.elastic.device import array_module, check_device, to_host
 
 import device_double
 
@@ -36,11 +36,11 @@ def double(monkeypatch):
     """device="gpu" served by the CuPy stand-in."""
     def module(device, name="device"):
         return device_double if check_device(device, name) == "gpu" else np
-    import asperity.interaction
+    import asperity.discrete.interaction
     import validation.check.library
     import validation.cli
 
-    for where in (bem.device, bem.halfspace, bem.preconditioner, asperity.interaction,
+    for where in (bem.elastic.device, bem.elastic.halfspace, bem.contact.preconditioner, asperity.discrete.interaction,
                   validation.check.library, validation.cli):
         monkeypatch.setattr(where, "array_module", module)
     return device_double

@@ -13,7 +13,7 @@ from hypothesis import strategies as st
 
 from asperity import DiscreteAsperityModel, PointForceInteraction, Summits, ValidityWarning
 from asperity import find_summits
-from bem.warnings import ConvergenceWarning
+from bem.common.warnings import ConvergenceWarning
 
 
 def hertz_force(e_star, radius, approach):
@@ -525,7 +525,7 @@ def test_the_model_keeps_no_state_between_calls():
 
 
 def test_conjugate_gradients_from_a_start_reach_the_same_solution():
-    from asperity.complementarity import _cg
+    from asperity.discrete.complementarity import _cg
 
     rng = np.random.default_rng(3)
     factor = rng.standard_normal((40, 40))

@@ -1,14 +1,14 @@
-"""The Reynolds system held by its faces (bem.face_matrix): its product, scaling, Gauss-Seidel
+"""The Reynolds system held by its faces (bem.leakage.face_matrix): its product, scaling, Gauss-Seidel
 sweeps and rows against the same matrix in compressed rows, and the pixel-block hierarchy
 built from it against the one built from its compressed rows."""
 
 import numpy as np
 import pytest
 
-from bem.face_matrix import FaceMatrix
-from bem.flow import _flow_system, spanning_cells
-from bem.gauss_seidel import backward_sweep, forward_sweep
-from bem.pixel_blocks import aggregates, block_hierarchy
+from bem.leakage.face_matrix import FaceMatrix
+from bem.leakage.flow import _flow_system, spanning_cells
+from bem.leakage.gauss_seidel import backward_sweep, forward_sweep
+from bem.leakage.pixel_blocks import aggregates, block_hierarchy
 
 BOTH = pytest.mark.parametrize("periodic", [False, True])
 
@@ -81,7 +81,7 @@ def test_periodic_sweeps_are_those_of_the_compressed_rows(shape):
 def test_a_sweep_refuses_other_forms():
     import scipy.sparse
 
-    with pytest.raises(TypeError, match="CSR form or a bem.face_matrix.FaceMatrix"):
+    with pytest.raises(TypeError, match="CSR form or a bem.leakage.face_matrix.FaceMatrix"):
         forward_sweep(scipy.sparse.bsr_matrix(np.eye(2)), np.zeros(2), np.ones(2))
 
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from bem import HalfSpace, solve_contact
-from bem.fft import PaddedRealFFT2, RealFFT2, have_pyfftw
+from bem.elastic.fft import PaddedRealFFT2, RealFFT2, have_pyfftw
 
 needs_pyfftw = pytest.mark.skipif(not have_pyfftw(), reason="pyFFTW is not installed")
 
@@ -90,7 +90,7 @@ def test_project_works_without_pyfftw():
         sys.modules["pyfftw"] = None  # import pyfftw now raises ImportError
         import numpy as np
         import bem, asperity, validation
-        from bem.fft import have_pyfftw, RealFFT2
+        from bem.elastic.fft import have_pyfftw, RealFFT2
         assert not have_pyfftw()
         try:
             RealFFT2((8, 8), backend="pyfftw")
@@ -116,7 +116,7 @@ def test_project_works_without_pyfftw():
 
 
 def test_thread_count_override(monkeypatch):
-    from bem.fft_threads import default_threads
+    from bem.elastic.fft_threads import default_threads
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "3")
     assert default_threads() == 3
@@ -129,7 +129,7 @@ def test_thread_count_override(monkeypatch):
 def test_transforms_leave_their_input_untouched(backend):
     # Regression: FFTW's complex-to-real transform destroys its input array; the wrapper must
     # work on its own buffer so that a spectrum can be inverted twice.
-    from bem.fft import RealFFT2
+    from bem.elastic.fft import RealFFT2
 
     rng = np.random.default_rng(5)
     real = rng.random((16, 16))
@@ -143,7 +143,7 @@ def test_transforms_leave_their_input_untouched(backend):
 
 
 def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
-    import bem.fft_threads as fft
+    import bem.elastic.fft_threads as fft
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "4")
     assert fft.fft_threads((512, 512)) == 1                 # small grids: one thread
@@ -159,7 +159,7 @@ def test_default_fft_threads_are_the_caller_and_the_idle_cpus(monkeypatch):
 
 
 def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
-    import bem.fft_threads as fft
+    import bem.elastic.fft_threads as fft
 
     samples = iter([(100, 1000), (250, 1200)])     # 150 of 200 ticks idle
     monkeypatch.setattr(fft, "_cpu_times", lambda: next(samples))
@@ -172,8 +172,8 @@ def test_idle_cpus_are_read_from_the_cpu_times(monkeypatch):
 def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkeypatch):
     import threading
 
-    import bem.fft_threads as fft
-    from bem.background import BackgroundCall, running
+    import bem.elastic.fft_threads as fft
+    from bem.common.background import BackgroundCall, running
 
     monkeypatch.setenv("ASPERITY_FFT_THREADS", "2")
     monkeypatch.setattr(fft, "idle_cpus", lambda: 1.0)
@@ -190,7 +190,7 @@ def test_default_fft_threads_leave_a_core_to_each_running_background_call(monkey
 
 @pytest.mark.parametrize("interval", [-1.0, float("nan"), "0.1"])
 def test_idle_cpus_refuses_a_bad_interval(interval):
-    from bem.fft_threads import idle_cpus
+    from bem.elastic.fft_threads import idle_cpus
 
     with pytest.raises((ValueError, TypeError), match="interval"):
         idle_cpus(interval)
@@ -201,7 +201,7 @@ def test_cosine_pair_is_the_dft_of_the_mirror_extension(backend):
     # The type-II cosine transform of a quadrant is, up to the half-pixel phase, the real DFT
     # of its even extension (the field and its mirror images about the lines half a pixel
     # beyond its edges); the inverse returns 4 N M times the input.
-    from bem.fft import CosineTransform2
+    from bem.elastic.fft import CosineTransform2
 
     rng = np.random.default_rng(7)
     block = rng.normal(size=(6, 10))
@@ -221,7 +221,7 @@ def test_cosine_pair_is_the_dft_of_the_mirror_extension(backend):
 
 @needs_pyfftw
 def test_cosine_transforms_use_fftw_on_large_grids_only():
-    from bem.fft import COSINE_FFTW_LIMIT, CosineTransform2
+    from bem.elastic.fft import COSINE_FFTW_LIMIT, CosineTransform2
 
     side = int(np.sqrt(COSINE_FFTW_LIMIT))
     assert CosineTransform2((side, side), planner_effort="FFTW_ESTIMATE").backend == "scipy"

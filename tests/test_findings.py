@@ -5,7 +5,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 from validation.judge.compare import compare_realizations
 from validation.judge.findings import (
     CONTRADICTED,

@@ -1,11 +1,11 @@
-"""The compiled Gauss-Seidel sweeps (bem.gauss_seidel) against pyAMG's sweep and against the
+"""The compiled Gauss-Seidel sweeps (bem.leakage.gauss_seidel) against pyAMG's sweep and against the
 definition."""
 
 import numpy as np
 import pytest
 import scipy.sparse
 
-from bem.gauss_seidel import backward_sweep, forward_sweep
+from bem.leakage.gauss_seidel import backward_sweep, forward_sweep
 
 
 def _matrix(size: int, seed: int) -> scipy.sparse.csr_matrix:

@@ -355,7 +355,7 @@ def test_property_loads_over_15_decades(model, exponents):
 # the root finder and its convergence report
 
 def test_monotone_root_solves_and_reports():
-    from asperity.roots import monotone_root
+    from asperity.common.roots import monotone_root
 
     targets = np.array([1e-6, 0.5, 8.0, 1e6])
 
@@ -380,8 +380,8 @@ def test_monotone_root_solves_and_reports():
 def test_unconverged_solves_warn_and_say_so(monkeypatch):
     import functools
 
-    import asperity.greenwood_williamson as module
-    from bem.warnings import ConvergenceWarning
+    import asperity.gw.greenwood_williamson as module
+    from bem.common.warnings import ConvergenceWarning
 
     monkeypatch.setattr(module, "monotone_root",
                         functools.partial(module.monotone_root, max_iterations=1))

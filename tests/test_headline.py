@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 from validation.judge.compare import compare_realizations
 from validation.judge.headline import (HEADLINE_FRACTIONS, REGIMES, along_path, crossing,
                                        headline, reached_fractions, regime_of)

@@ -1,4 +1,4 @@
-"""bem.heap: large arrays mapped, so that freeing them gives their memory back (glibc)."""
+"""bem.common.heap: large arrays mapped, so that freeing them gives their memory back (glibc)."""
 
 import os
 import subprocess
@@ -7,7 +7,7 @@ import textwrap
 
 import pytest
 
-from bem import heap
+from bem.common import heap
 
 GLIBC = heap._mallopt() is not None
 
@@ -16,7 +16,7 @@ GLIBC = heap._mallopt() is not None
 PROBE = textwrap.dedent("""
     import os, sys
     import numpy as np
-    from bem import heap
+    from bem.common import heap
     if sys.argv[1] == "map":
         assert heap.map_large_arrays()
     def resident():

@@ -1,6 +1,6 @@
 """The exact leakage reference: bem.hydraulic_aperture against closed forms and invariants.
 
-The scheme (bem.flow) is exact for gaps that vary in one direction only: harmonic-mean faces
+The scheme (bem.leakage.flow) is exact for gaps that vary in one direction only: harmonic-mean faces
 add the resistances 1/g^3 of the cells along a row exactly, and the boundary half-cells
 (conductance 2 g^3 over half a pixel) complete the row's sum. Those checks are therefore held to
 round-off, far inside the 0.2 % one would allow a scheme with other boundary rules.
@@ -12,8 +12,8 @@ import scipy.ndimage
 import scipy.stats
 
 import bem
-from bem.background_flow import BackgroundLeakage
-from bem.flow import hydraulic_aperture, leakage_aperture, spanning_cells
+from bem.leakage.background_flow import BackgroundLeakage
+from bem.leakage.flow import hydraulic_aperture, leakage_aperture, spanning_cells
 
 BOTH = pytest.mark.parametrize("periodic", [False, True])
 
@@ -54,9 +54,9 @@ def test_a_wall_of_gaps_at_most_the_closed_fraction_seals(periodic):
     # just above it still conducts (in series, the wall sets the aperture)
     gap = np.random.default_rng(5).uniform(0.5, 1.5, (32, 32))
     largest = float(gap.max())
-    gap[:, 13] = np.geomspace(1e-12, bem.flow.CLOSED_GAP, 32) * largest
+    gap[:, 13] = np.geomspace(1e-12, bem.leakage.flow.CLOSED_GAP, 32) * largest
     assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) == 0.0
-    gap[:, 13] = 2.0 * bem.flow.CLOSED_GAP * largest
+    gap[:, 13] = 2.0 * bem.leakage.flow.CLOSED_GAP * largest
     assert hydraulic_aperture(gap, 1.0, direction="x", periodic=periodic) > 0.0
     # closed cells along the flow change nothing but their own share
     assert hydraulic_aperture(gap, 1.0, direction="y", periodic=periodic) > 0.5
@@ -236,17 +236,17 @@ def test_background_leakage_keeps_only_the_last_solve_of_each_direction(monkeypa
     import gc
     import weakref
 
-    import bem.background_flow
+    import bem.leakage.background_flow
 
     starts = []
-    original = bem.background_flow._flow_solution
+    original = bem.leakage.background_flow._flow_solution
 
     def spy(*args):
         aperture, start = original(*args)
         starts.append(weakref.ref(start))
         return aperture, start
 
-    monkeypatch.setattr(bem.background_flow, "_flow_solution", spy)
+    monkeypatch.setattr(bem.leakage.background_flow, "_flow_solution", spy)
     rng = np.random.default_rng(8)
     gaps = {key: np.clip(scipy.ndimage.gaussian_filter(rng.standard_normal((48, 48)), 2) + shift,
                          0.0, None) for key, shift in enumerate((0.3, 0.2, 0.1, 0.05))}
@@ -278,34 +278,34 @@ def test_background_leakage_reports_a_bad_gap_and_bad_options():
 def test_background_leakage_of_a_large_gap_solves_its_directions_in_turn(monkeypatch):
     """Above the size limit one thread solves both directions (one factor in memory at a
     time); the aperture is the same."""
-    import bem.background_flow
+    import bem.leakage.background_flow
 
     gap = np.clip(scipy.ndimage.gaussian_filter(
         np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
     names = []
-    original = bem.background_flow._apertures
+    original = bem.leakage.background_flow._apertures
 
     def spy(gap, spacing, directions, periodic, starts):
         names.append(directions)
         return original(gap, spacing, directions, periodic, starts)
 
-    monkeypatch.setattr(bem.background_flow, "_apertures", spy)
-    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 0)
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "_apertures", spy)
+    monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0)
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
     assert sorted(names) == [("x",), ("x", "y"), ("y",)]
     # parallel=True splits a gap above the limit, parallel=False keeps one below it together
     names.clear()
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0, parallel=True)
     flow.submit("large", gap)
     assert flow.results()["large"] == leakage_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40)
     flow = BackgroundLeakage(1.0, parallel=False)
     flow.submit("small", gap)
     assert flow.results()["small"] == leakage_aperture(gap, 1.0)
@@ -318,20 +318,20 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     directions solved at once where two CPUs may be used, up to FINAL_PARALLEL_LIMIT cells."""
     import threading
 
-    import bem.background_flow
+    import bem.leakage.background_flow
 
     gap = np.clip(scipy.ndimage.gaussian_filter(
         np.random.default_rng(5).standard_normal((40, 40)), 2, mode="wrap") + 0.1, 0.0, None)
     release, events = threading.Event(), []
-    original = bem.background_flow._apertures
+    original = bem.leakage.background_flow._apertures
 
     def held(gap, spacing, directions, periodic, starts):
         release.wait(30)
         events.append(directions)
         return original(gap, spacing, directions, periodic, starts)
 
-    monkeypatch.setattr(bem.background_flow, "_apertures", held)
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "_apertures", held)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_DIRECTIONS_LIMIT", 40 * 40 - 1)
     flow = BackgroundLeakage(1.0, pending=3)
     for key in range(3):
         flow.submit(key, gap)
@@ -341,36 +341,36 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     # which gaps are split: by size while the caller works, up to the final limit once the
     # caller waits and two CPUs are there, never with parallel=False
     large = np.zeros((40, 40))
-    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 2)
+    monkeypatch.setattr(bem.leakage.background_flow, "default_threads", lambda: 2)
     assert flow._together(large, {})
     flow._finishing = True
     assert not flow._together(large, {})
-    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
     assert flow._together(large, {})
-    monkeypatch.setattr(bem.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
     # a periodic gap above the LU's limit (coarsened algebraically) stays one at a time
     periodic = BackgroundLeakage(1.0, periodic=True)
     periodic._finishing = True
-    monkeypatch.setattr(bem.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40 - 1)
     assert periodic._together(large, {})
-    monkeypatch.setattr(bem.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40)
+    monkeypatch.setattr(bem.leakage.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40)
     assert not periodic._together(large, {})
-    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "default_threads", lambda: 1)
     assert flow._together(large, {})
     assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)), {})
     # two sparse LU factorisations at once only up to PARALLEL_FACTOR_LIMIT cells
-    from bem.flow_solver import FlowStart
+    from bem.leakage.flow_solver import FlowStart
 
-    monkeypatch.setattr(bem.background_flow, "default_threads", lambda: 2)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.background_flow, "default_threads", lambda: 2)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     slow = {direction: FlowStart(np.zeros((40, 40)), None) for direction in ("x", "y")}
     fast = {"x": FlowStart(np.zeros((40, 40)), 3), "y": slow["y"]}
     assert not flow._together(large, fast)       # (finishing, within the final limit)
     assert not flow._together(large, slow)       # both LU, within the factor limit
-    monkeypatch.setattr(bem.background_flow, "PARALLEL_FACTOR_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.background_flow, "PARALLEL_FACTOR_LIMIT", 40 * 40 - 1)
     assert flow._together(large, slow)
     assert not flow._together(large, fast)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 40 * 40 - 1)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", 40 * 40 - 1)
     assert not flow._together(large, slow)       # too large to switch: multigrid both
 
 
@@ -385,29 +385,29 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     pixel blocks and two after a slow neighbour (algebraic coarsening when periodic), it must
     give the sparse LU's aperture to well within its tolerance (the dissipation's error is of
     second order in the pressure's)."""
-    import bem.flow
-    import bem.flow_solver
-    from bem.flow_solver import FlowStart
+    import bem.leakage.flow
+    import bem.leakage.flow_solver
+    from bem.leakage.flow_solver import FlowStart
 
     gap = _random_gap(96, seed)
     gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
     direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     used = []
-    original = bem.flow_solver._hierarchy
-    monkeypatch.setattr(bem.flow_solver, "_hierarchy",
+    original = bem.leakage.flow_solver._hierarchy
+    monkeypatch.setattr(bem.leakage.flow_solver, "_hierarchy",
                         lambda scaled, scale, cells, count: used.append(count)
                         or original(scaled, scale, cells, count))
     start = FlowStart(None, 1, slow)
-    multigrid = [bem.flow._flow_solution(gap, 1.0, d, periodic, start)[0] for d in "xy"]
+    multigrid = [bem.leakage.flow._flow_solution(gap, 1.0, d, periodic, start)[0] for d in "xy"]
     # (96^2: the coarsest at most 24^2, a sixteenth of the grid, or 48^2 when slow)
     assert used == [0 if periodic else 2 if slow else 3] * 2 and min(direct) > 0
     # the pixel blocks stop once the dissipation's estimated error is 1e-6 (the aperture's a
     # third of it; 1.2e-7 to 2.5e-7 measured here) and the residual 1e-6 (the residual alone at
     # 1e-6 left 6e-6 here), the algebraic multigrid of a periodic gap at a residual of 1e-9
     np.testing.assert_allclose(multigrid, direct,
-                               rtol=1e-8 if periodic else bem.flow_solver.DISSIPATION_TOLERANCE)
+                               rtol=1e-8 if periodic else bem.leakage.flow_cg.DISSIPATION_TOLERANCE)
 
 
 def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeypatch):
@@ -417,15 +417,15 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
     with the first's; up to the limit it warns and returns its iterate."""
     import warnings
 
-    import bem.flow
-    import bem.flow_solver
-    from bem.warnings import ConvergenceWarning
+    import bem.leakage.flow
+    import bem.leakage.flow_solver
+    from bem.common.warnings import ConvergenceWarning
 
     gap = _random_gap(96, 4)
     direct = hydraulic_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 40 * 40)
-    original, calls = bem.flow_solver._conjugate_gradients, []
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", 40 * 40)
+    original, calls = bem.leakage.flow_solver._conjugate_gradients, []
 
     def stalled_first(matrix, rhs, preconditioner, dissipation, tolerance, start=None):
         calls.append(preconditioner)
@@ -433,19 +433,19 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
             return np.array(start), 1000, False
         return original(matrix, rhs, preconditioner, dissipation, tolerance, start)
 
-    monkeypatch.setattr(bem.flow_solver, "_conjugate_gradients", stalled_first)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "_conjugate_gradients", stalled_first)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", 0)
     with warnings.catch_warnings():
         warnings.simplefilter("error", ConvergenceWarning)
-        aperture, solved = bem.flow._flow_solution(gap, 1.0, "x", False)
+        aperture, solved = bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
     # the pixel blocks' one-sided sweeps, then the algebraic hierarchy's symmetric ones
     assert len(calls) == 2 and len(calls[0].before) == 1 and len(calls[1].before) == 2
     assert solved.iterations > 1000
     assert aperture == pytest.approx(direct, rel=1e-8)
     calls.clear()
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size)
     with pytest.warns(ConvergenceWarning, match="did not converge in 1000 iterations"):
-        bem.flow._flow_solution(gap, 1.0, "x", False)
+        bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
     assert len(calls) == 1
 
 
@@ -453,16 +453,16 @@ def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
     """Above DIRECT_SOLVE_LIMIT grid cells but with at most COARSEST_LIMIT unknowns, and at
     most a quarter of the grid's cells, the multigrid has one level: the sparse LU solves the
     (unscaled) system, exactly."""
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     gap = _random_gap(96, 2)
     gap *= (np.arange(96) < 20)[:, None]    # 20 of 96 rows open: a fifth of the grid
     direct = hydraulic_aperture(gap, 1.0)
     assert direct > 0
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", gap.size)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", gap.size)
     calls = []
-    monkeypatch.setattr(bem.flow_solver, "_hierarchy", lambda *args: calls.append(args))
+    monkeypatch.setattr(bem.leakage.flow_solver, "_hierarchy", lambda *args: calls.append(args))
     assert hydraulic_aperture(gap, 1.0) == pytest.approx(direct, rel=1e-12)
     assert not calls                              # no multigrid was built
 
@@ -472,20 +472,20 @@ def test_a_256_gap_is_solved_by_pixel_blocks_to_the_multigrids_accuracy(monkeypa
     """A 256^2 gap: three levels (the coarsest 64^2 by LU), two after a slow neighbour along its
     path (the coarsest 128^2), the aperture within the multigrid's stopping rule (3e-7,
     DISSIPATION_TOLERANCE) of the sparse LU's either way."""
-    import bem.flow
-    import bem.flow_solver
-    from bem.flow_solver import FlowStart
+    import bem.leakage.flow
+    import bem.leakage.flow_solver
+    from bem.leakage.flow_solver import FlowStart
 
     gap = _random_gap(256, 11)
     levels = []
-    original = bem.flow_solver._hierarchy
-    monkeypatch.setattr(bem.flow_solver, "_hierarchy",
+    original = bem.leakage.flow_solver._hierarchy
+    monkeypatch.setattr(bem.leakage.flow_solver, "_hierarchy",
                         lambda scaled, scale, cells, count: levels.append(count)
                         or original(scaled, scale, cells, count))
     start = FlowStart(None, 1, slow) if slow else None
-    iterative, solved = bem.flow._flow_solution(gap, 1.0, "x", False, start)
+    iterative, solved = bem.leakage.flow._flow_solution(gap, 1.0, "x", False, start)
     assert levels == [2 if slow else 3] and solved.slow == slow
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
     assert iterative == pytest.approx(hydraulic_aperture(gap, 1.0), rel=3e-7)
     assert len(levels) == 1                                   # the LU: no hierarchy built
 
@@ -493,7 +493,7 @@ def test_a_256_gap_is_solved_by_pixel_blocks_to_the_multigrids_accuracy(monkeypa
 def test_a_slow_multigrid_solve_makes_the_rest_of_its_path_slow():
     """The FlowStart a solve hands on is slow once it took FEWER_LEVELS_ITERATIONS or more, was
     solved by the LU, or followed a slow one (the gaps of a path close towards percolation)."""
-    from bem.flow_solver import FEWER_LEVELS_ITERATIONS, FlowStart, next_start
+    from bem.leakage.flow_solver import FEWER_LEVELS_ITERATIONS, FlowStart, next_start
 
     pressure = np.zeros((4, 4))
     assert not next_start(pressure, FEWER_LEVELS_ITERATIONS - 1, None).slow
@@ -507,7 +507,7 @@ def test_a_slow_multigrid_solve_makes_the_rest_of_its_path_slow():
 
 
 def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
-    from bem.flow_solver import COARSEST_LIMIT, MULTIGRID_LEVELS, multigrid_levels
+    from bem.leakage.flow_solver import COARSEST_LIMIT, MULTIGRID_LEVELS, multigrid_levels
 
     assert multigrid_levels(COARSEST_LIMIT) == 1
     assert multigrid_levels(COARSEST_LIMIT + 1) == 2
@@ -531,12 +531,12 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
 
 
 def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     gap = _random_gap(96, 3)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 48 * 48)
-    monkeypatch.setattr(bem.flow_solver, "MULTIGRID_MAX_ITERATIONS", 1)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", 48 * 48)
+    monkeypatch.setattr(bem.leakage.flow_cg, "MULTIGRID_MAX_ITERATIONS", 1)
     with pytest.warns(bem.ConvergenceWarning,
                       match="multigrid solve of 9216 cells did not converge in 1 iterations"):
         value = hydraulic_aperture(gap, 1.0)
@@ -545,20 +545,20 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
 
 def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     """The pixel blocks' coarse levels are built in CSR (the finest is the system held by its
-    faces, bem.face_matrix), the restriction a view of the interpolation;
+    faces, bem.leakage.face_matrix), the restriction a view of the interpolation;
     smoothed aggregation (periodic gaps) builds its coarse levels as 1 x 1 BSR, which are
     converted to CSR (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
     import pyamg
     import scipy.sparse
 
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     gap = _random_gap(96, 1)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     built = []
-    blocks, algebraic = bem.flow_solver.block_hierarchy, pyamg.smoothed_aggregation_solver
-    monkeypatch.setattr(bem.flow_solver, "block_hierarchy",
+    blocks, algebraic = bem.leakage.flow_solver.block_hierarchy, pyamg.smoothed_aggregation_solver
+    monkeypatch.setattr(bem.leakage.flow_solver, "block_hierarchy",
                         lambda *args: built.append(blocks(*args)) or built[-1])
     monkeypatch.setattr(pyamg, "smoothed_aggregation_solver",
                         lambda *args, **kwargs: built.append(algebraic(*args, **kwargs))
@@ -577,14 +577,14 @@ def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
             assert np.shares_memory(level.R.data, level.P.data)
             assert level.R.shape == level.P.shape[::-1]
     # pyAMG builds the coarse levels in blocks of 1 x 1, which the compiled sweeps refuse
-    monkeypatch.setattr(bem.flow_solver, "_compressed_rows", lambda hierarchy: None)
+    monkeypatch.setattr(bem.leakage.flow_solver, "_compressed_rows", lambda hierarchy: None)
     with pytest.raises(TypeError, match="CSR"):
         hydraulic_aperture(gap, 1.0, periodic=True)
     assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
 
 
 def test_the_energy_left_is_the_geometric_tail_of_the_last_decrements():
-    from bem.flow_solver import ESTIMATE_STEPS, _remaining
+    from bem.leakage.flow_cg import ESTIMATE_STEPS, _remaining
 
     geometric = [2.0 * 0.5**k for k in range(ESTIMATE_STEPS + 3)]
     assert _remaining(geometric) == pytest.approx(geometric[-1])   # rho / (1 - rho) = 1
@@ -602,7 +602,7 @@ def test_the_conjugate_gradients_stop_when_the_dissipation_is_known():
     import scipy.sparse
     import scipy.sparse.linalg
 
-    from bem.flow_solver import DISSIPATION_TOLERANCE, _conjugate_gradients
+    from bem.leakage.flow_cg import DISSIPATION_TOLERANCE, _conjugate_gradients
 
     rng = np.random.default_rng(4)
     t = 10.0 ** rng.uniform(-1, 0, 401)
@@ -629,22 +629,22 @@ def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch
     """Along a sequence of gaps each direction's iterative solve begins at the pressure the
     previous gap's solve found (with the linear drop where that gap had no open cell); the
     apertures are those of a solve from the linear drop, to the solver's tolerance."""
-    import bem.background_flow
-    import bem.flow_solver
+    import bem.leakage.background_flow
+    import bem.leakage.flow_solver
 
     rng = np.random.default_rng(8)
     surface = scipy.ndimage.gaussian_filter(rng.standard_normal((264, 264)), 4, mode="wrap")
     gaps = [np.clip(surface + level, 0.0, None) for level in (0.3, 0.2, 0.1)]
-    assert gaps[0].size > bem.flow_solver.DIRECT_SOLVE_LIMIT   # the multigrid's path
+    assert gaps[0].size > bem.leakage.flow_solver.DIRECT_SOLVE_LIMIT   # the multigrid's path
     seen = []
-    original = bem.background_flow._flow_solution
+    original = bem.leakage.background_flow._flow_solution
 
     def spy(gap, spacing, direction, periodic, start=None):
         aperture, pressure = original(gap, spacing, direction, periodic, start)
         seen.append((direction, start, pressure))
         return aperture, pressure
 
-    monkeypatch.setattr(bem.background_flow, "_flow_solution", spy)
+    monkeypatch.setattr(bem.leakage.background_flow, "_flow_solution", spy)
     flow = BackgroundLeakage(1.0)
     for key, gap in enumerate(gaps):
         flow.submit(key, gap)
@@ -654,7 +654,7 @@ def test_background_leakage_starts_each_solve_from_the_last_pressure(monkeypatch
         assert solves[0][0] is None
         for (_, previous), (start, _) in zip(solves, solves[1:]):
             assert start is previous
-    monkeypatch.setattr(bem.background_flow, "_flow_solution", original)
+    monkeypatch.setattr(bem.leakage.background_flow, "_flow_solution", original)
     for key, gap in enumerate(gaps):
         assert results[key] == pytest.approx(leakage_aperture(gap, 1.0), rel=1e-6)
 
@@ -666,20 +666,20 @@ def test_a_slow_paths_large_gap_starts_from_the_linear_drop(monkeypatch, slow, a
     above the LU switch's limit, once the path is slow, from the linear drop, and the map is
     not kept (near percolation the previous pressure can be wrong where regions hang on thin
     necks: a 2048^2 gap at 22 % contact took 532 iterations from it and 177 from the drop)."""
-    import bem.flow
-    import bem.flow_solver
-    from bem.flow_solver import FEWER_LEVELS_ITERATIONS, next_start
+    import bem.leakage.flow
+    import bem.leakage.flow_solver
+    from bem.leakage.flow_solver import FEWER_LEVELS_ITERATIONS, next_start
 
     gap = _random_gap(96, 2)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", 0 if above_switch else gap.size)
-    given, original = [], bem.flow_solver._start
-    monkeypatch.setattr(bem.flow_solver, "_start",
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", 0 if above_switch else gap.size)
+    given, original = [], bem.leakage.flow_solver._start
+    monkeypatch.setattr(bem.leakage.flow_solver, "_start",
                         lambda start, *rest: given.append(start) or original(start, *rest))
     previous = np.full(gap.shape, 0.5)
     start = next_start(previous, FEWER_LEVELS_ITERATIONS if slow else 3, None)
     assert start.slow == slow and (start.pressure is None) == (slow and above_switch)
-    value, _ = bem.flow._flow_solution(gap, 1.0, "x", False, start)
+    value, _ = bem.leakage.flow._flow_solution(gap, 1.0, "x", False, start)
     assert len(given) == 1 and (given[0] is None) == (slow and above_switch)
     assert value == pytest.approx(hydraulic_aperture(gap, 1.0), rel=1e-6)
 
@@ -687,7 +687,7 @@ def test_a_slow_paths_large_gap_starts_from_the_linear_drop(monkeypatch, slow, a
 def test_the_start_of_a_flow_solve():
     """The given pressure where it has a value, the linear drop (or zero, periodic) elsewhere;
     a map of another grid is not used."""
-    from bem.flow_solver import _start
+    from bem.leakage.flow_solver import _start
 
     cells = np.ones((2, 4), dtype=bool)
     cells[0, 0] = False
@@ -708,15 +708,15 @@ def test_the_estimate_must_hold_at_consecutive_iterations(monkeypatch):
     have gone and before a slow one shows, does not stop it."""
     import scipy.sparse
 
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     matrix = scipy.sparse.diags(np.linspace(1.0, 2.0, 50), format="csr")
     rhs = np.ones(50)
     estimates = iter([np.inf, 0.0, np.inf, np.inf, 0.0, 0.0] + [np.inf] * 50)
-    monkeypatch.setattr(bem.flow_solver, "_remaining", lambda decrements: next(estimates))
-    monkeypatch.setattr(bem.flow_solver, "ESTIMATE_CONFIRMATIONS", 2)
+    monkeypatch.setattr(bem.leakage.flow_cg, "_remaining", lambda decrements: next(estimates))
+    monkeypatch.setattr(bem.leakage.flow_cg, "ESTIMATE_CONFIRMATIONS", 2)
     identity = scipy.sparse.identity(50, format="csr")
-    _, iterations, settled = bem.flow_solver._conjugate_gradients(
+    _, iterations, settled = bem.leakage.flow_cg._conjugate_gradients(
         matrix, rhs, identity, lambda x: 1.0, 1.0)
     assert settled and iterations == 6
 
@@ -726,15 +726,15 @@ def test_a_gap_that_leaks_through_one_neck_is_solved_to_its_tolerance(monkeypatc
     below where the linear pressure drop starts it, so a residual relative to the inlet's scale
     says little; the multigrid's aperture stays within its tolerance of the LU's (with the
     residual floor at 1e-7 it was 2e-4 off)."""
-    import bem.flow_solver
+    import bem.leakage.flow_solver
 
     rng = np.random.default_rng(0)
     gap = np.exp(rng.normal(0.0, 0.5, (192, 192)))
     gap[:, 96] = 0.0
     gap[64, 96] = 3e-3
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", gap.size)
     exact = hydraulic_aperture(gap, 1.0)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     assert hydraulic_aperture(gap, 1.0) == pytest.approx(exact, rel=1e-6)
     # the neck carries the flow: about its own gap
     assert 1e-3 < exact < 1e-2
@@ -745,7 +745,7 @@ def test_conjugate_gradients_from_a_start_reach_the_same_solution():
     of a system of known energy, from zero and from a start, within the tolerance."""
     import scipy.sparse
 
-    from bem.flow_solver import _conjugate_gradients
+    from bem.leakage.flow_cg import _conjugate_gradients
 
     n = 400
     matrix = scipy.sparse.diags([-np.ones(n - 1), 2.0 * np.ones(n), -np.ones(n - 1)],
@@ -772,9 +772,9 @@ def test_the_v_cycle_is_pyamgs():
     hierarchy's symmetric ones alike."""
     import pyamg
 
-    from bem.flow_solver import _compressed_rows
-    from bem.multigrid_cycle import VCycle
-    from bem.pixel_blocks import aggregates as blocks
+    from bem.leakage.flow_solver import _compressed_rows
+    from bem.leakage.multigrid_cycle import VCycle
+    from bem.leakage.pixel_blocks import aggregates as blocks
 
     matrix = pyamg.gallery.poisson((32, 32), format="csr")
     aggregates, level, (rows, columns) = [], matrix, np.nonzero(np.ones((32, 32), dtype=bool))
@@ -810,26 +810,26 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
     """A gap whose neighbour's multigrid took DIRECT_SWITCH_ITERATIONS or more (or was itself
     solved by the LU) is solved by the LU, with the LU's aperture to rounding; below that, and
     on periodic gaps and above DIRECT_SWITCH_LIMIT cells, by the iteration."""
-    import bem.flow
-    import bem.flow_solver
-    from bem.flow_solver import DIRECT_SWITCH_ITERATIONS, FlowStart
+    import bem.leakage.flow
+    import bem.leakage.flow_solver
+    from bem.leakage.flow_solver import DIRECT_SWITCH_ITERATIONS, FlowStart
 
     gap = _random_gap(96, 3)
-    direct, solved = bem.flow._flow_solution(gap, 1.0, "x", False)
+    direct, solved = bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
     assert solved.iterations is None   # (96^2 is below DIRECT_SOLVE_LIMIT)
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.flow_solver, "COARSEST_LIMIT", 40 * 40)   # (two levels)
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
+    monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", 40 * 40)   # (two levels)
     previous = solved.pressure
     for iterations, switched in ((None, True), (DIRECT_SWITCH_ITERATIONS, True),
                                  (DIRECT_SWITCH_ITERATIONS - 1, False), (0, False)):
-        aperture, now = bem.flow._flow_solution(gap, 1.0, "x", False,
+        aperture, now = bem.leakage.flow._flow_solution(gap, 1.0, "x", False,
                                                 FlowStart(previous, iterations))
         assert (now.iterations is None) == switched
         assert aperture == pytest.approx(direct, rel=1e-12 if switched else 1e-6)
-    monkeypatch.setattr(bem.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
-    periodic = bem.flow._flow_solution(gap, 1.0, "x", True, FlowStart(previous, None))[1]
-    monkeypatch.setattr(bem.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size - 1)
-    large = bem.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
+    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    periodic = bem.leakage.flow._flow_solution(gap, 1.0, "x", True, FlowStart(previous, None))[1]
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size - 1)
+    large = bem.leakage.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
     assert periodic.iterations is not None and large.iterations is not None
 
 
@@ -874,9 +874,9 @@ def _listed_faces(k, cells, periodic):
 @BOTH
 @pytest.mark.parametrize("shape", [(2, 2), (2, 5), (3, 2), (9, 7), (40, 31)])
 def test_the_dissipation_is_the_sum_over_the_listed_faces(periodic, shape):
-    """The compiled walk over the grid (bem.flow_faces) sums T (p_tail - p_head + drop)^2
+    """The compiled walk over the grid (bem.leakage.flow_faces) sums T (p_tail - p_head + drop)^2
     over exactly the faces of the definition, and the Jacobi-scaled form is the same sum."""
-    from bem.flow import _dissipation, _flow_system
+    from bem.leakage.flow import _dissipation, _flow_system
 
     rng = np.random.default_rng(sum(shape) + 7)
     for k, cells in _random_systems(rng, shape, periodic):
@@ -900,7 +900,7 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
     from coordinate triplets (where a periodic side of two cells joins two cells twice)."""
     import scipy.sparse
 
-    from bem.flow import _flow_system
+    from bem.leakage.flow import _flow_system
 
     for k, cells in _random_systems(np.random.default_rng(sum(shape)), shape, periodic):
         matrix, _, faces, boundary = _flow_system(k, cells, periodic)
@@ -910,7 +910,7 @@ def test_the_assembled_system_is_the_sum_of_its_faces(periodic, shape):
             (np.concatenate([t, t, -t, -t, boundary[1]]),
              (np.concatenate([tail, head, tail, head, boundary[0]]),
               np.concatenate([tail, head, head, tail, boundary[0]]))), shape=(n, n)).toarray()
-        rows = matrix.tocsr()   # (the system is held by its faces, bem.face_matrix)
+        rows = matrix.tocsr()   # (the system is held by its faces, bem.leakage.face_matrix)
         assembled = rows.toarray()
         if periodic:   # one grounded cell per cluster: its diagonal doubled
             grounded = np.flatnonzero(~np.isclose(np.diag(assembled), np.diag(expected),

@@ -1,34 +1,58 @@
-"""Imports in validation/ follow the data flow one way, bottom to top:
+"""Imports in each package follow its layers one way, bottom to top:
 
-    common (and _version) -> surfaces -> scenes -> run -> judge -> report -> check -> cli, campaigns
+    validation: common (and _version) -> surfaces -> scenes -> run -> judge -> report -> check
+                -> cli, campaigns
+    bem:        common -> elastic -> leakage -> contact -> model, interface, reference
+    asperity:   common -> gw -> spectral | discrete
 
-A sub-package imports only itself and the layers below it; the top (``cli.py``,
-``__main__.py``, ``campaigns/`` and the package's ``__init__.py``, the public names) may import
-anything, and nothing below imports it. Every import counts: at module level, inside functions,
-under ``TYPE_CHECKING``, relative, and ``from validation import x`` (an edge to the package's
-``__init__``, the top). The import graph is read from the sources with :mod:`ast` by
-``tests/test_import_cycles.py``.
+A sub-package imports only itself and the layers below it (two sub-packages of one layer, such as
+asperity's spectral and discrete, not each other); the top (validation's ``cli.py``,
+``__main__.py`` and ``campaigns/``, bem's model, interface and reference modules, and each
+package's ``__init__.py``, the public names) may import anything, and nothing below imports it.
+Every import counts: at module level, inside functions, under ``TYPE_CHECKING``, relative, and
+``from bem import x`` (an edge to the package's ``__init__``, the top). The import graph is read
+from the sources with :mod:`ast` by ``tests/test_import_cycles.py``; imports between the packages
+are checked by ``tests/test_package_layout.py``.
 """
 
 from __future__ import annotations
 
+import pytest
+
 from test_import_cycles import ROOT, import_graph
 
-#: The layers of validation/, bottom first: each entry names the sub-packages (or top-level
+#: The layers of each package, bottom first: each entry names the sub-packages (or top-level
 #: modules) of one layer. Only the top layer's members may import each other.
-LAYERS = (
-    ("_version",),
-    ("common",),
-    ("surfaces",),
-    ("scenes",),
-    ("run",),
-    ("judge",),
-    ("report",),
-    ("check",),
-    ("cli", "campaigns", "__main__", "__init__"),
-)
-RANK = {unit: rank for rank, units in enumerate(LAYERS) for unit in units}
-TOP = len(LAYERS) - 1
+LAYERS = {
+    "validation": (
+        ("_version",),
+        ("common",),
+        ("surfaces",),
+        ("scenes",),
+        ("run",),
+        ("judge",),
+        ("report",),
+        ("check",),
+        ("cli", "campaigns", "__main__", "__init__"),
+    ),
+    "bem": (
+        ("common",),
+        ("elastic",),
+        ("leakage",),
+        ("contact",),
+        ("model", "interface", "reference", "__init__"),
+    ),
+    "asperity": (
+        ("common",),
+        ("gw",),
+        ("spectral", "discrete"),
+        ("__init__",),
+    ),
+}
+
+
+def ranks(package: str) -> dict[str, int]:
+    return {unit: rank for rank, units in enumerate(LAYERS[package]) for unit in units}
 
 
 def unit(module: str, package: str = "validation") -> str:
@@ -41,11 +65,12 @@ def unit(module: str, package: str = "validation") -> str:
 
 def unplaced(graph: dict[str, set[str]], package: str = "validation") -> set[str]:
     """Sub-packages and top-level modules of ``package`` that have no place in :data:`LAYERS`."""
-    return {unit(module, package) for module in graph} - set(RANK)
+    return {unit(module, package) for module in graph} - set(ranks(package))
 
 
 def back_edges(graph: dict[str, set[str]], package: str = "validation") -> list[tuple[str, str]]:
     """The imports ``(importer, imported)`` that go up or sideways between layers, sorted."""
+    rank, top = ranks(package), len(LAYERS[package]) - 1
     found = []
     for module, targets in graph.items():
         source = unit(module, package)
@@ -53,23 +78,27 @@ def back_edges(graph: dict[str, set[str]], package: str = "validation") -> list[
             destination = unit(target, package)
             if source == destination:
                 continue
-            if RANK[destination] < RANK[source] or RANK[destination] == RANK[source] == TOP:
+            if rank[destination] < rank[source] or rank[destination] == rank[source] == top:
                 continue
             found.append((module, target))
     return sorted(found)
 
 
-def test_every_part_of_validation_has_a_layer():
-    graph = import_graph(ROOT, ("validation",))
-    assert not unplaced(graph), "place these in LAYERS (and the README's map of the code)"
-    assert not set(RANK) - {unit(module) for module in graph}, "LAYERS names parts that are gone"
+@pytest.mark.parametrize("package", sorted(LAYERS))
+def test_every_part_of_a_package_has_a_layer(package):
+    graph = import_graph(ROOT, (package,))
+    assert not unplaced(graph, package), "place these in LAYERS (and the map of the code)"
+    assert not set(ranks(package)) - {unit(module, package) for module in graph}, \
+        "LAYERS names parts that are gone"
 
 
-def test_imports_follow_the_layers():
-    graph = import_graph(ROOT, ("validation",))
-    crossing = [(a, b) for a, targets in graph.items() for b in targets if unit(a) != unit(b)]
-    assert len(crossing) > 50  # the graph was read (every layer imports the ones below)
-    edges = back_edges(graph)
+@pytest.mark.parametrize("package, least", [("validation", 50), ("bem", 30), ("asperity", 15)])
+def test_imports_follow_the_layers(package, least):
+    graph = import_graph(ROOT, (package,))
+    crossing = [(a, b) for a, targets in graph.items() for b in targets
+                if unit(a, package) != unit(b, package)]
+    assert len(crossing) > least  # the graph was read (every layer imports the ones below)
+    edges = back_edges(graph, package)
     assert not edges, "imports against the layers:\n" + "\n".join(f"  {a} -> {b}" for a, b in edges)
 
 
@@ -113,3 +142,34 @@ def test_a_sub_package_without_a_layer_is_found(tmp_path):
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text("", encoding="utf-8")
     assert unplaced(import_graph(tmp_path, ("validation",))) == {"extra"}
+
+
+def test_sideways_and_upward_imports_in_bem_and_asperity_are_found(tmp_path):
+    sources = {
+        "bem/__init__.py": "from bem.contact.path import contact_curve\n",       # top: allowed
+        "bem/model.py": "from bem.contact import path\n",                        # top: allowed
+        "bem/common/__init__.py": "",
+        "bem/common/checks.py": "",
+        "bem/elastic/__init__.py": "",
+        "bem/elastic/halfspace.py": "from bem.model import x\n",                 # up to the top
+        "bem/leakage/__init__.py": "",
+        "bem/leakage/flow.py": "def f():\n    from bem.contact import path\n",  # up, in a function
+        "bem/contact/__init__.py": "",
+        "bem/contact/path.py": "from bem.leakage import flow\nfrom bem import checks\n",
+        "asperity/__init__.py": "",
+        "asperity/gw/__init__.py": "",
+        "asperity/gw/summits.py": "",
+        "asperity/spectral/__init__.py": "",
+        "asperity/spectral/persson.py": "from asperity.gw import summits\n",    # down: allowed
+        "asperity/discrete/__init__.py": "",
+        "asperity/discrete/model.py": "from asperity.spectral import persson\n",  # sideways
+    }
+    for name, text in sources.items():
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+    assert back_edges(import_graph(tmp_path, ("bem",)), "bem") == [
+        ("bem.contact.path", "bem"), ("bem.elastic.halfspace", "bem.model"),
+        ("bem.leakage.flow", "bem.contact.path")]
+    assert back_edges(import_graph(tmp_path, ("asperity",)), "asperity") == [
+        ("asperity.discrete.model", "asperity.spectral.persson")]

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import bem
-from bem.flow import hydraulic_aperture, leakage_aperture
-from bem.path import ERROR_FACTOR
+from bem.leakage.flow import hydraulic_aperture, leakage_aperture
+from bem.contact.path_errors import ERROR_FACTOR
 from validation import self_affine_surface
 
 N = 64

@@ -1,4 +1,4 @@
-"""Leakage predictions of the theories (asperity.leakage, asperity.persson_gaps; docs/theory.md,
+"""Leakage predictions of the theories (asperity.common.leakage, asperity.spectral.persson_gaps; docs/theory.md,
 section "Gas-tightness and leakage"): the effective medium against closed forms and adaptive
 quadrature, its percolation threshold, and each model's hook."""
 
@@ -13,9 +13,9 @@ from hypothesis import strategies as st
 from scipy import integrate, optimize, stats
 
 import asperity
-from asperity.leakage import (effective_medium_aperture, effective_medium_density,
+from asperity.common.leakage import (effective_medium_aperture, effective_medium_density,
                               log_aperture_error, rigid_gaussian_aperture, two_phase_aperture)
-from asperity.persson_gaps import _unresolved_mean_gap, gap_distribution, persson_leakage
+from asperity.spectral.persson_gaps import _unresolved_mean_gap, gap_distribution, persson_leakage
 
 
 def two_gap_root(f, g1, g2, a_c=0.5):

@@ -1,12 +1,12 @@
-"""The mirror (interface) half-space product by one real FFT pair (bem.mirror_product)."""
+"""The mirror (interface) half-space product by one real FFT pair (bem.elastic.mirror_product)."""
 
 import numpy as np
 import pytest
 import scipy.fft
 
 from bem import HalfSpace
-from bem.fft import have_pyfftw
-from bem.mirror_product import MirrorProduct
+from bem.elastic.fft import have_pyfftw
+from bem.elastic.mirror_product import MirrorProduct
 
 needs_pyfftw = pytest.mark.skipif(not have_pyfftw(), reason="pyFFTW not installed")
 BACKENDS = ["scipy", pytest.param("pyfftw", marks=needs_pyfftw)]

@@ -69,7 +69,7 @@ def synthetic_one(error: float, band: float):
     """One realization whose model area is off by ``error`` everywhere, the BEM's band ``band``."""
     from types import SimpleNamespace
 
-    from bem.curve import ContactCurve
+    from bem.common.curve import ContactCurve
 
     load, area = np.logspace(-4, -2, 4), np.array([0.01, 0.03, 0.1, 0.2])
     reference = ContactCurve(separation=[3.0, 2.0, 1.5, 1.0], load=load, area=area,

@@ -1,4 +1,4 @@
-"""Persson's theory (asperity.persson, asperity.spectrum): closed-form limits, independent
+"""Persson's theory (asperity.spectral.persson, asperity.spectral.spectrum): closed-form limits, independent
 quadrature, inversion, stiffness, the PSD normalisation and input checks."""
 
 import itertools
@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scipy import integrate
 
 from asperity import IsotropicSpectrum, Persson, separation_kernel
-from asperity.spectrum import power_spectrum_2d, radial_power_spectrum
+from asperity.spectral.spectrum import power_spectrum_2d, radial_power_spectrum
 from bem import ContactCurve, ConvergenceWarning
 
 Q_L, Q_1, C_L, HURST = 2.0 * math.pi, 2000.0 * math.pi, 1e-6, 0.8
@@ -345,7 +345,7 @@ def test_mean_gap_and_area_against_periodic_bem():
     0.01 to 0.3 (measured 0.87-1.13), and the area is below the BEM's (Persson's area is known
     to be low; measured ratio 0.60-0.85 on this grid, where pixel counting also inflates the
     BEM's area)."""
-    from bem.path import contact_curve
+    from bem.contact.path import contact_curve
     n, spacing = 256, 1.0 / 256
     rng = np.random.default_rng(3)
     q = 2 * np.pi * np.fft.fftfreq(n, spacing)

@@ -1,4 +1,4 @@
-"""The pixel-block aggregates of the Reynolds multigrid (bem.pixel_blocks): the grid's 2 x 2
+"""The pixel-block aggregates of the Reynolds multigrid (bem.leakage.pixel_blocks): the grid's 2 x 2
 blocks, split where a block's connections are weak, a part hanging on weak connections alone
 kept in its block."""
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import scipy.sparse
 
-from bem.pixel_blocks import BLOCK_STRENGTH, aggregates, block_hierarchy
+from bem.leakage.pixel_blocks import BLOCK_STRENGTH, aggregates, block_hierarchy
 
 
 def _grid_matrix(cells: np.ndarray, horizontal: np.ndarray, vertical: np.ndarray):

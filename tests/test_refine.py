@@ -366,7 +366,7 @@ def test_a_finer_reference_starts_from_the_pressures_solved_one_grid_below(tmp_p
     """The scene grid's reference keeps its pressures (validation.run.starts); the finer path
     starts from them instead of solving its coarse problems again, and agrees with the path
     that solves them to the solver's tolerance."""
-    import bem.path
+    import bem.contact.path
     import validation.run.starts
     from validation import run_scenes
 
@@ -375,13 +375,13 @@ def test_a_finer_reference_starts_from_the_pressures_solved_one_grid_below(tmp_p
                               "realizations": {"count": 1, "seed": 7},
                               "bem": {"max_grid": 128, "frames": ["finite"]}}, source="test")
     coarse_solves = []
-    original = bem.path._coarse_start
+    original = bem.contact.path._coarse_start
 
     def spy(operator, *args, **kwargs):
         coarse_solves.append(operator.shape)
         return original(operator, *args, **kwargs)
 
-    monkeypatch.setattr(bem.path, "_coarse_start", spy)
+    monkeypatch.setattr(bem.contact.path, "_coarse_start", spy)
     (kept,) = run_scenes([scene], progress=False, cache_dir=str(tmp_path / "kept"))
     assert kept.refinement.levels and (128, 128) not in coarse_solves
     assert list((tmp_path / "kept").glob("bem-starts-*.npz"))

@@ -163,7 +163,7 @@ def synthetic(errors, *, band=0.0, converged=True):
     at every one of 4 load points; the BEM's area band is ``band`` (NaN: not estimated)."""
     from types import SimpleNamespace
 
-    from bem.curve import ContactCurve
+    from bem.common.curve import ContactCurve
 
     load, area = np.logspace(-4, -2, 4), np.array([0.01, 0.03, 0.1, 0.2])
     out = []

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import asperity
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED
 from validation.judge.sampling import (KEY, sampling_finding, sampling_study,
                                        sampling_verdict)

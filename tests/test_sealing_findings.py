@@ -6,8 +6,8 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from asperity.leakage import rigid_gaussian_aperture
-from bem.curve import ContactCurve
+from asperity.common.leakage import rigid_gaussian_aperture
+from bem.common.curve import ContactCurve
 from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED
 from validation.judge.sealing import (LEVELS, d1_measures_leakage, effective_separation,
                                       sealing_size, size_collapse)

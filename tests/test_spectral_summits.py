@@ -1,4 +1,4 @@
-"""Nayak's summit statistics from the spectral moments (asperity.spectral_summits).
+"""Nayak's summit statistics from the spectral moments (asperity.spectral.spectral_summits).
 
 Checked against the closed forms, against direct numerical integration of Nayak's summit
 density (independent of the constants written in the code), against the finite-difference
@@ -14,9 +14,10 @@ from scipy import stats
 
 from asperity import (GreenwoodWilliamson, ImprovedGreenwoodWilliamson, IsotropicSpectrum,
                       SpectralMoments, find_summits, spectral_moments, spectral_summits)
-from asperity.spectral_summits import SUMMIT_VARIANCE_CONSTANT
+from asperity.spectral.spectral_summits import SUMMIT_VARIANCE_CONSTANT
 from validation.surfaces.self_affine import self_affine_surface
-from validation.surfaces.wm import surface_statistics, wm_surface
+from validation.surfaces.statistics import surface_statistics
+from validation.surfaces.wm import wm_surface
 
 
 @pytest.mark.parametrize("m0, m2, m4", [(1.0, 1.0, 10.0), (2e-12, 3e-4, 7e4), (1.0, 1.0, 1.5)])

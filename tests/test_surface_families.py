@@ -14,7 +14,7 @@ from validation.scenes.scene import FAMILIES, SceneError, SurfaceSpec
 from validation.scenes.reader import load_scene, parse_scene
 from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.families import _MAKERS, surface_heights, tile
-from validation.surfaces.wm import surface_statistics
+from validation.surfaces.statistics import surface_statistics
 from validation.surfaces.topography import write_gwyddion_ascii
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"

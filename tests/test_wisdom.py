@@ -15,8 +15,8 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPT = """
 import sys
 import numpy as np, pyfftw
-from bem.fft import RealFFT2
-from bem.wisdom import load_wisdom
+from bem.elastic.fft import RealFFT2
+from bem.elastic.wisdom import load_wisdom
 
 load_wisdom()
 a = pyfftw.empty_aligned((96, 80), dtype=np.float64)

@@ -20,7 +20,8 @@ below it (``tests/test_import_layers.py``):
 """
 
 from validation._version import __version__
-from validation.surfaces.wm import SurfaceStatistics, surface_statistics, wm_amplitude, wm_surface
+from validation.surfaces.statistics import SurfaceStatistics, surface_statistics
+from validation.surfaces.wm import wm_amplitude, wm_surface
 from validation.surfaces.self_affine import radial_power_spectrum, self_affine_surface
 from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.cutoff import short_wavelength_cutoff

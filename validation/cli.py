@@ -34,8 +34,8 @@ import warnings
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import replace
 
-from bem.device import DEVICES, array_module
-from bem.wisdom import WISDOM_VARIABLE
+from bem.elastic.device import DEVICES, array_module
+from bem.elastic.wisdom import WISDOM_VARIABLE
 from validation.run.cache import check_directory, default_cache_dir
 from validation.scenes.reader import builtin_scenes, load_scene
 from validation.scenes.scene import SceneError, SceneWarning, scene_warnings
@@ -200,7 +200,7 @@ def run_pipeline(args: argparse.Namespace, work, out_option: str = "--out") -> i
     except ValueError as error:
         print(f"error: {error}", file=sys.stderr)
         return 2
-    # FFTW wisdom is kept with the cache (bem.wisdom), for this process and the workers
+    # FFTW wisdom is kept with the cache (bem.elastic.wisdom), for this process and the workers
     wisdom = os.environ.get(WISDOM_VARIABLE)
     os.environ[WISDOM_VARIABLE] = cache_dir or ""
     try:

@@ -233,12 +233,12 @@ def machine_description() -> str:
 
     import scipy
 
-    import bem.fft
+    import bem.elastic.fft
     import validation
 
     parts = [f"asperity-validation {validation.__version__}", f"Python {platform.python_version()}",
              f"numpy {np.__version__}", f"scipy {scipy.__version__}"]
-    if bem.fft.have_pyfftw():
+    if bem.elastic.fft.have_pyfftw():
         import pyfftw
         parts.append(f"pyFFTW {pyfftw.__version__}")
     return (f"{platform.machine()} {_processor()} {os.cpu_count()} cores, "

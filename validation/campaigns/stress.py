@@ -89,7 +89,8 @@ def stress_cases(quick: bool) -> list[tuple[str, str, Callable[[], _Outcome]]]:
     """(group, case, run) triples of the campaign."""
     import asperity
     import bem
-    from validation.surfaces.wm import surface_statistics, wm_surface
+    from validation.surfaces.statistics import surface_statistics
+    from validation.surfaces.wm import wm_surface
 
     cases = []
     grid_sizes = (16, 32, 64, 128) if quick else (16, 64, 256, 1024, 2048)

@@ -25,7 +25,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from bem.device import array_module
+from bem.elastic.device import array_module
 from validation.check.plausible import plausibility
 from validation.check.request import CheckRequest, scene_text
 from validation.check.result import CheckResult
@@ -36,7 +36,7 @@ from validation.scenes.reader import parse_scene
 from validation.surfaces.spec import MIN_TILE
 from validation.surfaces.topography import MIN_SIDE, Topography
 from validation.surfaces.units import LENGTH_UNITS
-from validation.surfaces.wm import surface_statistics
+from validation.surfaces.statistics import surface_statistics
 
 __all__ = ["check_scan", "check_scenes", "is_check_scene", "make_request", "request_of_scene",
            "run_request"]
@@ -331,8 +331,8 @@ def run_request(request: CheckRequest, scenes, scene_text_: str, *, executor=Non
 
 @contextlib.contextmanager
 def _wisdom(cache_dir: str | None):
-    """FFTW wisdom kept with the cache for the run (bem.wisdom), as the command does."""
-    from bem.wisdom import WISDOM_VARIABLE
+    """FFTW wisdom kept with the cache for the run (bem.elastic.wisdom), as the command does."""
+    from bem.elastic.wisdom import WISDOM_VARIABLE
 
     before = os.environ.get(WISDOM_VARIABLE)
     os.environ[WISDOM_VARIABLE] = cache_dir or ""

@@ -30,8 +30,8 @@ import numpy as np
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.check.units import PressureRange, length_unit_for
 from validation.surfaces.topography import Topography, read_topography
+from validation.surfaces.statistics import surface_statistics
 from validation.surfaces.units import LENGTH_UNITS, readable
-from validation.surfaces.wm import surface_statistics
 
 __all__ = ["CHECK_TOLERANCE", "CheckRequest", "DEFAULT_PRESSURES", "INTERFACE_MODELS", "MAX_REFINED_SIDE",
            "NOMINAL_MODELS", "QUANTITIES", "scene_text"]
@@ -98,7 +98,7 @@ class CheckRequest:
         from it keeps its own copy).
     device : str
         Where the reference's contact problems are solved, ``"cpu"`` or ``"gpu"``
-        (:mod:`bem.device`; the scene's ``[bem] device``).
+        (:mod:`bem.elastic.device`; the scene's ``[bem] device``).
     """
 
     path: pathlib.Path

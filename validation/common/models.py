@@ -26,7 +26,7 @@ __all__ = ["FRAMES", "FRAME_LABELS", "PERSSON_WINDOW", "ModelInputs", "ModelEntr
            "frames_of"]
 
 
-#: Window of the height map's PSD for Persson's theory (:func:`asperity.spectrum.power_spectrum_2d`).
+#: Window of the height map's PSD for Persson's theory (:func:`asperity.spectral.spectrum.power_spectrum_2d`).
 #: "mirror" keeps h_rms and h'_rms of the map (Hann loses up to a third of h_rms at D = 2.05) and
 #: its mean gap agrees better with the BEM's on WM surfaces (docs/theory.md, section 7).
 PERSSON_WINDOW = "mirror"

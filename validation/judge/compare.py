@@ -27,8 +27,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from bem import checks
-from bem.curve import ContactCurve
+from bem.common import checks
+from bem.common.curve import ContactCurve
 from validation.judge.errors import (ABSOLUTE_QUANTITIES, LOG_QUANTITIES,
                                      RELATIVE_QUANTITIES, converged_points, curve_errors,
                                      pairwise_errors, reached_points,

@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from asperity.leakage import log_aperture_error
-from bem import checks
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from asperity.common.leakage import log_aperture_error
+from bem.common import checks
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve
 
 __all__ = [
     "ABSOLUTE_QUANTITIES",

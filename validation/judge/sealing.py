@@ -24,8 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from asperity.leakage import log_aperture_error, rigid_gaussian_aperture
-from bem.curve import ContactCurve
+from asperity.common.leakage import log_aperture_error, rigid_gaussian_aperture
+from bem.common.curve import ContactCurve
 from validation.judge.compare import converged_points
 from validation.judge.findings import IMPROVED_GW, ORIGINAL_GW, Finding, majority
 from validation.judge.verdicts import (

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from bem import checks
+from bem.common import checks
 # the verdict names and their confidence are shared with the plan of realizations below the
 # judge, so they are defined at the bottom (validation.common.verdicts) and exported here too
 from validation.common.verdicts import CONFIDENCE, FAILS, HOLDS, UNDECIDED

@@ -80,7 +80,7 @@ def version_text() -> str:
 
 def header(seconds, mode, command) -> list[str]:
     """The report's title and the provenance of the run (command, version, time, platform)."""
-    import bem.fft
+    import bem.elastic.fft
 
     run = [f"Command: `{command}`" if command else "", version_text(),
            f"run time {seconds / 60:.1f} min ({seconds:.0f} s)" if seconds is not None else "",
@@ -91,7 +91,7 @@ def header(seconds, mode, command) -> list[str]:
         "; ".join(part for part in run if part) + ".\n",
         f"Generated {datetime.datetime.now().isoformat(timespec='seconds')} (Python "
         f"{platform.python_version()}, numpy {np.__version__}, FFT backend "
-        f"{'pyFFTW' if bem.fft.have_pyfftw() else 'scipy.fft'}).\n",
+        f"{'pyFFTW' if bem.elastic.fft.have_pyfftw() else 'scipy.fft'}).\n",
     ]
 
 

@@ -21,7 +21,7 @@ from functools import partial
 
 import numpy as np
 
-from bem import checks
+from bem.common import checks
 from validation.judge.analysis import Analysis, analyse
 from validation.judge.compare import COMPARED_QUANTITIES, Comparison
 from validation.report.figures import dimensionless
@@ -287,7 +287,7 @@ def _theory_section(figures: _Figures, result: SceneResult) -> None:
 
 def _check_arguments(results, folder, seconds, mode, command, executor, cache_dir,
                      figure_jobs=None) -> pathlib.Path:
-    """The checks of :func:`write_report`'s arguments (bem.checks rules); returns the folder."""
+    """The checks of :func:`write_report`'s arguments (bem.common.checks rules); returns the folder."""
     checks.instances("results", results, SceneResult)
     for name, value in (("mode", mode), ("command", command)):
         if not (isinstance(value, str) or value is None and name == "command"):

@@ -36,7 +36,7 @@ from typing import Any, Callable, TypeVar
 
 import numpy as np
 
-from bem.curve import CURVE_QUANTITIES, ContactCurve
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve
 
 __all__ = ["Cache", "CacheWarning", "REPORT_ONLY_MODULES", "cache_key", "check_directory",
            "curve_arrays", "curve_from_arrays", "default_cache_dir", "model_quantities",

@@ -5,7 +5,7 @@ swept parameter is the fractal dimension D of a WM family, the Hurst exponent H 
 self-affine one; a measured map has one value and its tiles as realizations
 (:mod:`validation.surfaces.families`). When the scene asks for the boundary-element reference's
 own error, every BEM curve carries per-point error estimates (extras ``<quantity>_error``,
-:func:`bem.path.error_estimates`: the same path on half the grid). A task computes, in order
+:func:`bem.contact.path_errors.error_estimates`: the same path on half the grid). A task computes, in order
 and only when needed:
 
 * the surface (only when a result that needs it is not cached; a theory scene has no tasks,
@@ -36,9 +36,9 @@ from typing import Callable
 
 import numpy as np
 
-from bem.background import BackgroundCall
-from bem.curve import ContactCurve
-from bem.heap import map_large_arrays
+from bem.common.background import BackgroundCall
+from bem.common.curve import ContactCurve
+from bem.common.heap import map_large_arrays
 from validation.common import models
 from validation.common.models import ModelInputs
 from validation.run import sampling
@@ -253,7 +253,7 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
     dense products and sparse factorisations, release the GIL): for a realization that runs
     alone in its process, so that it uses a second core. The curves are the same either way.
     """
-    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.heap)
+    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.common.heap)
     cache, log = Cache(task.cache_dir), _Log(task)
     heights = _surface_maker(task, log)
     summits = _summits(task, cache, log, heights)

@@ -18,12 +18,12 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from bem.curve import CURVE_QUANTITIES, ContactCurve
-from bem.fft_threads import default_threads
-from bem.heap import map_large_arrays
-from bem.background_flow import BackgroundLeakage
+from bem.common.curve import CURVE_QUANTITIES, ContactCurve
+from bem.elastic.fft_threads import default_threads
+from bem.common.heap import map_large_arrays
+from bem.leakage.background_flow import BackgroundLeakage
 from bem.interface import method_error
-from bem.path import error_estimates
+from bem.contact.path_errors import error_estimates
 from validation.run.finer_sample import refined_heights
 from validation.run.cache import (Cache, cache_key, curve_arrays, curve_from_arrays,
                                   model_quantities, needs_leakage, needs_stiffness,
@@ -48,13 +48,13 @@ SOLVER_SHARE = 0.01
 #: the interface's (its periodic or mirror-extended problem). The reference of a nominal square
 #: (bem_nominal) keeps its band.
 REFINED = ("bem", "bem_interface")
-#: The curve fields of the stiffness solve (bem.stiffness), which a refinement may skip.
+#: The curve fields of the stiffness solve (bem.contact.stiffness), which a refinement may skip.
 STIFFNESS_FIELDS = ("stiffness", "conductance")
 #: Loosest solver tolerance a refined solve uses.
 LOOSEST_TOLERANCE = 1e-4
 #: Largest grid (points per side) on which a finer reference solves the leakage again; on
 #: finer grids the leakage and its band stay those of the grid below. At 1024^2 one Reynolds
-#: solve (bem.flow_solver's multigrid) takes 3-6 s and under 1 GB; at 2048^2 13-195 s per
+#: solve (bem.leakage.flow_solver's multigrid) takes 3-6 s and under 1 GB; at 2048^2 13-195 s per
 #: direction and 1.45 GB (1.8 % contact), beyond the memory a check of a 1024^2 scan is to
 #: keep to.
 MAX_LEAKAGE_GRID = 1024
@@ -203,7 +203,7 @@ def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,
 def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     """The finer solve of ``job`` at its points (from the cache when there), and whether it
     was computed now. Loads are the task's, in the scene's dimensionless form times E* L^2."""
-    from bem.concurrent_path import concurrent_curve
+    from bem.contact.concurrent_path import concurrent_curve
 
     task = job.task
     s = task.surface
@@ -229,7 +229,7 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
     periodic = task.bem.periodic or job.extension is not None
     mirror = job.extension == "mirror"
     # One path through every point (a second path for the leakage points alone started cold),
-    # dealt to concurrent sub-paths (bem.concurrent_path: one per free core), the Reynolds
+    # dealt to concurrent sub-paths (bem.contact.concurrent_path: one per free core), the Reynolds
     # solves of the points that need them after it: beside it they would take a core from the
     # sub-paths, whose FFT threads are chosen when their operators are built.
     positions = {index for index, k in enumerate(job.points) if k in wanted}
@@ -273,7 +273,7 @@ def refine_points(job: RefineJob, cache: Cache) -> tuple[ContactCurve, bool]:
 def run_job(job: RefineJob, cache_dir: str | None) -> tuple[ContactCurve, bool]:
     """:func:`refine_points` with its own cache handle (a top-level function, so that process
     pools and clusters can run it)."""
-    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.heap)
+    map_large_arrays()   # freed grids given back, in whichever process this runs (bem.common.heap)
     return refine_points(job, Cache(cache_dir))
 
 

@@ -18,8 +18,8 @@ from concurrent.futures import Executor, Future, as_completed
 from dataclasses import dataclass, field, replace
 from typing import Iterable
 
-from bem import checks
-from bem.curve import ContactCurve
+from bem.common import checks
+from bem.common.curve import ContactCurve
 from validation.common import models
 from validation.run.cache import model_quantities
 from validation.run.cost import remaining_seconds, schedule

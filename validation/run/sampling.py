@@ -27,7 +27,7 @@ from typing import Callable
 
 import numpy as np
 
-from bem.curve import ContactCurve
+from bem.common.curve import ContactCurve
 from validation.common import models
 from validation.run.cache import cache_key
 from validation.common.models import ModelInputs

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bem.nested_grid import _nestable
+from bem.contact.nested_grid import _nestable
 from validation.run.cache import Cache, cache_key, source_version
 from validation.surfaces.families import surface_identity
 

@@ -15,7 +15,7 @@ import warnings
 from importlib import resources
 from typing import Any, Iterator
 
-from bem.checks import InputTypeError, file_path
+from bem.common.checks import InputTypeError, file_path
 
 from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath,
                                      QuickSettings, Scene, SceneError, SceneWarning, SurfaceSpec,

@@ -45,7 +45,7 @@ from __future__ import annotations
 import math
 from dataclasses import MISSING, dataclass, field, fields, replace
 
-from bem.device import DEVICES
+from bem.elastic.device import DEVICES
 from validation.common import models as _models
 from validation.common import checks as check
 from validation.common.checks import SceneError, SceneWarning
@@ -132,7 +132,7 @@ class BemSettings:
     # the frames whose references are computed ("interface", "finite": docs/theory.md 8.10);
     # None: those of the scene's models (Scene resolves it)
     frames: tuple[str, ...] | None = None
-    # where the reference's contact problems are solved (bem.device): "cpu" or "gpu"; results
+    # where the reference's contact problems are solved (bem.elastic.device): "cpu" or "gpu"; results
     # and cache entries are the same from either
     device: str = "cpu"
 

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import fft
 
-from bem.checks import height_map, positive
+from bem.common.checks import height_map, positive
 
 __all__ = ["short_wavelength_cutoff", "check_cutoff"]
 

@@ -30,7 +30,8 @@ from typing import Callable
 import numpy as np
 
 from validation.surfaces.self_affine import self_affine_surface
-from validation.surfaces.wm import surface_statistics, wm_surface
+from validation.surfaces.statistics import surface_statistics
+from validation.surfaces.wm import wm_surface
 from validation.surfaces.topography import Topography, read_topography
 
 __all__ = ["surface_heights", "surface_identity", "read_map", "tile", "tile_side", "file_digest"]

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from scipy.interpolate import make_interp_spline
 
-from bem import checks
+from bem.common import checks
 
 __all__ = ["RESAMPLE", "resample_square"]
 

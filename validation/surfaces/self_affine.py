@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
-from asperity.spectrum import power_spectrum_2d
-from bem import checks
-from bem.checks import integer, positive, real_number
-from validation.surfaces.wm import surface_statistics
+from asperity.spectral.spectrum import power_spectrum_2d
+from bem.common import checks
+from bem.common.checks import integer, positive, real_number
+from validation.surfaces.statistics import surface_statistics
 
 __all__ = [
     "power_spectrum",
@@ -61,7 +61,7 @@ def power_spectrum(heights: np.ndarray, spacing: float) -> tuple[np.ndarray, np.
     ``sum(C) * (2 pi / L)^2 == mean((h - mean h)^2)`` (Parseval) for an ``n_y x n_x`` map
     with ``(2 pi / L)^2`` meaning ``(2 pi)^2 / (L_x L_y)``. No window function is applied:
     for a non-periodic map the edges leak power to high q. The periodogram of
-    :func:`asperity.spectrum.power_spectrum_2d` (``window="none"``), with ``|q|`` on its grid.
+    :func:`asperity.spectral.spectrum.power_spectrum_2d` (``window="none"``), with ``|q|`` on its grid.
     """
     q_x, q_y, spectrum = power_spectrum_2d(heights, spacing, window="none")
     return np.hypot(q_y, q_x), spectrum

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from bem import checks
-from bem.checks import choice, file_path, frozen_array, optional_integer, positive
+from bem.common import checks
+from bem.common.checks import choice, file_path, frozen_array, optional_integer, positive
 from validation.surfaces.cutoff import check_cutoff, short_wavelength_cutoff
 from validation.surfaces.formats import load_map
 from validation.surfaces.resample import RESAMPLE, resample_square

@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import re
 
-from bem.checks import positive
+from bem.common.checks import positive
 
 __all__ = ["LENGTH_UNITS", "PRESSURE_UNITS", "format_length", "format_pressure", "length_in",
            "length_unit_for", "parse_length", "readable", "unit_factor"]
