@@ -22,7 +22,7 @@ from typing import Callable
 
 import numpy as np
 
-from bem.common.checks import InputTypeError, flag, non_negative, positive
+from bem.common.checks import InputTypeError, flag, non_negative, positive, supported_magnitude
 
 from asperity.discrete.interaction import PointForceInteraction
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
@@ -133,7 +133,7 @@ def assemble(summits: Summits, *, e_star: float = 1.0, interaction: bool = True,
                          f"{type(summits).__name__}")
     if summits.count == 0:
         raise ValueError("summits must contain at least one summit")
-    e_star = positive("e_star", e_star)
+    e_star = supported_magnitude("e_star", positive("e_star", e_star))
     interaction = flag("interaction", interaction)
     local = flag("local", local)
     if local and (not interaction or m is not None):

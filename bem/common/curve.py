@@ -62,6 +62,7 @@ from bem.common.checks import InputTypeError
 from bem.common.checks import integer as _integer
 from bem.common.checks import frozen_array as _frozen_array
 from bem.common.checks import positive as _positive
+from bem.common.checks import real_array as _real_array
 
 __all__ = ["ContactCurve", "CURVE_QUANTITIES", "check_quantities"]
 
@@ -123,7 +124,11 @@ class ContactCurve:
         for f in fields(self):
             if f.name in ("nominal_area", "e_star", "extras"):
                 continue
-            array = _frozen_array(getattr(self, f.name))
+            value = getattr(self, f.name)
+            # real numbers, NaN and inf allowed (unreached points, infinite stiffness); a
+            # string, complex or ragged field is refused naming it
+            array = None if value is None else _frozen_array(
+                _real_array(f"ContactCurve field {f.name!r}", value, finite=False))
             if array is not None:
                 if shape is None:
                     shape = array.shape

@@ -91,7 +91,8 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
     model, reference : ContactCurve
         Curves on the same load points; a point where the model's load differs from the
         reference's by more than ``load_rtol`` (relative) is unreachable
-        (:func:`reached_points`): NaN error.
+        (:func:`reached_points`): NaN error. Curves that share no load at all are refused
+        (ValueError): no error is defined between them.
     sigma : float
         Standard deviation of the summit heights [length], the unit of separation errors.
     quantities : tuple of str
@@ -114,6 +115,18 @@ def curve_errors(model: ContactCurve, reference: ContactCurve, sigma: float,
         sigma, quantities, ABSOLUTE_QUANTITIES + RELATIVE_QUANTITIES + LOG_QUANTITIES)
     load_rtol = checks.non_negative("load_rtol", load_rtol)
     reached = reached_points(model, reference, load_rtol=load_rtol)
+    if reached.size and not reached.any():
+        raise ValueError(f"model and reference share no load: at every point the model's load "
+                         f"differs from the reference's by more than load_rtol = {load_rtol:g} "
+                         f"(relative), so no error is defined; compare curves solved at the "
+                         f"same loads (the model's at_load(reference.load))")
+    return _errors(model, reference, sigma, quantities, reached, reference_fields)
+
+
+def _errors(model: ContactCurve, reference: ContactCurve, sigma: float,
+            quantities: tuple[str, ...], reached: np.ndarray,
+            reference_fields: dict[str, str] | None) -> dict[str, np.ndarray]:
+    """:func:`curve_errors` of checked arguments; a point not ``reached`` is NaN."""
     fields = reference_fields or {}
     unconverged = ~(converged_points(model) & converged_points(reference) & reached)
     errors: dict[str, np.ndarray] = {}
@@ -173,8 +186,10 @@ def pairwise_errors(results, model: str, reference_model: str, quantities: tuple
     """Errors of one model against another over realizations: quantity -> (realizations, k)."""
     stacked: dict[str, list[np.ndarray]] = {}
     for result in results:
-        errors = curve_errors(result.curves[model], result.curves[reference_model], result.sigma,
-                              quantities, reference_fields=reference_fields)
+        # a model that reaches none of the reference's loads is not compared anywhere (NaN)
+        curve, reference = result.curves[model], result.curves[reference_model]
+        errors = _errors(curve, reference, result.sigma, quantities,
+                         reached_points(curve, reference), reference_fields)
         for name, values in errors.items():
             stacked.setdefault(name, []).append(values)
     return {name: np.vstack(arrays) for name, arrays in stacked.items()}

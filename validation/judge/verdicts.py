@@ -344,6 +344,7 @@ def verdict_range(loads: np.ndarray, holds: np.ndarray, tolerance: float,
         if area_fraction.shape != loads.shape:
             raise ValueError(f"area_fraction must have the length of loads {loads.shape}, got "
                              f"shape {area_fraction.shape}")
+    _increasing(loads)
     runs = true_runs(holds)
     if not runs:
         return ValidityRange(tolerance, None, None, total=loads.size)
@@ -361,7 +362,8 @@ def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
     """Longest contiguous run of points where the point estimate ``|errors| <= tolerance``.
 
     The range of a single error curve without its uncertainty (NaN counts as not holding);
-    reports use :func:`classify` and :func:`verdict_range` instead. Where the model holds
+    reports use :func:`classify` and :func:`verdict_range` instead. The loads must not
+    decrease (a ValueError naming ``loads`` says to sort them). Where the model holds
     nowhere, ``first`` is None and the bounds are NaN (``describe()`` says "nowhere"); the area
     bounds are NaN without ``area_fraction``. No load points at all is a ValueError naming
     ``loads``: a range over nothing states nothing.
@@ -374,6 +376,16 @@ def validity_range(loads: np.ndarray, errors: np.ndarray, tolerance: float,
                          f"{loads.shape} and {errors.shape}")
     if area_fraction is not None:
         area_fraction = checks.real_array("area_fraction", area_fraction, ndim=1)
+    _increasing(loads)
     with np.errstate(invalid="ignore"):
         holds = np.abs(errors) <= tolerance
     return verdict_range(loads, holds, tolerance, area_fraction)
+
+
+def _increasing(loads: np.ndarray) -> None:
+    """A range is a run of neighbouring loads: loads (those known) must not decrease."""
+    known = loads[np.isfinite(loads)]
+    if np.any(np.diff(known) < 0):
+        raise ValueError("loads must increase along the points (a validity range is a run of "
+                         "neighbouring loads): sort them, with their errors and area fractions, "
+                         "e.g. order = numpy.argsort(loads)")

@@ -82,14 +82,28 @@ def headline_cell_text(cell: HeadlineCell | None, index: int) -> str:
     return text
 
 
-def headline_intro(analyses: list[Analysis]) -> str:
-    """:data:`HEADLINE_INTRO` with the fractions the headline tables show (those some scene's
-    paths reach; a quick run's shorter paths may not reach 30 %)."""
+#: The headline's introduction in a check's report: one scan, its own reference.
+ONE_SCAN_INTRO = (
+    "Each model's error against the reference of this scan where the reference's contact "
+    "area is {fractions} of the nominal area (those of 0.1 %, 1 %, 10 % and 30 % that the "
+    "scan's load path reaches; the column names the nominal pressure there), interpolated "
+    "along the load path in ln(area fraction). A cell reads **error ± reference band mark**, "
+    "the mark ✔ holds, ✘ fails, ? undecided (the band straddles the tolerance) at the "
+    "largest tolerance. Errors in % (area, stiffness), in σ, the rms of the scan's summit "
+    "heights (separation d; Persson: mean gap ū), as ln(h_eff/h_eff,BEM) (leakage). Below the "
+    "table the atlas: every cell's verdict along the whole load path. Every number, and the "
+    "verdicts at each tolerance, are in `headline.csv`.\n")
+
+
+def headline_intro(analyses: list[Analysis], one_scan: bool = False) -> str:
+    """:data:`HEADLINE_INTRO` (:data:`ONE_SCAN_INTRO` for a check's report) with the fractions
+    the headline tables show (those some scene's paths reach; a quick run's shorter paths may
+    not reach 30 %)."""
     fractions = sorted({c.fraction for a in analyses for cells in a.headlines.values()
                         for c in (cells or ())})
     named = [f"{100 * f:g} %" for f in fractions] or ["none of the headline fractions"]
     text = named[0] if len(named) == 1 else ", ".join(named[:-1]) + " and " + named[-1]
-    return HEADLINE_INTRO.replace("{fractions}", text)
+    return (ONE_SCAN_INTRO if one_scan else HEADLINE_INTRO).replace("{fractions}", text)
 
 
 def headline_table(analysis: Analysis) -> list[str]:
@@ -173,10 +187,11 @@ def _effort(result: SceneResult) -> tuple[str, str]:
     return used, finer
 
 
-def precision_section(analyses: list[Analysis]) -> list[str]:
+def precision_section(analyses: list[Analysis], one_scan: bool = False) -> list[str]:
     """How precise each scene's headline is: the median and the largest half-width of its
     intervals (the confidence intervals, or the band of one surface), with the realizations
-    and finer reference it spent."""
+    and finer reference it spent; for a check's one scan, its reference band and finer
+    reference alone."""
     rows = []
     for analysis in analyses:
         cells = [c for cells in analysis.headlines.values() for c in cells
@@ -195,6 +210,15 @@ def precision_section(analyses: list[Analysis]) -> list[str]:
                      f"{worst.half_width:.3g} ({where})"])
     if not rows:
         return []
+    if one_scan:
+        return (["## How precise the headline is\n",
+                 "Half-width of the reference band at the headline's cells (relative for area "
+                 "and stiffness, in σ for separation, ln for leakage): the reference's own error "
+                 "on this scan. A half-width well below the tolerance means the error is known "
+                 "whether or not the verdict is; the load points solved again on a finer "
+                 "reference grid are beside it.\n"]
+                + md_table(["scan", "finer reference", "headline cells", "median half-width",
+                            "largest half-width"], [[r[0], *r[2:]] for r in rows]))
     return (["## How precise the headline is\n",
              "Half-width of the headline intervals of each scene (relative for area and "
              "conductance, in σ for separation, ln for leakage): the 95 % interval over "
@@ -309,15 +333,16 @@ def front_page(figures, analyses: list[Analysis], rows: dict, *, one_scan: bool 
     judged = [a for a in analyses if a.comparisons]
     if judged:
         lines += ["## Headline: each model's error at fixed contact-area fractions\n",
-                  headline_intro(judged)]
+                  headline_intro(judged, one_scan)]
     for analysis in judged:
         scene = analysis.result.scene
         lines.append(f"### [{scene.title}]({scene_page(scene.name)})\n")
         lines += (headline_table(analysis)
                   or ["No headline fraction is crossed by every realization's load path.\n"])
         _atlas(figures, analysis)
-    lines += precision_section(analyses)
+    lines += precision_section(analyses, one_scan)
     lines += [] if one_scan else findings_overview(analyses)
     lines += scenes_section(analyses)
     lines += conventions(populations=not judged or any(
-        len(results) > 1 for a in judged for results in a.result.realizations.values()))
+        len(results) > 1 for a in judged for results in a.result.realizations.values()),
+        one_scan=one_scan)

@@ -95,11 +95,28 @@ def header(seconds, mode, command) -> list[str]:
     ]
 
 
-def conventions(populations: bool = True) -> list[str]:
+#: The quantities of a check's report: one scan in the user's units.
+ONE_SCAN_QUANTITIES = (
+    "The scene of one scan runs in units of E* and of the scan's length unit: Area = A/A0, the "
+    "real contact-area fraction; Load = p/E*, the nominal pressure p over E* (the tables above "
+    "give p); separation and mean gap in units of σ, the rms of the scan's summit heights (the "
+    "tables above give them in the scan's length unit); the stiffness per unit area K = S/A0 "
+    "(N/m³ above). Errors are taken at equal load against the boundary-element (BEM) "
+    "reference of this same scan: relative for area and stiffness, in units of σ for "
+    "separation and mean gap, and for the leakage (the effective hydraulic aperture h_eff, "
+    "leak rate ∝ h_eff³) the logarithm of the ratio, ln(h_eff/h_eff,BEM) = ln(Q/Q_BEM)/3, "
+    "equal to the relative error of h_eff to first order. Where exactly one of the two is "
+    "sealed (h_eff = 0) that error is undefined: the point fails when the BEM's own error "
+    "estimate resolves its state, and is undecided otherwise (docs/theory.md, eq. L7).\n")
+
+
+def conventions(populations: bool = True, one_scan: bool = False) -> list[str]:
     """How to read the report's numbers: the dimensionless quantities, the error measures,
     separation against mean gap, and how a verdict is reached (on the mean, per surface, and
     on one surface); without ``populations`` (every judged scene has one realization, e.g. a
-    check of one scan) the rules over realizations are left out."""
+    check of one scan) the rules over realizations are left out, and with ``one_scan`` (a
+    check's report) the quantities are those of one scan in the user's units
+    (:data:`ONE_SCAN_QUANTITIES`), not the paper's dimensionless ones."""
     lines = [
         "## How to read the numbers\n",
         "Dimensionless quantities as in the paper: Area = A/L², Load = W/(E* L²), Separation = "
@@ -151,6 +168,11 @@ def conventions(populations: bool = True) -> list[str]:
         "tolerance (reason: reference band); no interval over realizations and no per-surface "
         "reading.\n",
     ]
+    if one_scan:
+        lines[1] = ONE_SCAN_QUANTITIES
+        lines = [line.replace("Persson's conductance is 2S/E* with S = −dW/dū, compared with "
+                              "the BEM's 2S/E*, S = −dW/dd.", "Persson's stiffness is S = −dW/dū, "
+                              "compared with the BEM's S = −dW/dd.") for line in lines]
     if populations:
         return lines
     return [line for line in lines if not line.startswith(("**How a verdict is reached.**",
@@ -227,13 +249,15 @@ def validity_section(analysis: Analysis) -> list[str]:
     rows = [[model_label(m), q] + [_holds_cells(c.models.get((m, q)), q) for c in comparisons]
             for m, q in keys]
     one = all(e.one_surface for c in comparisons for e in c.models.values())
+    readings = ("on this one surface, from its error and the reference band" if one else
+                "in two readings: **mean**, the mean error over realizations within the "
+                "tolerance; **per surface**, at least 90 % of single surfaces within it (one "
+                "surface has the first reading only, from its error and the reference band)")
     return (["## Where each theory holds\n",
              f"Validity range within {_largest_tolerance(comparisons):g} (relative for area and "
-             "conductance, in units of σ for separation, ln of the ratio for leakage): the "
+             "stiffness, in units of σ for separation, ln of the ratio for leakage): the "
              "longest run of ✔, as the BEM's contact-area fraction over it with the Load "
-             "beside it, in two readings: **mean**, the mean error over realizations within the "
-             "tolerance; **per surface**, at least 90 % of single surfaces within it (one "
-             "surface has the first reading only, from its error and the reference band). The "
+             f"beside it, {readings}. The "
              "asperity models are judged by the separation d, Persson's theory by the mean gap "
              "ū. Other tolerances: `validity.csv`.\n"]
             + md_table(header, rows) + [_ADVICE.format(few="" if one else _FEW) + "\n"])
@@ -276,7 +300,8 @@ def _band_cell(band: np.ndarray | None, quantity: str) -> str:
     return text if known.all() else f"{text} ({NOT_ESTIMATED} at {np.count_nonzero(~known)} of {band.size} points)"
 
 
-def _verdict_rows(comparison: Comparison) -> list[list[str]]:
+def _verdict_rows(comparison: Comparison, one: bool = False) -> list[list[str]]:
+    """The verdict table's rows; ``one``: one surface, without the per-surface columns."""
     rows = []
     keys = sorted(comparison.models,
                   key=lambda k: (model_rank(k[0]), REPORT_QUANTITIES.index(k[1])))
@@ -288,6 +313,8 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
             cells += [f"`{verdict_strip(entry.verdicts[index])}`",
                       f"{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}",
                       holds_cell(entry, index, ".2e")]
+            if one:
+                continue
             if entry.surface_verdicts:
                 single = entry.surface_counts(index)
                 cells += [f"`{verdict_strip(entry.surface_verdicts[index])}`",
@@ -303,13 +330,16 @@ def _verdict_rows(comparison: Comparison) -> list[list[str]]:
 
 
 def verdict_table(comparison: Comparison, tolerances) -> list[str]:
+    one = bool(comparison.models) and all(e.one_surface for e in comparison.models.values())
     header = ["model", "quantity"]
     for t in tolerances:
-        header += [f"mean: verdicts within {t:g}, low → high load", "mean ✔ / ✘ / ?",
-                   "mean holds (Load range)", f"per surface: verdicts within {t:g}",
-                   "per surface ✔ / ✘ / ?"]
+        header += ([f"verdicts within {t:g}, low → high load", "✔ / ✘ / ?",
+                    "holds (Load range)"] if one else
+                   [f"mean: verdicts within {t:g}, low → high load", "mean ✔ / ✘ / ?",
+                    "mean holds (Load range)", f"per surface: verdicts within {t:g}",
+                    "per surface ✔ / ✘ / ?"])
     header += ["reference band (max)", "unconverged or unreachable points"]
-    rows = _verdict_rows(comparison)
+    rows = _verdict_rows(comparison, one)
     totals = [verdict_counts(np.concatenate([e.verdicts[i] for e in comparison.models.values()]))
               for i in range(len(tolerances))] if comparison.models else []
     single = [verdict_counts(np.concatenate([e.surface_verdicts[i] for e in
@@ -318,16 +348,18 @@ def verdict_table(comparison: Comparison, tolerances) -> list[str]:
               for i in range(len(tolerances))] if comparison.models else []
     total_row = ["**all**", ""]
     for counts, alone in zip(totals, single):
-        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", "",
-                      "", f"**{alone[HOLDS]} / {alone[FAILS]} / {alone[UNDECIDED]}**"]
+        total_row += ["", f"**{counts[HOLDS]} / {counts[FAILS]} / {counts[UNDECIDED]}**", ""]
+        total_row += [] if one else ["", f"**{alone[HOLDS]} / {alone[FAILS]} / "
+                                         f"{alone[UNDECIDED]}**"]
     sources = "; ".join(f"{q}: {s}" for q, s in comparison.band_source.items())
+    if one:
+        sources = sources.replace(", 1 realization(s)", "")
     sealing = [f"{model_label(e.model)} at {int(np.count_nonzero(e.sealing))} point(s) "
                f"({int(e.sealing.sum())} realization(s), {int(e.sealing_resolved.sum())} "
                f"resolved by the BEM's error estimate)"
                for e in comparison.models.values() if e.sealing is not None and e.sealing.any()]
     note = ([f"Disagreements about sealing (one of model and BEM sealed, h_eff = 0): "
              f"{'; '.join(sealing)}.\n"] if sealing else [])
-    one = bool(comparison.models) and all(e.one_surface for e in comparison.models.values())
     reading = ("on this one surface, from its error and the reference band alone (no "
                "per-surface reading)" if one else
                f"on the mean error and per surface (at least 90 % of surfaces), at "
@@ -368,8 +400,10 @@ def surface_text(scene, count: int) -> str:
                   f"{' (uncropped)' if s.square == 'keep' else ''} pixels of "
                   f"{readable(scan.spacing, 4)} {s.unit}"
                   f"{'' if s.resample == 'none' else f' (resampled to the {s.resample} spacing)'}"
-                  f", detrend {s.detrend}{cutoff}; realizations: {s.tiles} "
-                  f"non-overlapping tile(s) of {rows} × {columns} pixels, "
+                  f", detrend {s.detrend}{cutoff}; "
+                  + ("the whole map as one surface, " if s.tiles == 1 else
+                     f"realizations: {s.tiles} non-overlapping tiles of ")
+                  + f"{rows} × {columns} pixels, "
                   f"{readable(columns * s.spacing, 4)} × {readable(rows * s.spacing, 4)} {s.unit}; "
                   f"lengths in {s.unit}")
     return (f"Surface: {family}; E* = {scene.e_star:g}; BEM "
@@ -384,6 +418,9 @@ def timing(result: SceneResult) -> list[str]:
                 times.setdefault(model, []).append(t)
     if not times:
         return []
+    if all(len(t) == 1 for t in times.values()):
+        return ["Wall time per model (0 means read from the cache): "
+                + ", ".join(f"{model_label(m)} {t[0]:.2f} s" for m, t in times.items()) + ".\n"]
     return ["Wall time per realization and model (median over realizations; 0 means read from "
             "the cache): " + ", ".join(f"{model_label(m)} {np.median(t):.2f} s"
                                       for m, t in times.items()) + ".\n"]

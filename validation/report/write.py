@@ -153,12 +153,13 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
     # the paper's figures are of WM surfaces: other surfaces get the same plots, not its name
     paper = scene.surface.family == "wm"
     members = "tiles" if scene.surface.family == "file" else "realizations"
+    thin = "" if len(results) == 1 else f"thin lines: {members}; "
     figures.add(partial(panels_figure, partial(_against, results, "separation", models, L, False),
                         panels),
                 f"{scene.name}-fig4-separation.png",
                 f"Area, load{' and conductance' if conductance else ''} against separation, "
                 f"{sweep_member(scene.surface.sweep_name, value)} "
-                f"({'paper Fig. 4, BEM added; ' if paper else ''}thin lines: {members}; dotted: "
+                f"({'paper Fig. 4, BEM added; ' if paper else ''}{thin}dotted: "
                 f"the BEM against its mean gap ū/σ, the quantity Persson's curve is drawn "
                 f"against).", len(panels))
     figures.add(partial(panels_figure, partial(_against, results, "load", models, L, True),
@@ -173,15 +174,16 @@ def _curve_figures(figures: _Figures, scene, results, value: float) -> None:
         figures.add(partial(leakage_figure, results, models=models, length=L),
                     f"{scene.name}-leakage.png",
                     f"Leakage: the effective hydraulic aperture h_eff/σ against load and against "
-                    f"separation, {sweep_member(scene.surface.sweep_name, value)} (thin lines: "
-                    f"realizations; grey: the BEM ± its error estimate; GW, improved GW and the "
+                    f"separation, {sweep_member(scene.surface.sweep_name, value)} ({thin}"
+                    f"grey: the BEM ± its error estimate; GW, improved GW and the "
                     f"discrete model: the rigid gap at d, d₁ and the discrete model's own d; "
                     f"the theories from the spectral moments: the rigid gap of rms √m₀; all "
                     f"drawn against their separation d; Persson: its gap distribution, against "
                     f"its mean gap; docs/theory.md section 10).", 2)
 
 
-def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> None:
+def _comparison_figures(figures: _Figures, scene, comparison: Comparison,
+                        one_surface: bool = False) -> None:
     from validation.report.figures import panels_figure, verdict_figure
 
     quantities = sorted({q for (_, q) in comparison.models}, key=REPORT_QUANTITIES.index)
@@ -191,9 +193,11 @@ def _comparison_figures(figures: _Figures, scene, comparison: Comparison) -> Non
     figures.add(partial(panels_figure, partial(_errors, comparison, scene.tolerances), quantities,
                         legend=7),
                 f"{scene.name}-errors{suffix}.png",
-                f"Mean error of each model against the BEM at equal load, {at} "
-                f"(coloured band: 95 % interval over realizations; grey: reference band; dotted "
-                f"red: tolerances).", len(quantities))
+                (f"Error of each model against the BEM at equal load on this one surface, {at} "
+                 f"(grey: reference band; dotted red: tolerances)." if one_surface else
+                 f"Mean error of each model against the BEM at equal load, {at} "
+                 f"(coloured band: 95 % interval over realizations; grey: reference band; "
+                 f"dotted red: tolerances)."), len(quantities))
     figures.add(partial(verdict_figure, comparison), f"{scene.name}-verdicts{suffix}.png",
                 f"Verdict per load point, {at}: ✔ holds, ✘ fails, ? undecided.",
                 len(scene.tolerances))
@@ -207,7 +211,7 @@ def _surface_lines(analysis: Analysis) -> list[str]:
     lines = [surface_text(scene, count)]
     if result.refinement is not None:
         lines.append(f"Reference: {result.refinement.describe(s.sweep_name)}.\n")
-    if result.sequential is not None:
+    if result.sequential is not None and scene.realizations > 1:
         lines.append(f"Realizations per {s.sweep_name or 'surface'}: "
                      f"{result.sequential.describe()}.\n")
     if not analysis.comparisons:
@@ -226,13 +230,15 @@ def _surface_section(figures: _Figures, analysis: Analysis) -> None:
         lines.append(f"### {sweep_member(s.sweep_name, value)}\n")
         counts = [r.summit_count for r in results]
         if any(counts) and comparison is not None:
-            lines.append(f"Summits per realization: {min(counts)}–{max(counts)}; reference area "
+            summits = (f"Summits: {counts[0]}" if len(counts) == 1 else
+                       f"Summits per realization: {min(counts)}–{max(counts)}")
+            lines.append(f"{summits}; reference area "
                          f"fraction {100 * comparison.area_fraction[0]:.3g} % – "
                          f"{100 * comparison.area_fraction[-1]:.3g} % over the load path.\n")
         if len(s.sweep_values) == 1:
             _curve_figures(figures, scene, results, value)
         if comparison is not None:
-            _comparison_figures(figures, scene, comparison)
+            _comparison_figures(figures, scene, comparison, one_surface=len(results) == 1)
             lines.extend(verdict_table(comparison, scene.tolerances))
     if len(s.sweep_values) > 1 and analysis.comparisons:
         _validity_map(figures, scene, analysis.comparisons)
