@@ -1,8 +1,7 @@
 """Command line: ``python -m validation {report,check,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode, a preview of the published
-report (about half a minute from an empty cache on two cores, a few seconds once cached):
-8 realizations of each paper scene on 256 x 256 grids with 12 loads, and 4 per D of the
+report: 8 realizations of each paper scene on 256 x 256 grids with 12 loads, and 4 per D of the
 validity map on 128 x 128 grids with 12 loads (up to 8 where cells stay undecided). Quick mode
 leaves to ``--full`` the self-affine map, the size scene ``sealing-size``, the paper scenes'
 leakage and the finer reference: no load point is solved again on a finer grid where the
@@ -13,7 +12,8 @@ validity map on 256 x 256 grids with 16 loads, 8 per H of the self-affine map on
 grids with 12 loads, and 8 realizations of each window of ``sealing-size`` on 128 x 128 grids
 with 12 loads; where cells stay undecided, the validity and self-affine maps add realizations
 up to their budgets, and the reference is solved again on finer grids up to each scene's
-limit, 1024 x 1024 for the paper scenes; about two hours on two cores).
+limit, 1024 x 1024 for the paper scenes). What each run costs, measured with the command that
+measures it: the Benchmarks page of the documentation (docs/guide/benchmarks.md).
 Ctrl-C stops a report at once (exit status 130); what was finished stays in the cache, and the
 same command resumes.
 """
