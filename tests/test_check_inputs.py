@@ -228,3 +228,21 @@ def test_numbers_are_written_without_an_exponent_where_a_reader_writes_none(valu
     from validation.surfaces.units import readable
 
     assert readable(value, digits) == text
+
+
+def test_the_guide_states_the_plausibility_limits_the_program_uses():
+    import pathlib
+
+    from validation.check import plausible
+
+    text = (pathlib.Path(__file__).resolve().parents[1] / "docs" / "guide"
+            / "your-surface.md").read_text(encoding="utf-8")
+    paragraph = text[text.index("**Units checked before any solve.**"):]
+    paragraph = paragraph[:paragraph.index("\n\n")]
+    assert f"rms slope above {plausible.STEEP:g}" in paragraph
+    assert f"Sq above {plausible.TALL * 1e3:g} mm" in paragraph
+    assert f"wider\nthan {plausible.WIDE:g} m" in paragraph or \
+        f"wider than {plausible.WIDE:g} m" in paragraph
+    assert f"finer than {plausible.FINE * 1e9:g} nm" in paragraph
+    assert f"at least {100 * plausible.FULL:g} %" in paragraph
+    assert f"at least {100 * CLOSED:g} %" in paragraph.replace("\n", " ")
