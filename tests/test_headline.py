@@ -370,7 +370,7 @@ def test_a_headline_cell_without_a_known_error_says_why_not_nan():
 
 
 def test_the_rules_over_realizations_are_read_only_where_there_are_realizations(default_report):
-    from validation.report.sections import conventions
+    from validation.report.conventions import conventions
 
     text = (default_report.folder / "report.md").read_text(encoding="utf-8")
     assert "**How a verdict is reached.**" in text      # scenes of several realizations

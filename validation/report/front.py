@@ -17,7 +17,8 @@ from validation.judge.headline import HeadlineCell
 from validation.judge.verdicts import SYMBOLS, UNCONVERGED, UNDECIDED
 from validation.common.labels import compared_label, model_label, model_rank
 from validation.common.models import FRAME_LABELS, FRAMES
-from validation.report.sections import conventions, md_table, sweep_member
+from validation.report.conventions import conventions
+from validation.report.sections import md_table, sweep_member
 from validation.report.summary import error_text
 
 if TYPE_CHECKING:  # the report imports this module

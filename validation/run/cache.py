@@ -250,7 +250,8 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "check/figure.py", "check/physical.py", "check/request.py",
                                  "check/resolution.py", "check/units.py", "check/glance.py",
                                  "check/frames.py", "check/library.py", "check/result.py",
-                                 "check/plausible.py"})
+                                 "check/plausible.py", "check/scan_input.py",
+                                 "report/conventions.py"})
 
 
 def report_version() -> str:
