@@ -10,9 +10,10 @@ with zero mean elastic displacement: the periodic problem (Pastewka et al., PRE 
 effect). :class:`InterfaceModel` solves that problem for a height map in one of two ways:
 
 * ``extension="periodic"``: the map *is* one period of a periodic surface (a self-affine
-  surface from the generator without a window): the periodic half-space on the map itself.
-* ``extension="mirror"``: any other window (a measured scan, a WM surface, a window of a larger
-  surface): its even (mirror) extension, 2N x 2M points of period twice the map, solved on the
+  surface from the generator without a window, a WM surface with ``periodic=True``): the
+  periodic half-space on the map itself.
+* ``extension="mirror"``: any other window (a measured scan, a WM surface of eq. (11), a window
+  of a larger surface): its even (mirror) extension, 2N x 2M points of period twice the map, solved on the
   periodic half-space. The extension is continuous across the map's edges (no height step, only
   a slope kink along the mirror lines), its height and slope distributions are the map's, and
   its power spectrum is the one :func:`asperity.spectral.spectrum.power_spectrum_2d` gives the map with

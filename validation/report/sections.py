@@ -291,8 +291,9 @@ def surface_text(scene, count: int) -> str:
     s = scene.surface
     if s.family == "wm":
         family = (f"WM, D = {', '.join(f'{d:g}' for d in s.D)}, γ = {s.gamma:g}, M = {s.M}, "
-                  f"n_max = {s.n_max}, rms slope = {s.rms_slope or 'from G'}, grid {s.n} × "
-                  f"{s.n}, {count} realization(s)")
+                  f"n_max = {s.n_max}, rms slope = {s.rms_slope or 'from G'}, "
+                  f"{'periodic (wave vectors on the lattice of the period L), ' if s.periodic else ''}"
+                  f"grid {s.n} × {s.n}, {count} realization(s)")
     elif s.family == "self-affine":
         amplitude = (f"rms slope {s.rms_slope:g}" if s.rms_slope is not None
                      else f"rms height {s.rms_height:g}")

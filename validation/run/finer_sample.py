@@ -4,8 +4,9 @@ finer boundary-element reference is solved (:mod:`validation.run.refine`, docs/t
 
 The finer sample exists exactly for generated surfaces:
 
-* a WM surface is eq. (11) evaluated at the ``2 n`` points (its amplitude fixed on the scene's
-  grid, ``slope_grid = n``), so every second point is the scene's sample;
+* a WM surface is eq. (11) (its periodic form, eq. T52, with ``periodic``) evaluated at the
+  ``2 n`` points (its amplitude fixed on the scene's grid, ``slope_grid = n``), so every
+  second point is the scene's sample;
 * a self-affine surface is band-limited to the scene grid's Nyquist wavelength: its ``2 n``
   sample is the generator's own fine grid, and finer ones are its trigonometric interpolation
   (the same spectrum and phases, zero above the cut-off);
@@ -100,7 +101,8 @@ def refined_heights(surface, seed: int, factor: int) -> np.ndarray:
         fine = wm_surface(factor * n, D=s.D[0], G=s.G, rms_slope=s.rms_slope,
                           L=s.L if s.wavelength is None else s.wavelength, side=s.L,
                           gamma=s.gamma, M=s.M, n_max=s.n_max, seed=seed,
-                          slope_grid=n if s.rms_slope is not None else None)
+                          slope_grid=n if s.rms_slope is not None else None,
+                          periodic=s.periodic)
     elif s.family == "self-affine":
         field, grid = _self_affine_periodic(s, seed)
         if factor > 2:

@@ -273,7 +273,7 @@ def run_realization(task: RealizationTask, *, overlap: bool = False) -> Realizat
                                           # checks it (a measured map's tiles are made even)
                                           error_estimate=task.bem.reference_error,
                                           device=task.bem.device),
-                         periodic_surface=task.surface.periodic or task.bem.periodic,
+                         periodic_surface=task.surface.one_period or task.bem.periodic,
                          nominal_size=task.nominal_size)
     curves, loads = _curves(task, inputs, loads, values, sigma, quantities, cache, log, overlap)
     path = dict(loads=loads) if loads is not None else dict(separations=values * sigma)

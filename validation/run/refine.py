@@ -167,7 +167,7 @@ def refined_extension(reference: str, task) -> str | None:
 def interface_extension(task) -> str:
     """How the interface reference of ``task`` makes a period of its heights (the registry's
     choice: the map itself when it is one period of a periodic surface, else its mirror)."""
-    return "periodic" if task.surface.periodic or task.bem.periodic else "mirror"
+    return "periodic" if task.surface.one_period or task.bem.periodic else "mirror"
 
 
 def merge_job(curve: ContactCurve, job: RefineJob, finer: ContactCurve,

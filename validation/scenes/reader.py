@@ -20,7 +20,7 @@ from bem.common.checks import InputTypeError, file_path
 from validation.scenes.scene import (FAMILIES, FAMILY_KEYS, KINDS, BemSettings, LoadPath,
                                      QuickSettings, Scene, SceneError, SceneWarning, SurfaceSpec,
                                      TheorySpec, defaults, scene_warnings)
-from validation.surfaces.spec import read_keywords
+from validation.surfaces.spec import NOT_PERIODIC, read_keywords
 
 __all__ = ["parse_scene", "load_scene", "builtin_scenes"]
 
@@ -125,7 +125,8 @@ _SURFACE_KINDS = dict(
     L="number", n="integer", hurst="numbers", rms_height="number", long_cutoff="number",
     rolloff="number", short_cutoff="length", window="integer", path="string",
     physical_size="any", file_unit="string", unit="string", detrend="string", resample="string",
-    square="string", tiles="integer", wavelength="number", sides="numbers")
+    square="string", tiles="integer", wavelength="number", sides="numbers",
+    periodic="boolean")
 #: Keys a family needs in a file: each entry is one key, or alternatives (one of them).
 _SURFACE_REQUIRED = {"wm": ("D", ("rms_slope", "G")),
                      "self-affine": ("hurst", ("rms_slope", "rms_height")), "file": ("path",)}
@@ -142,6 +143,8 @@ def _surface(top: _Reader, folder: pathlib.Path | None) -> SurfaceSpec:
         if "unit" in reader.table:
             reader.fail("height_unit", "and 'unit' are the same setting: give one of them")
         reader.table = {("unit" if k == "height_unit" else k): v for k, v in reader.table.items()}
+    if "periodic" in reader.table and family in NOT_PERIODIC:
+        reader.fail("periodic", NOT_PERIODIC[family])
     for key in reader.table:
         if key != "family" and key not in allowed:
             reader.fail(key, f"is not a key of family {family!r} (its keys: {', '.join(allowed)})")

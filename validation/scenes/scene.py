@@ -14,7 +14,7 @@ file's tables and keys map onto them::
 
     name, title, description, kind      -> Scene (kind "surface", or "theory" for Figs. 1-3)
     [surface]  family, and the keys of the family (FAMILY_KEYS)   -> SurfaceSpec
-               wm: D rms_slope G gamma M n_max L n
+               wm: D rms_slope G gamma M n_max L n wavelength sides periodic
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
                             window L n
                file: path physical_size file_unit unit detrend resample square

@@ -2,7 +2,8 @@
 
 A scene's ``[surface] family`` says how realization ``k`` of it is made:
 
-* ``"wm"``: a Weierstrass-Mandelbrot surface (:func:`validation.wm_surface`), seed ``k``;
+* ``"wm"``: a Weierstrass-Mandelbrot surface (:func:`validation.wm_surface`), seed ``k``
+  (with ``periodic``: its wave vectors on the period's lattice, the map one period of it);
 * ``"self-affine"``: a Gaussian self-affine surface (:func:`validation.self_affine_surface`),
   seed ``k``, cut as a non-periodic window from a periodic surface ``window`` times larger per
   side (the BEM solves non-periodic windows, as for a measured map);
@@ -104,7 +105,8 @@ def _wm(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
     return wm_surface(n, D=s.D[0], G=s.G, rms_slope=s.rms_slope,
                       L=s.L if s.wavelength is None else s.wavelength, side=s.L, gamma=s.gamma,
                       M=s.M, n_max=s.n_max, seed=seed,
-                      slope_grid=slope_grid if s.rms_slope is not None else None)
+                      slope_grid=slope_grid if s.rms_slope is not None else None,
+                      periodic=s.periodic)
 
 
 def _self_affine(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
@@ -149,6 +151,8 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
                         slope_grid=grid)
         if s.wavelength is not None and s.wavelength != s.L:  # absent: the paper's surface
             identity["wavelength"] = s.wavelength
+        if s.periodic:  # absent: eq. (11) as the paper writes it
+            identity["periodic"] = True
         return identity
     if s.family == "self-affine":
         return dict(family=s.family, hurst=s.hurst[0], rms_slope=s.rms_slope,

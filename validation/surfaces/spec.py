@@ -24,7 +24,8 @@ SIDES_SWEEP = ("sides", "L")
 FAMILIES = tuple(SWEEPS)
 #: Keys of ``[surface]`` by family (besides ``family``).
 FAMILY_KEYS = {
-    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n", "wavelength", "sides"),
+    "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n", "wavelength", "sides",
+           "periodic"),
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
                     "window", "L", "n"),
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
@@ -37,6 +38,13 @@ FAMILY_KEYS = {
 READ_FIELDS = {"path": "path", "physical_size": "physical_size", "file_unit": "file_unit",
                "detrend": "detrend", "height_unit": "unit", "resample": "resample",
                "square": "square", "short_cutoff": "short_cutoff"}
+#: Why ``periodic`` is no key of a family other than WM (the scene reader says it too).
+NOT_PERIODIC = {
+    "self-affine": "is not a key of family 'self-affine': its surface is periodic with "
+                   "window = 1 (the L x L map is then one period of the generated surface)",
+    "file": "is not a key of family 'file': a measured map is not periodic (its interface "
+            "reference is its mirror extension's)",
+}
 #: Defaults filled in by family: amplitude, side L and grid n of a generated surface.
 _GENERATED_DEFAULTS = dict(rms_slope=0.1, L=1.0, n=256)
 #: Smallest tile of a measured map, in pixels per side.
@@ -50,7 +58,11 @@ class SurfaceSpec:
     ``"wm"`` (default): Weierstrass-Mandelbrot (arguments of :func:`validation.wm_surface`;
     docs/theory.md eqs. (11)-(12)); ``D`` required (a tuple sweeps it); at most one of
     ``rms_slope`` and ``G`` (default rms slope 0.1); ``wavelength``, the longest wavelength
-    of eq. (11) [length] (default L: the paper's surface). ``sides`` (a tuple of nominal sides
+    of eq. (11) [length] (default L: the paper's surface); ``periodic`` (default False): every
+    wave vector of eq. (11) on the nearest point of the period's lattice 2 pi (i, j) / L
+    (:func:`validation.surfaces.wm.wm_lattice`, docs/theory.md eq. T52), so that the L x L map
+    is one period of its surface (:attr:`one_period`; not with ``sides`` or another
+    ``wavelength``). ``sides`` (a tuple of nominal sides
     [length], with one ``D``) sweeps the size instead: realization k of side s is the window
     ``[0, s)^2`` of the same surface (seed), with the wavelengths of ``wavelength`` (default
     the first side) and the grid spacing of the first side (``n`` points on it, ``n s /
@@ -112,6 +124,7 @@ class SurfaceSpec:
     tiles: int = 1
     wavelength: float | None = None
     sides: tuple[float, ...] | None = None
+    periodic: bool = False
     read_options: tuple[tuple[str, object], ...] | dict = ()
     shape: tuple[int, int] | None = None      # derived: (rows, columns) of a measured tile
 
@@ -119,6 +132,8 @@ class SurfaceSpec:
         check.choice(self, "family", FAMILIES)
         base = {f.name: f.default for f in fields(self)}
         derived = ("n", "L", "shape", "read_options") if self.family == "file" else ()
+        if self.family in NOT_PERIODIC and self.periodic is not False:
+            check.fail(self, "periodic", NOT_PERIODIC[self.family])
         for key, default in base.items():
             if key not in FAMILY_KEYS[self.family] + ("family",) + derived \
                     and getattr(self, key) != default:
@@ -153,7 +168,9 @@ class SurfaceSpec:
             check.integer(self, "M", 1)
             check.integer(self, "n_max", 0)
             check.number(self, "wavelength", above=0.0, optional=True)
+            check.flag(self, "periodic")
             self._check_sides()
+            self._check_periodic()
             return
         check.numbers(self, "hurst", above=0.0, at_most=1.0)
         for key in ("long_cutoff", "rolloff", "short_cutoff"):
@@ -189,6 +206,19 @@ class SurfaceSpec:
                 check.fail(self, "sides", f"must keep the grid spacing L/n = {first / self.n:g}"
                            f" on every side: side {side:g} gives {points:g} points, not a "
                            f"whole number")
+
+    def _check_periodic(self) -> None:
+        """A periodic WM surface is one period of side L: no nested windows, no other longest
+        wavelength."""
+        if not self.periodic:
+            return
+        if self.sides is not None:
+            check.fail(self, "periodic", "cannot be true with 'sides': the size sweep's nested "
+                       "windows of one surface cannot each be periodic (leave periodic out)")
+        if self.wavelength is not None and not math.isclose(self.wavelength, self.L,
+                                                            rel_tol=1e-12):
+            check.fail(self, "periodic", f"needs the longest wavelength equal to the period L = "
+                       f"{self.L:g}, got wavelength = {self.wavelength:g} (leave wavelength out)")
 
     def _check_file(self) -> None:
         from validation.surfaces.families import read_map, tile_side
@@ -267,11 +297,13 @@ class SurfaceSpec:
         object.__setattr__(self, "read_options", tuple(pairs))
 
     @property
-    def periodic(self) -> bool:
+    def one_period(self) -> bool:
         """Whether a realization is one period of a periodic surface (a self-affine surface
-        generated with ``window = 1``): its interface reference is then the periodic BEM of
-        the map itself, not of its mirror extension (:class:`bem.InterfaceModel`)."""
-        return self.family == "self-affine" and self.window == 1
+        generated with ``window = 1``, a WM surface with ``periodic``): its interface
+        reference is then the periodic BEM of the map itself, not of its mirror extension
+        (:class:`bem.InterfaceModel`)."""
+        return (self.family == "self-affine" and self.window == 1
+                or self.family == "wm" and self.periodic)
 
     @property
     def grid(self) -> tuple[int, int]:
