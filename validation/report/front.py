@@ -219,7 +219,7 @@ def findings_overview(analyses: list[Analysis]) -> list[str]:
             columns.append(column)
             for f in found:
                 claims.setdefault(f.key, f.claim)
-                cells[f.key, column] = f.verdict
+                cells[f.key, column] = f.verdict_text
     for analysis in analyses:
         if analysis.scene_findings:
             surface, name = analysis.result.scene.surface, analysis.result.scene.name
@@ -228,7 +228,7 @@ def findings_overview(analyses: list[Analysis]) -> list[str]:
             columns.append(column)
             for f in analysis.scene_findings:
                 claims.setdefault(f.key, f.claim)
-                cells[f.key, column] = f.verdict
+                cells[f.key, column] = f.verdict_text
     lines = ["## Findings\n"]
     if not claims:
         return lines + ["No surface scene with a BEM reference in this run: nothing to check.\n"]
