@@ -195,6 +195,8 @@ def interaction_shift(results, threshold: float, area_fraction: np.ndarray | Non
     if not results or not {INTERACTION, NO_INTERACTION} <= set(results[0].curves):
         return _missing("b", claim, "the scene lacks the discrete model with and without interaction")
     errors = pairwise_errors(results, INTERACTION, NO_INTERACTION, ("separation", "conductance"))
+    fraction = path_fraction(results) if area_fraction is None else area_fraction
+    heavy_fraction = np.asarray(fraction)[np.shape(fraction)[0] // 2:]
     parts, supports, againsts = [], [], []
     for quantity, stack in errors.items():
         heavy = stack[:, stack.shape[1] // 2:]
@@ -207,11 +209,10 @@ def interaction_shift(results, threshold: float, area_fraction: np.ndarray | Non
         parts.append(f"{quantity}: with − without {_range_text(interval.mean, unit)}, shifted "
                      f"down beyond {threshold:g}{' σ' if unit == 'σ' else ''} at "
                      f"{int(down.sum())} of {down.size} heavier points, no shift at "
-                     f"{int(np.sum(point == HOLDS))}, up at {int(up.sum())}")
-    fraction = path_fraction(results) if area_fraction is None else area_fraction
-    heavy = np.asarray(fraction)[np.shape(fraction)[0] // 2:]
+                     f"{int(np.sum(point == HOLDS))}, up at {int(up.sum())} "
+                     f"[{decide_over_range(heavy_fraction, down, againsts[-1]).verdict_text}]")
     support, against = combine_points(supports, againsts)
-    return ranged_finding("b", claim, "; ".join(parts), heavy, support, against)
+    return ranged_finding("b", claim, "; ".join(parts), heavy_fraction, support, against)
 
 
 def _cv_ratio(values: np.ndarray) -> tuple[float, float, float, np.ndarray]:
@@ -269,16 +270,17 @@ def improved_follows_discrete(results, tolerance: float,
     improved = pairwise_errors(results, IMPROVED_GW, INTERACTION, quantities)
     original = (pairwise_errors(results, ORIGINAL_GW, INTERACTION, quantities)
                 if ORIGINAL_GW in results[0].curves else {})
+    fraction = path_fraction(results) if area_fraction is None else area_fraction
     parts, supports, againsts = [], [], []
     for quantity, stack in improved.items():
         point = classify(confidence_interval(stack), 0.0, tolerance)
         supports.append(point == HOLDS)
         againsts.append(point == FAILS)
-        text = f"{quantity} {verdict_strip(point)}"
+        text = (f"{quantity} {verdict_strip(point)} "
+                f"[{decide_over_range(fraction, supports[-1], againsts[-1]).verdict_text}]")
         if quantity in original:
             text += f" (original GW {verdict_strip(classify(confidence_interval(original[quantity]), 0.0, tolerance))})"
         parts.append(text)
-    fraction = path_fraction(results) if area_fraction is None else area_fraction
     support, against = combine_points(supports, againsts)
     return ranged_finding("d", claim, f"within ±{tolerance:g} of the discrete model, low → high "
                           "load: " + "; ".join(parts), fraction, support, against)

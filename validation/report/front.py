@@ -301,11 +301,10 @@ def front_page(figures, analyses: list[Analysis], rows: dict, *, one_scan: bool 
     from validation.report.tables import records
 
     lines = figures.lines
-    sentences = [] if one_scan else summary.summary_sentences(records(rows, "headline.csv"),
-                                                              records(rows, "findings.csv"))
-    if sentences:
-        lines += ["## Summary\n"] + [f"- {sentence}" for sentence in sentences]
-        lines += ["", summary.RULE + "\n"]
+    answer = [] if one_scan else summary.summary_lines(records(rows, "headline.csv"),
+                                                       records(rows, "findings.csv"))
+    if answer:
+        lines += ["## Summary\n"] + answer
     judged = [a for a in analyses if a.comparisons]
     if judged:
         lines += ["## Headline: each model's error at fixed contact-area fractions\n",
