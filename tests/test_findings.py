@@ -4,6 +4,7 @@ import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
+import pytest
 
 from bem.common.curve import ContactCurve
 from validation.judge.compare import compare_realizations
@@ -17,9 +18,11 @@ from validation.judge.findings import (
     closest_models,
     improved_follows_discrete,
     interaction_shift,
+    RANGED,
     majority,
     scatter_shrinks,
 )
+from validation.judge.claims import combine_points, decide_over_range, fraction_text
 
 LOAD = np.logspace(-5, -2, 8)
 BASE = dict(area=0.3 * LOAD, separation=np.linspace(3.0, 0.5, 8), conductance=20 * LOAD ** 0.9)
@@ -142,3 +145,86 @@ def test_all_findings_on_one_family():
     out = check_findings(data, compare_realizations(data), (0.05, 0.2))
     assert [f.key for f in out] == ["a", "b", "c", "d", "e"]
     assert out[1].verdict == CONTRADICTED  # identical curves: no shift
+
+
+# ------------------------------------------------------------------------------------------
+# a claim decided over the contact-area range of its points
+
+FRACTIONS = np.geomspace(1e-3, 0.3, 8)
+
+
+def _points(strip: str) -> tuple[np.ndarray, np.ndarray]:
+    """Support and contradiction per point from a strip such as "??✔✔✔✘"."""
+    return np.array([c == "✔" for c in strip]), np.array([c == "✘" for c in strip])
+
+
+def test_a_claim_supported_everywhere_it_is_decided_is_reproduced():
+    decided = decide_over_range(FRACTIONS, *_points("???✔✔✔✔✔"))
+    assert decided.verdict == REPRODUCED and decided.verdict_text == REPRODUCED
+    assert decided.tested_from == FRACTIONS[0] and decided.tested_to == FRACTIONS[-1]
+    assert decided.reproduced_from == FRACTIONS[3] and decided.reproduced_to == FRACTIONS[-1]
+    assert (decided.reproduced, decided.contradicted, decided.undecided) == (5, 0, 3)
+
+
+def test_a_claim_contradicted_at_heavy_contact_is_reproduced_over_the_light_range():
+    # the paper's headline at D 2.95: undecided at light load, held, contradicted at the end
+    decided = decide_over_range(FRACTIONS, *_points("??✔✔✔?✘✘"))
+    assert decided.verdict == RANGED
+    assert (decided.reproduced_from, decided.reproduced_to) == (FRACTIONS[2], FRACTIONS[4])
+    assert decided.verdict_text == (f"reproduced from {fraction_text(FRACTIONS[2])} to "
+                                    f"{fraction_text(FRACTIONS[4])} contact")
+    assert (decided.reproduced, decided.contradicted, decided.undecided) == (3, 2, 3)
+    text = decided.describe(FRACTIONS, _points("??✔✔✔?✘✘")[1])
+    assert f"contradicted at {fraction_text(FRACTIONS[6])}–{fraction_text(FRACTIONS[7])}" in text
+
+
+def test_the_range_is_the_run_free_of_contradiction_with_the_most_support():
+    # two runs split by a contradiction: the second holds more supporting points
+    decided = decide_over_range(FRACTIONS, *_points("✔?✘✔?✔✔?"))
+    assert (decided.reproduced_from, decided.reproduced_to) == (FRACTIONS[3], FRACTIONS[6])
+    # equal support: the wider run in area fraction wins
+    decided = decide_over_range(FRACTIONS, *_points("✔✔✘✔?✔✘?"))
+    assert (decided.reproduced_from, decided.reproduced_to) == (FRACTIONS[3], FRACTIONS[5])
+    # supported at one point only, never contradicted: a range of one point, said as such
+    one = decide_over_range(FRACTIONS, *_points("?✔??????"))
+    assert one.verdict == RANGED
+    assert one.verdict_text == f"reproduced at {fraction_text(FRACTIONS[1])} contact"
+
+
+def test_a_claim_nowhere_supported_is_contradicted_or_undecided():
+    assert decide_over_range(FRACTIONS, *_points("???✘????")).verdict == CONTRADICTED
+    nothing = decide_over_range(FRACTIONS, *_points("????????"))
+    assert nothing.verdict == UNDECIDED and np.isnan(nothing.reproduced_from)
+    with pytest.raises(ValueError, match="one shape"):
+        decide_over_range(FRACTIONS[:3], *_points("????????"))
+
+
+def test_parts_of_a_claim_combine_per_point():
+    support, against = combine_points([_points("✔✔?✔")[0], _points("✔?✔✘")[0]],
+                                      [_points("✔✔?✔")[1], _points("✔?✔✘")[1]])
+    assert support.tolist() == [True, False, False, False]
+    assert against.tolist() == [False, False, False, True]
+    some, every = combine_points([[1, 0, 0], [0, 0, 0]], [[0, 1, 1], [0, 0, 1]], every=False)
+    assert some.tolist() == [True, False, False] and every.tolist() == [False, False, True]
+
+
+def test_fractions_are_written_without_an_exponent():
+    assert [fraction_text(f) for f in (0.00052, 0.024, 0.3, 1.0)] == \
+        ["0.052 %", "2.4 %", "30 %", "100 %"]
+
+
+def test_improved_gw_followed_over_part_of_the_range_says_which():
+    """Improved GW within 0.2 of the discrete model at the light half of the path, 50 % off
+    at the heavy half: reproduced from the lightest point to the middle, and findings.csv's
+    range cells say so in area fractions of the reference."""
+    ratio = np.where(np.arange(8) < 4, 1.02, 1.5)
+    data = results(discrete={}, improved_gw=dict(area=ratio))
+    fraction = data[0].curves["bem"].area_fraction
+    finding = improved_follows_discrete(data, 0.2)
+    assert finding.verdict == RANGED
+    assert finding.verdict_text == (f"reproduced from {fraction_text(fraction[0])} to "
+                                    f"{fraction_text(fraction[3])} contact")
+    cells = finding.range_cells()
+    np.testing.assert_allclose(cells[:4], [fraction[0], fraction[-1], fraction[0], fraction[3]])
+    assert cells[4:] == [4, 4, 0]
+    assert "reproduced from" in finding.evidence and "contradicted at" in finding.evidence

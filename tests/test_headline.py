@@ -249,21 +249,49 @@ def _numbers(sentence: str) -> list[str]:
     return re.findall(r"(?<![\w.])[+-]?\d+(?:\.\d+)?(?![\w.])", sentence)
 
 
+def _summary(folder) -> str:
+    text = (folder / "report.md").read_text(encoding="utf-8")
+    return text[text.index("## Summary"):text.index("## Headline")]
+
+
+def _decision_tables(summary: str) -> dict[str, dict[str, dict[str, str]]]:
+    """frame -> quantity row name -> column heading -> cell, read from the summary."""
+    from validation.report.summary import FRAME_TITLES
+
+    tables, frame, header = {}, None, None
+    for line in summary.splitlines():
+        found = [f for f, title in FRAME_TITLES.items() if line.startswith(f"**{title}.**")]
+        if found:
+            frame, header = found[0], None
+            tables[frame] = {}
+        elif frame and line.startswith("| ") and header is None:
+            header = line.strip("| ").split(" | ")
+        elif frame and line.startswith("| "):
+            cells = line.strip("| ").split(" | ")
+            tables[frame][cells[0]] = dict(zip(header[1:], cells[1:]))
+    return tables
+
+
 def test_every_number_of_the_summary_comes_from_the_tables(default_report):
     folder = default_report.folder
-    text = (folder / "report.md").read_text(encoding="utf-8")
-    summary = text[text.index("## Summary"):text.index("## Headline")]
+    summary = _summary(folder)
     sentences = [line[2:] for line in summary.splitlines() if line.startswith("- ")]
-    assert 1 <= len(sentences) <= 10
+    assert 1 <= len(sentences) <= 5
+    table_rows = [line for line in summary.splitlines()
+                  if line.startswith("| ") and not line.startswith("| quantity")]
+    assert table_rows
     headline_rows = rows(folder / "headline.csv")
     findings = rows(folder / "findings.csv")
-    candidates = []
+    families = {(r["scene"], r["D"], r["H"], r["L"]) for r in headline_rows}
+    candidates = list(range(len(families) + 1))      # "holds on k of n families"
     for r in headline_rows:
         for column in ("mean_error", "low", "high", "half_width"):
             value = float(r[column])
             candidates += [value, 100 * value]
         candidates.append(100 * float(r["area_fraction"]))
         candidates += [float(r[c]) for c in ("D", "H", "L") if r[c]]
+    for r in findings:
+        candidates += [100 * float(r[c]) for c in ("reproduced_from", "reproduced_to") if r[c]]
     for key in {r["finding"] for r in findings}:
         verdicts = [r["verdict"] for r in findings if r["finding"] == key]
         candidates += [len(verdicts)] + [verdicts.count(v) for v in set(verdicts)]
@@ -273,70 +301,90 @@ def test_every_number_of_the_summary_comes_from_the_tables(default_report):
         if widths:
             candidates.append(float(np.median(widths)))
     candidates = np.array([c for c in candidates if math.isfinite(c)])
-    for sentence in sentences:
-        assert sentence.endswith(".")
+    for sentence in sentences + table_rows:
+        assert sentence.endswith((".", "|"))
         for token in _numbers(sentence):
             decimals = len(token.split(".")[1]) if "." in token else 0
             close = np.abs(candidates - float(token)) <= 0.5 * 10.0**-decimals + 1e-9
             assert close.any(), (token, sentence)
 
 
-def _fraction_list(cells) -> str:
-    values = sorted({100.0 * float(r["area_fraction"]) for r in cells})
-    return f"{values[0]:g}–{values[-1]:g} %" if len(values) > 1 else f"{values[0]:g} %"
-
-
 def test_the_summary_names_the_theory_the_rule_chooses(default_report):
-    # the rule, computed here from headline.csv: the model that beats the most others head to
-    # head (the smaller largest |mean error| on the cells both are compared at)
-    from validation.common.labels import model_label
-    from validation.common.models import FRAME_LABELS
-    from validation.report.summary import error_text
+    # the rule, computed here from headline.csv: per frame, quantity and fraction, each model
+    # holds where it holds on every surface family; of those that hold the one with the
+    # smallest largest |mean error|, else the smallest; its worst family's numbers
+    from validation.report.summary import COLUMNS, error_text
 
     folder = default_report.folder
-    text = (folder / "report.md").read_text(encoding="utf-8")
-    summary = text[text.index("## Summary"):text.index("## Headline")]
+    tables = _decision_tables(_summary(folder))
     headline_rows = [r for r in rows(folder / "headline.csv") if float(r["tolerance"]) == 0.2]
+    assert set(tables) == {r["frame"] for r in headline_rows} == {"interface", "finite"}
+    names = {"area": "area", "separation": "separation (Persson: mean gap ū)",
+             "conductance": "conductance (stiffness)"}
     checked = 0
-    for quantity, name in (("area", "Area"), ("separation", "Separation"),
-                           ("conductance", "Conductance")):
-        sentence = next(line for line in summary.splitlines() if line.startswith(f"- {name}: "))
-        for regime, _ in REGIMES:
-            cells = [r for r in headline_rows if r["quantity"] == quantity
-                     and r["regime"] == regime]
-            if not cells:
-                assert f"{regime} contact" in sentence and "not reached" in sentence
-                continue
-            error = {(r["model"], r["scene"], r["D"], r["area_fraction"]):
-                     abs(float(r["mean_error"])) for r in cells}
-            models = sorted({r["model"] for r in cells})
-            slots = {m: {k[1:] for k in error if k[0] == m} for m in models}
+    for frame, table in tables.items():
+        assert "leakage" not in table            # the quick report has none
+        for quantity, name in names.items():
+            for regime, fraction in COLUMNS:
+                cells = [r for r in headline_rows if r["frame"] == frame and
+                         r["quantity"] == quantity and float(r["area_fraction"]) == fraction]
+                heading = f"{regime}: {100 * fraction:g} %"
+                reached = any(float(r["area_fraction"]) == fraction for r in headline_rows
+                              if r["frame"] == frame)
+                if not reached:
+                    assert heading not in table[name]
+                    continue
+                if not cells:
+                    assert table[name][heading] == "not reached"
+                    continue
+                by_model = {}
+                for r in cells:
+                    by_model.setdefault(r["model"], []).append(r)
 
-            def largest(model, where):
-                return max(error[(model,) + slot] for slot in where)
+                def largest(model):
+                    sizes = [abs(float(r["mean_error"])) for r in by_model[model]]
+                    return max([s for s in sizes if math.isfinite(s)], default=math.inf)
 
-            wins = {m: sum(largest(m, slots[m] & slots[o]) < largest(o, slots[m] & slots[o])
-                           for o in models if o != m and slots[m] & slots[o])
-                    for m in models}
-            best = min(models, key=lambda m: (-wins[m], largest(m, slots[m])))
-            means = [float(r["mean_error"]) for r in cells if r["model"] == best]
-            verdicts = [r["verdict"] for r in cells if r["model"] == best]
-            # the frame the model is judged in follows its name
-            frame = {r["frame"] for r in cells if r["model"] == best}.pop()
-            label = f"{model_label(best)} [{FRAME_LABELS[frame]}]"
-            low, high = error_text(min(means), quantity), error_text(max(means), quantity)
-            # "use" only where the chosen model holds at every cell, else only "closest"
-            verb = ("use" if set(verdicts) == {"holds"} else "none holds, closest"
-                    if set(verdicts) == {"fails"} else "closest")
-            plain = sentence.replace(f"{model_label(best)} (mean gap ū) [",
-                                     f"{model_label(best)} [")
-            assert (f"contact ({_fraction_list(cells)}) {verb} {label} (mean error {low}"
-                    + (f" to {high}" if high != low else "")) in plain, (regime, sentence)
-            if verb == "closest":
-                assert f"holds at {verdicts.count('holds')} of {len(verdicts)} cells" in sentence
-            checked += 1
+                def holds(model):
+                    return all(r["verdict"] == "holds" for r in by_model[model])
+
+                best = min(by_model, key=lambda m: (not holds(m), largest(m), m))
+                worst = max(by_model[best], key=lambda r: abs(float(r["mean_error"])))
+                mark = "✔" if holds(best) else "✘" if any(
+                    r["verdict"] == "fails" for r in by_model[best]) else "?"
+                cell = table[name][heading]
+                assert error_text(float(worst["mean_error"]), quantity) in cell, cell
+                assert f" {mark} " in cell, cell
+                held = sum(r["verdict"] == "holds" for r in by_model[best])
+                if len(by_model[best]) > 1:
+                    assert f"holds on {held} of {len(by_model[best])} families" in cell
+                checked += 1
     assert checked >= 6
-    assert "- Leakage: not compared in this run." in summary   # the quick report has none
+
+
+def test_the_summary_chooses_the_theory_that_holds_on_every_family():
+    from validation.report.summary import choose, decision_table
+
+    def row(model, scene, mean, verdict, fraction=0.1, quantity="area"):
+        return dict(scene=scene, D="2.2", H="", L="1", model=model, frame="finite",
+                    quantity=quantity, reference_field=quantity, area_fraction=fraction,
+                    mean_error=mean, low=mean - 0.01, high=mean + 0.01, verdict=verdict)
+
+    cells = [row("a", "s1", 0.15, "holds"), row("a", "s2", -0.05, "holds"),
+             row("b", "s1", 0.01, "holds"), row("b", "s2", 0.3, "fails"),
+             row("c", "s1", 0.02, "undecided")]
+    chosen = choose(cells)
+    # the one that holds everywhere, though another is closer on one family
+    assert chosen.row["model"] == "a" and chosen.verdict == "holds"
+    assert chosen.row["scene"] == "s1" and (chosen.held, chosen.families) == (2, 2)
+    fallback = choose(cells[2:])       # none holds everywhere: the smallest largest error
+    assert fallback.row["model"] == "c" and fallback.verdict == "undecided"
+    assert choose(cells[2:4]).verdict == "fails"
+    table = decision_table(cells + [row("a", "s1", 0.1, "holds", fraction=0.01)], "finite")
+    assert table[1] == "| quantity | light: 1 % | intermediate: 10 % |"
+    assert "heavy (30 %) not reached by this run's load paths" in table[0]
+    assert table[3].startswith("| area | **a** +10 % (+9.0, +11) ✔ (s1, D = 2.2) | **a** +15 %")
+    assert decision_table(cells, "interface") == []
 
 
 def report_pages(folder: pathlib.Path) -> dict[str, str]:

@@ -8,7 +8,7 @@ import pytest
 
 import asperity
 from bem.common.curve import ContactCurve
-from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED
+from validation.judge.findings import CONTRADICTED, RANGED, REPRODUCED, UNDECIDED
 from validation.judge.sampling import (KEY, sampling_finding, sampling_study,
                                        sampling_verdict)
 from validation import run_scenes
@@ -201,8 +201,11 @@ def test_sampling_verdict_rule():
     half = np.array([[1, 1, 0, 0]], bool)
     assert sampling_verdict(np.vstack([no, yes]), np.vstack([yes, no])) == REPRODUCED
     assert sampling_verdict(np.vstack([no, no]), np.vstack([yes, yes])) == CONTRADICTED
-    assert sampling_verdict(np.vstack([half, no]), np.vstack([no, yes])) == UNDECIDED
-    assert sampling_verdict(half, ~half) == UNDECIDED               # half is not a majority
+    # a point supports where some row moves: half of the points suffice, none against
+    assert sampling_verdict(np.vstack([half, no]), np.vstack([no, yes])) == REPRODUCED
+    # moves at the light half, stays at the heavy half: reproduced over that range only
+    assert sampling_verdict(half, ~half) == RANGED
+    assert sampling_verdict(no, no) == UNDECIDED                    # no point decides
     with pytest.raises(ValueError, match="one shape"):
         sampling_verdict(yes, np.ones((2, 4), bool))
 

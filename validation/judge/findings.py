@@ -7,12 +7,15 @@ report prints it).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import stats
 
 from validation.common import models
+from validation.judge.claims import (CONTRADICTED, RANGE_RULE, RANGED, REPRODUCED, UNDECIDED,
+                                     ClaimRange, combine_points, decide_over_range)
 from validation.judge.compare import Comparison, converged_points, pairwise_errors
 from validation.common.labels import model_label
 from validation.judge.verdicts import (
@@ -29,6 +32,7 @@ from validation.judge.verdicts import (
 __all__ = [
     "CONTRADICTED",
     "NEW",
+    "RANGED",
     "REPRODUCED",
     "UNCHANGED_TOLERANCE",
     "UNDECIDED",
@@ -42,7 +46,6 @@ __all__ = [
     "scatter_shrinks",
 ]
 
-REPRODUCED, CONTRADICTED, UNDECIDED = "reproduced", "contradicted", "undecided"
 NEW = "not in the paper"
 #: Largest relative area difference still "nearly unchanged" in finding (a).
 UNCHANGED_TOLERANCE = 0.10
@@ -52,22 +55,22 @@ INTERACTION, NO_INTERACTION = "discrete", "discrete_no_interaction"
 IMPROVED_GW, ORIGINAL_GW = "improved_gw", "gw"
 #: How each finding is decided (Markdown, printed in the report).
 RULES = f"""Per-point decisions use the verdict rule of the report (95 % Student-t interval over
-realizations, the two models paired realization by realization, no reference band). A claim
-over many load points is decided by majority: *reproduced* where no point contradicts it and
-at least half of the points support it, *contradicted* where at least half contradict it,
-*undecided* otherwise.
+realizations, the two models paired realization by realization, no reference band).
+{RANGE_RULE}
 (a) The relative area difference of the discrete model with and without interaction, at equal
 load, within ±{100 * UNCHANGED_TOLERANCE:g} % supports "nearly unchanged", wholly outside contradicts it.
-(b) Over the heavier half of the load path, the same pair differing by more than the scene's
-smallest tolerance (separation in σ, conductance relative) downwards supports a shift (the
-interaction lowers both at a given load); within the tolerance, or upwards, contradicts it;
-both quantities must be reproduced.
+(b) Over the heavier half of the load path (the range tested), the same pair differing by more
+than the scene's smallest tolerance (separation in σ, conductance relative) downwards supports
+a shift (the interaction lowers both at a given load); within the tolerance, or upwards,
+contradicts it; the separation and the conductance combined.
 (c) The coefficient of variation over realizations of the exact (BEM) area and conductance at
 equal load, lightest against heaviest load point: reproduced where the 95 % F-distribution
 interval of their ratio lies above 1, contradicted where below 1 (the two points are treated
 as independent samples, so the interval is approximate).
-(d) Improved GW against the discrete model with interaction, within the scene's largest
-tolerance, every quantity by majority (original GW beside it for contrast).
+(d) Improved GW against the discrete model with interaction within the scene's largest
+tolerance supports the claim, outside it contradicts it; area, separation and conductance
+combined (original GW beside it for contrast).
+(c) is decided on the two ends of the path, not over a range; (f) and (g), below, by majority.
 (e) Not tested in the paper: the asperity model with the most points that hold against the BEM
 at the largest tolerance (ties: smaller median |mean error|), and the loads where none holds,
 which include those where none could be decided (the verdict tables say which).
@@ -78,12 +81,49 @@ the reference of its own frame (the interface, or the finite contact)."""
 
 @dataclass(frozen=True)
 class Finding:
-    """One finding on one surface family: the claim, the deciding numbers, the verdict."""
+    """One finding on one surface family: the claim, the deciding numbers, the verdict, and
+    for a claim decided over the load path (:mod:`validation.judge.claims`) its range."""
 
-    key: str          # "a" ... "e"
+    key: str          # "a" ... "h"
     claim: str
     evidence: str
     verdict: str
+    range: ClaimRange | None = None
+
+    @property
+    def verdict_text(self) -> str:
+        """The verdict as the report prints it ("reproduced from 2 % to 30 % contact")."""
+        return self.range.verdict_text if self.range is not None else self.verdict
+
+    def range_cells(self) -> list:
+        """The range columns of ``findings.csv``: tested and reproduced area fractions, and the
+        points that support, contradict and decide neither ("" where not decided over a
+        range)."""
+        if self.range is None:
+            return [""] * 7
+        r = self.range
+        return [*(v if math.isfinite(v) else "" for v in (r.tested_from, r.tested_to,
+                                                           r.reproduced_from, r.reproduced_to)),
+                r.reproduced, r.contradicted, r.undecided]
+
+
+def ranged_finding(key: str, claim: str, evidence: str, fraction: np.ndarray,
+                   support: np.ndarray, against: np.ndarray) -> Finding:
+    """A finding decided over the contact-area range of its points (:data:`RANGE_RULE`), the
+    range in words after the evidence."""
+    decided = decide_over_range(fraction, support, against)
+    return Finding(key, claim, f"{evidence}; {decided.describe(np.asarray(fraction), against)}",
+                   decided.verdict, decided)
+
+
+def path_fraction(results) -> np.ndarray:
+    """The reference's contact-area fraction at each load point, mean over realizations (the
+    finite window's reference where the results hold it; NaN where there is none)."""
+    curves = results[0].curves
+    name = models.reference_among(curves)
+    if name is None:
+        return np.full(np.size(next(iter(curves.values())).load), np.nan)
+    return np.mean([np.asarray(r.curves[name].area_fraction, float) for r in results], axis=0)
 
 
 def majority(support: np.ndarray, against: np.ndarray) -> str:
@@ -127,8 +167,10 @@ def _interval(errors: np.ndarray) -> ErrorInterval:
                          known.astype(int))
 
 
-def area_load_unchanged(results) -> Finding:
-    """Finding (a): discrete model with against without interaction, relative area at equal load."""
+def area_load_unchanged(results, area_fraction: np.ndarray | None = None) -> Finding:
+    """Finding (a): discrete model with against without interaction, relative area at equal
+    load, decided over the contact-area range (``area_fraction``: the reference's at each load
+    point, default :func:`path_fraction`)."""
     claim = "interaction leaves the area–load relation nearly unchanged"
     if not results or not {INTERACTION, NO_INTERACTION} <= set(results[0].curves):
         return _missing("a", claim, "the scene lacks the discrete model with and without interaction")
@@ -141,28 +183,36 @@ def area_load_unchanged(results) -> Finding:
                 f"({'on this surface' if errors.shape[0] == 1 else '95 % interval'}) at "
                 f"{counts[HOLDS]} of {verdicts.size} points, outside at {counts[FAILS]} "
                 f"[{verdict_strip(verdicts)}]")
-    return Finding("a", claim, evidence, majority(verdicts == HOLDS, verdicts == FAILS))
+    fraction = path_fraction(results) if area_fraction is None else area_fraction
+    return ranged_finding("a", claim, evidence, fraction, verdicts == HOLDS, verdicts == FAILS)
 
 
-def interaction_shift(results, threshold: float) -> Finding:
-    """Finding (b): separation and conductance shifted downwards by interaction, heavier half."""
+def interaction_shift(results, threshold: float, area_fraction: np.ndarray | None = None
+                      ) -> Finding:
+    """Finding (b): separation and conductance shifted downwards by interaction, over the
+    heavier half of the path (``area_fraction``: as in :func:`area_load_unchanged`)."""
     claim = "interaction shifts the separation and the conductance (stiffness) at a given load"
     if not results or not {INTERACTION, NO_INTERACTION} <= set(results[0].curves):
         return _missing("b", claim, "the scene lacks the discrete model with and without interaction")
     errors = pairwise_errors(results, INTERACTION, NO_INTERACTION, ("separation", "conductance"))
-    parts, verdicts = [], []
+    fraction = path_fraction(results) if area_fraction is None else area_fraction
+    heavy_fraction = np.asarray(fraction)[np.shape(fraction)[0] // 2:]
+    parts, supports, againsts = [], [], []
     for quantity, stack in errors.items():
         heavy = stack[:, stack.shape[1] // 2:]
         interval = _interval(heavy)
         point = classify(interval, 0.0, threshold)
         down, up = (point == FAILS) & (interval.mean < 0), (point == FAILS) & (interval.mean > 0)
-        verdicts.append(majority(down, (point == HOLDS) | up))
+        supports.append(down)
+        againsts.append((point == HOLDS) | up)
         unit = "σ" if quantity == "separation" else "%"
         parts.append(f"{quantity}: with − without {_range_text(interval.mean, unit)}, shifted "
                      f"down beyond {threshold:g}{' σ' if unit == 'σ' else ''} at "
                      f"{int(down.sum())} of {down.size} heavier points, no shift at "
-                     f"{int(np.sum(point == HOLDS))}, up at {int(up.sum())}")
-    return Finding("b", claim, "; ".join(parts), _combine(verdicts))
+                     f"{int(np.sum(point == HOLDS))}, up at {int(up.sum())} "
+                     f"[{decide_over_range(heavy_fraction, down, againsts[-1]).verdict_text}]")
+    support, against = combine_points(supports, againsts)
+    return ranged_finding("b", claim, "; ".join(parts), heavy_fraction, support, against)
 
 
 def _cv_ratio(values: np.ndarray) -> tuple[float, float, float, np.ndarray]:
@@ -207,8 +257,11 @@ def scatter_shrinks(results, reference_model: str | None = None) -> Finding:
     return Finding("c", claim, "; ".join(parts) or "no BEM area", _combine(verdicts))
 
 
-def improved_follows_discrete(results, tolerance: float) -> Finding:
-    """Finding (d): improved GW against the discrete model with interaction (original GW beside)."""
+def improved_follows_discrete(results, tolerance: float,
+                              area_fraction: np.ndarray | None = None) -> Finding:
+    """Finding (d): improved GW against the discrete model with interaction (original GW
+    beside), every quantity combined per point (``area_fraction``: as in
+    :func:`area_load_unchanged`)."""
     claim = "improved GW follows the discrete model with interaction"
     if not results or not {IMPROVED_GW, INTERACTION} <= set(results[0].curves):
         return _missing("d", claim, "the scene lacks improved GW or the discrete model")
@@ -217,16 +270,20 @@ def improved_follows_discrete(results, tolerance: float) -> Finding:
     improved = pairwise_errors(results, IMPROVED_GW, INTERACTION, quantities)
     original = (pairwise_errors(results, ORIGINAL_GW, INTERACTION, quantities)
                 if ORIGINAL_GW in results[0].curves else {})
-    parts, verdicts = [], []
+    fraction = path_fraction(results) if area_fraction is None else area_fraction
+    parts, supports, againsts = [], [], []
     for quantity, stack in improved.items():
         point = classify(confidence_interval(stack), 0.0, tolerance)
-        verdicts.append(majority(point == HOLDS, point == FAILS))
-        text = f"{quantity} {verdict_strip(point)}"
+        supports.append(point == HOLDS)
+        againsts.append(point == FAILS)
+        text = (f"{quantity} {verdict_strip(point)} "
+                f"[{decide_over_range(fraction, supports[-1], againsts[-1]).verdict_text}]")
         if quantity in original:
             text += f" (original GW {verdict_strip(classify(confidence_interval(original[quantity]), 0.0, tolerance))})"
         parts.append(text)
-    return Finding("d", claim, f"within ±{tolerance:g} of the discrete model, low → high load: "
-                   + "; ".join(parts), _combine(verdicts))
+    support, against = combine_points(supports, againsts)
+    return ranged_finding("d", claim, f"within ±{tolerance:g} of the discrete model, low → high "
+                          "load: " + "; ".join(parts), fraction, support, against)
 
 
 def _runs_text(load: np.ndarray, mask: np.ndarray) -> str:
@@ -267,6 +324,9 @@ def closest_models(comparison: Comparison) -> Finding:
 
 def check_findings(results, comparison: Comparison, tolerances: tuple[float, ...]) -> list[Finding]:
     """All findings (a)-(e) for the realizations of one surface family and their comparison."""
-    return [area_load_unchanged(results), interaction_shift(results, min(tolerances)),
-            scatter_shrinks(results), improved_follows_discrete(results, max(tolerances)),
+    fraction = comparison.area_fraction
+    return [area_load_unchanged(results, fraction),
+            interaction_shift(results, min(tolerances), fraction),
+            scatter_shrinks(results),
+            improved_follows_discrete(results, max(tolerances), fraction),
             closest_models(comparison)]

@@ -31,8 +31,9 @@ One surface (a scene of one realization) has no interval over realizations: its 
 error with ± the reference band, judged by
 :func:`validation.judge.verdicts.one_surface_verdicts`, and has no per-surface interval.
 
-:data:`REGIMES` names the fractions for the summary: light contact 0.1–1 %, intermediate 10 %,
-heavy 30 %.
+:data:`REGIMES` names the regime of each fraction (``headline.csv``'s ``regime``): light contact
+0.1–1 %, intermediate 10 %, heavy 30 %; the summary's tables take one fraction of each
+(:data:`validation.report.summary.COLUMNS`).
 """
 
 from __future__ import annotations
@@ -67,7 +68,7 @@ __all__ = [
 
 #: Contact-area fractions of the reference at which the headline gives every model's error.
 HEADLINE_FRACTIONS = (0.001, 0.01, 0.1, 0.3)
-#: The contact regimes of the summary, by the headline fractions they hold.
+#: The contact regimes, by the headline fractions they hold.
 REGIMES = (("light", (0.001, 0.01)), ("intermediate", (0.1,)), ("heavy", (0.3,)))
 
 

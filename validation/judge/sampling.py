@@ -23,13 +23,14 @@ import numpy as np
 
 from validation.judge.compare import (ABSOLUTE_QUANTITIES, COMPARED_QUANTITIES, Comparison,
                                       compare_realizations, pairwise_errors)
-from validation.judge.findings import CONTRADICTED, REPRODUCED, UNDECIDED, Finding
+from validation.judge.claims import combine_points, decide_over_range
+from validation.judge.findings import UNDECIDED, Finding, ranged_finding
 from validation.judge.verdicts import FAILS, HOLDS, ErrorInterval, classify, confidence_interval
 from validation.common.labels import compared_label, model_label, model_order
 from validation.common import models
 
 __all__ = ["KEY", "CLAIM", "RULE", "SUMMIT_RATIOS", "SamplingStudy", "sampling_study",
-           "sampling_verdict", "sampling_finding", "factor_label"]
+           "sampling_points", "sampling_verdict", "sampling_finding", "factor_label"]
 
 KEY = "h"
 CLAIM = "the asperity models' answers depend on the sampling interval"
@@ -43,10 +44,11 @@ BEM's loads. At each load point the paired shift from h to k h, (q(kh) − q(h))
 and conductance and (d(kh) − d(h))/σ for separation (σ of the summits at h), with its 95 %
 Student-t interval over realizations, against the scene's smallest tolerance: a model's quantity
 *moves* at k h where the interval lies wholly outside ± the tolerance at more than half of the
-load points, and *stays* where it lies wholly inside at more than half. Reproduced where some
-model's quantity moves at some k (the smallest such k is named), contradicted where every
-model's every quantity stays at every k, undecided otherwise. Summit density, mean radius and
-height deviation at each sampling are given as ratios to those at h."""
+load points, and *stays* where it lies wholly inside at more than half (the smallest k at which
+some model's quantity moves is named). Decided over the contact-area range (the rule above): a
+load point supports the claim where some model's quantity at some k lies wholly outside ± the
+tolerance there, and contradicts it where every one lies wholly inside. Summit density, mean
+radius and height deviation at each sampling are given as ratios to those at h."""
 
 
 @dataclass(frozen=True)
@@ -144,19 +146,24 @@ def _moves(outside: np.ndarray) -> np.ndarray:
     return 2 * np.sum(outside, axis=-1) > np.shape(outside)[-1]
 
 
-def sampling_verdict(outside: np.ndarray, inside: np.ndarray) -> str:
-    """Finding (h) from per-point decisions, one row per (model, quantity, coarsening k), one
-    column per load point: ``outside`` where the shift's interval lies wholly outside ± the
-    tolerance, ``inside`` where wholly inside (:data:`RULE`)."""
+def sampling_points(outside: np.ndarray, inside: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Finding (h) per load point from per-point decisions, one row per (model, quantity,
+    coarsening k), one column per load point: ``outside`` where the shift's interval lies wholly
+    outside ± the tolerance, ``inside`` where wholly inside. A point supports the claim where
+    some row is outside, contradicts it where every row is inside (:data:`RULE`)."""
     outside, inside = np.atleast_2d(np.asarray(outside, bool)), np.atleast_2d(np.asarray(inside, bool))
     if outside.shape != inside.shape or outside.size == 0:
         raise ValueError(f"outside and inside must be non-empty arrays of one shape, got "
                          f"{outside.shape} and {inside.shape}")
-    if np.any(_moves(outside)):
-        return REPRODUCED
-    if np.all(_moves(inside)):
-        return CONTRADICTED
-    return UNDECIDED
+    return combine_points(outside, inside, every=False)
+
+
+def sampling_verdict(outside: np.ndarray, inside: np.ndarray) -> str:
+    """Finding (h)'s verdict from per-point decisions (:func:`sampling_points`), decided over
+    the load points (:data:`validation.judge.claims.RANGE_RULE`; the verdict does not depend
+    on where the points lie, only the range it states)."""
+    support, against = sampling_points(outside, inside)
+    return decide_over_range(np.full(support.size, np.nan), support, against).verdict
 
 
 def _shift_text(interval: ErrorInterval, quantity: str) -> str:
@@ -205,5 +212,9 @@ def sampling_finding(study: SamplingStudy | None) -> Finding:
         first = min(k for k, _ in moving)
         parts.insert(0, f"moves from {factor_label(first)} on: "
                      + ", ".join(what for k, what in moving if k == first))
-    verdict = sampling_verdict(np.array(outside), np.array(inside)) if outside else UNDECIDED
-    return Finding(KEY, CLAIM, " — ".join(parts + [_ratio_text(study)]), verdict)
+    evidence = " — ".join(parts + [_ratio_text(study)])
+    if not outside:
+        return Finding(KEY, CLAIM, evidence, UNDECIDED)
+    support, against = sampling_points(outside, inside)
+    return ranged_finding(KEY, CLAIM, evidence, study.comparisons[1].area_fraction,
+                          support, against)

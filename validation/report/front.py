@@ -244,7 +244,7 @@ def findings_overview(analyses: list[Analysis]) -> list[str]:
             columns.append(column)
             for f in found:
                 claims.setdefault(f.key, f.claim)
-                cells[f.key, column] = f.verdict
+                cells[f.key, column] = f.verdict_text
     for analysis in analyses:
         if analysis.scene_findings:
             surface, name = analysis.result.scene.surface, analysis.result.scene.name
@@ -253,7 +253,7 @@ def findings_overview(analyses: list[Analysis]) -> list[str]:
             columns.append(column)
             for f in analysis.scene_findings:
                 claims.setdefault(f.key, f.claim)
-                cells[f.key, column] = f.verdict
+                cells[f.key, column] = f.verdict_text
     lines = ["## Findings\n"]
     if not claims:
         return lines + ["No surface scene with a BEM reference in this run: nothing to check.\n"]
@@ -326,11 +326,10 @@ def front_page(figures, analyses: list[Analysis], rows: dict, *, one_scan: bool 
     from validation.report.tables import records
 
     lines = figures.lines
-    sentences = [] if one_scan else summary.summary_sentences(records(rows, "headline.csv"),
-                                                              records(rows, "findings.csv"))
-    if sentences:
-        lines += ["## Summary\n"] + [f"- {sentence}" for sentence in sentences]
-        lines += ["", summary.RULE + "\n"]
+    answer = [] if one_scan else summary.summary_lines(records(rows, "headline.csv"),
+                                                       records(rows, "findings.csv"))
+    if answer:
+        lines += ["## Summary\n"] + answer
     judged = [a for a in analyses if a.comparisons]
     if judged:
         lines += ["## Headline: each model's error at fixed contact-area fractions\n",

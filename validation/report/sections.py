@@ -186,12 +186,12 @@ def scene_findings(analysis: Analysis) -> list[str]:
 
     parameter = analysis.result.scene.surface.sweep_name
     rows = [[f"({f.key}) {f.claim}", sweep_member(parameter, value),
-             f.evidence.replace("|", "/"), f"**{f.verdict}**"]
+             f.evidence.replace("|", "/"), f"**{f.verdict_text}**"]
             for value, found in analysis.findings.items() for f in found]
     surface = analysis.result.scene.surface
     rows += [[f"({f.key}) {f.claim}", f"{surface.sweep_name} = "
               + ", ".join(f"{v:g}" for v in surface.sweep_values),
-              f.evidence.replace("|", "/"), f"**{f.verdict}**"] for f in analysis.scene_findings]
+              f.evidence.replace("|", "/"), f"**{f.verdict_text}**"] for f in analysis.scene_findings]
     if not rows:
         return []
     lines = ["## Findings\n", "The paper's findings, checked point by point on this scene "

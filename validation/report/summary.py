@@ -1,59 +1,66 @@
-"""The report's summary: at most ten sentences, each generated from the rows of this run's
+"""The report's summary: two small decision tables, one per frame (an unbounded interface; a
+finite nominal contact), and at most five sentences, all generated from the rows of this run's
 tables (``headline.csv`` and ``findings.csv``, as :func:`validation.report.tables.records`
 gives them), none written by hand.
 
-Per quantity (area, separation, conductance, leakage) two sentences: which theory to use at
-light, intermediate and heavy contact (:data:`validation.judge.headline.REGIMES`), and how
-wrong the others are; then what the paper's claims came to, and how precise the headline is.
-
-**The theory to use** for a quantity in a regime is the one that beats the most others head to
-head: on the headline cells both are compared at (surface families and fractions of the run
-that reach the regime), its largest ``|mean error|`` is the smaller (ties: the smaller largest
-``|mean error|`` over all its cells, then the one that holds at more of them). So a model that
-a scene leaves out is neither favoured nor penalised. It is called the one to *use* only where
-it holds at every cell it is compared at in the regime; otherwise it is the *closest* (with
-the share of its cells that hold), and where it fails at every cell, "none holds". Its
-sentence gives the range of its mean errors there and the range its intervals span (the 95 % intervals over realizations, or ± the
-reference band for one surface). **How wrong the others are**: the largest mean error of each
-other model in the regime, from the smallest of them to the largest (marked where a model is
-not compared on every surface family). Every cell is read at its scene's largest tolerance.
+Each table has a row per quantity (area, separation, conductance, leakage where computed) and a
+column per contact regime, each one headline fraction of its frame's reference
+(:data:`COLUMNS`: light 1 %, intermediate 10 %, heavy 30 %; a column no load path reaches is
+left out and said so). A cell names **the theory to use** there among the theories of the
+frame (:func:`choose`): every theory is read on each surface family whose reference reaches
+the fraction, at its scene's largest tolerance; it *holds* (✔) where it holds on every family,
+*fails* (✘) where it fails on one or more, and is *undecided* (?) otherwise. The theory shown
+is, of those that hold, the one whose largest ``|mean error|`` over the families is the
+smallest; where none holds, the one with the smallest largest ``|mean error|``, with its mark.
+Its numbers are those of its worst family (largest ``|mean error|``): the mean error with its
+95 % interval over realizations (± the reference band for one surface), the family named, and
+on how many families it holds. The sentences: what the paper's claims came to
+(``findings.csv``) and how precise the headline is.
 """
 
 from __future__ import annotations
 
 import math
 from collections import defaultdict
+from dataclasses import dataclass
 
+from validation.judge.claims import RANGED, fraction_text
 from validation.judge.errors import ABSOLUTE_QUANTITIES, RELATIVE_QUANTITIES
 from validation.judge.findings import NEW
-from validation.judge.headline import REGIMES
-from validation.judge.verdicts import FAILS, HOLDS
+from validation.judge.verdicts import FAILS, HOLDS, SYMBOLS, UNDECIDED
 from validation.common.labels import compared_label, model_label
-from validation.common.models import FRAME_LABELS
+from validation.common.models import FRAME_LABELS, FRAMES
 
-__all__ = ["MAX_SENTENCES", "SUMMARY_QUANTITIES", "RULE", "error_text", "number_text",
+__all__ = ["COLUMNS", "FRAME_TITLES", "MAX_SENTENCES", "SUMMARY_QUANTITIES", "RULE", "Choice",
+           "choose", "decision_table", "error_text", "number_text", "summary_lines",
            "summary_sentences"]
 
-#: The summary's length limit.
-MAX_SENTENCES = 10
-#: Quantities the summary speaks of, in its order.
+#: The sentences' length limit (after the tables).
+MAX_SENTENCES = 5
+#: Quantities the tables speak of, in their order, with the rows' names.
 SUMMARY_QUANTITIES = ("area", "separation", "conductance", "leakage")
-#: How the summary chooses (Markdown, printed under it).
-RULE = ("*Light, intermediate and heavy contact: the contact-area fractions 0.1–1 %, 10 % "
-        "and 30 % of the headline, each of the reference of the model's frame ([interface]: "
-        "the unbounded interface, periodic BEM; [finite contact]: the window, or a given "
-        "nominal contact, pressed as a whole). Each model is judged in its own frame. The "
-        "theory to use is the one that beats the most others "
-        "head to head: on the headline cells both are compared at, its largest |mean error| "
-        "is the smaller; it is to *use* where it holds at every cell, and only the *closest* "
-        "where it does not (none holds: it fails at every cell). Errors relative for area and "
-        "conductance, in σ for separation (Persson: its mean gap ū against the BEM's), "
-        "ln(h_eff/h_eff,BEM) for leakage; every "
-        "number is in `headline.csv` and `findings.csv`.*")
-_NAMES = {"area": "Area", "separation": "Separation", "conductance": "Conductance",
-          "leakage": "Leakage"}
-_PHRASES = {"light": "light contact", "intermediate": "intermediate contact",
-            "heavy": "heavy contact"}
+_NAMES = {"area": "area", "separation": "separation (Persson: mean gap ū)",
+          "conductance": "conductance (stiffness)", "leakage": "leakage"}
+#: The tables' columns: contact regime and the headline fraction that stands for it.
+COLUMNS = (("light", 0.01), ("intermediate", 0.1), ("heavy", 0.3))
+#: The tables' titles, per frame, and the theories each judges.
+FRAME_TITLES = {
+    "interface": "An unbounded interface (original GW, GW and Bush-Gibson-Thomas from the "
+                 "spectrum, Persson, the discrete model without interaction; against the "
+                 "surface solved as a periodic interface)",
+    "finite": "A finite nominal contact (improved GW, improved GW from the spectrum, the "
+              "discrete model with interaction; against the window pressed as a whole)",
+}
+#: How the tables choose (Markdown, one line printed under them).
+RULE = ("*Rule: in each cell every theory of the frame is read on each surface family whose "
+        "reference reaches the fraction, at the scene's largest tolerance, ✔ where it holds on "
+        "every family, ✘ where it fails on one or more, ? otherwise; shown is the theory that "
+        "holds with the smallest largest |mean error|, or where none holds the one with the "
+        "smallest, with the numbers of its worst family (mean error, 95 % interval over "
+        "realizations or ± reference band for one surface) and on how many families it holds. "
+        "Errors relative for area and conductance, in σ for separation (Persson: its mean gap ū "
+        "against the BEM's), ln(h_eff/h_eff,BEM) for leakage; every number is in "
+        "`headline.csv`.*")
 
 
 def number_text(value: float, signed: bool = True) -> str:
@@ -77,12 +84,6 @@ def error_text(value: float, quantity: str, signed: bool = True, unit: bool = Tr
     return number_text(value, signed)
 
 
-def _fraction_text(fractions) -> str:
-    values = sorted({100.0 * float(f) for f in fractions})
-    texts = [f"{v:g}" for v in values]
-    return f"{texts[0]}–{texts[-1]} %" if len(texts) > 1 else f"{texts[0]} %"
-
-
 def _largest_tolerance_rows(rows: list[dict]) -> list[dict]:
     """Each cell once: its rows at the largest tolerance of its scene."""
     largest: dict[str, float] = {}
@@ -92,112 +93,140 @@ def _largest_tolerance_rows(rows: list[dict]) -> list[dict]:
 
 
 def _label(row: dict) -> str:
+    """The theory's name, with what it is compared by where that is not the quantity
+    (Persson's mean gap)."""
     label = model_label(row["model"])
     field = row.get("reference_field") or row["quantity"]
-    label = label if field == row["quantity"] else \
+    return label if field == row["quantity"] else \
         f"{label} ({compared_label(row['quantity'], field)})"
-    frame = row.get("frame") or ""
-    return f"{label} [{FRAME_LABELS[frame]}]" if frame in FRAME_LABELS else label
 
 
-def _slot(row: dict) -> tuple:
-    return (row["scene"], row["D"], row["H"], row["L"], float(row["area_fraction"]))
+def _value(value) -> str:
+    try:
+        return f"{float(value):g}"
+    except (TypeError, ValueError):
+        return str(value)
 
 
-def _largest(rows: list[dict], slots: set | None = None) -> float:
-    """The largest |mean error| of ``rows`` (at ``slots`` only, when given); inf where none is
-    finite."""
-    sizes = [abs(float(r["mean_error"])) for r in rows if slots is None or _slot(r) in slots]
-    sizes = [size for size in sizes if math.isfinite(size)]
-    return max(sizes) if sizes else math.inf
+def family_text(row: dict) -> str:
+    """A surface family as the tables name it: its scene and swept value ("validity-map,
+    D = 2.2"; the side L only where it is not 1)."""
+    parts = [f"{key} = {_value(row[key])}" for key in ("D", "H") if row.get(key, "") != ""]
+    if row.get("L", "") != "" and float(row["L"]) != 1.0:
+        parts.append(f"L = {_value(row['L'])}")
+    return ", ".join([row["scene"]] + parts)
 
 
-def _choose(cells: list[dict]) -> tuple[str, dict[str, list[dict]], set[str]]:
-    """The model to use (module docstring: the most wins head to head), every model's cells,
-    and the models compared at every slot of ``cells``."""
+def _size(row: dict) -> float:
+    size = abs(float(row["mean_error"]))
+    return size if math.isfinite(size) else math.inf
+
+
+@dataclass(frozen=True)
+class Choice:
+    """The theory a cell names: its worst family's row (the largest known |mean error|; any
+    row where none is known), its mark over the families (holds / fails / undecided), and on
+    how many of its families it holds."""
+
+    row: dict
+    verdict: str
+    held: int
+    families: int
+
+    @property
+    def largest(self) -> float:
+        """Its largest |mean error| over the families (inf where none is known)."""
+        return _size(self.row)
+
+
+def _judged(rows: list[dict]) -> Choice:
+    """One theory's rows (one per surface family) read together (module docstring)."""
+    held = sum(r["verdict"] == HOLDS for r in rows)
+    verdict = HOLDS if held == len(rows) else \
+        FAILS if any(r["verdict"] == FAILS for r in rows) else UNDECIDED
+    known = [r for r in rows if math.isfinite(_size(r))]
+    worst = max(known, key=_size) if known else rows[0]
+    return Choice(worst, verdict, held, len(rows))
+
+
+def choose(cells: list[dict]) -> Choice | None:
+    """The theory to use among the headline rows of one frame, quantity and fraction (one row
+    per theory and surface family): of those that hold on every family, the smallest largest
+    |mean error|; where none holds, the smallest largest |mean error| (``None``: no rows)."""
     by_model: dict[str, list[dict]] = defaultdict(list)
     for row in cells:
         by_model[row["model"]].append(row)
-    slots = {model: {_slot(r) for r in rows} for model, rows in by_model.items()}
-    everywhere = {m for m in by_model if slots[m] == {_slot(r) for r in cells}}
-
-    def wins(model: str) -> int:
-        count = 0
-        for other in by_model:
-            common = slots[model] & slots[other]
-            if other != model and common and \
-                    _largest(by_model[model], common) < _largest(by_model[other], common):
-                count += 1
-        return count
-
-    best = min(by_model, key=lambda m: (-wins(m), _largest(by_model[m]),
-                                        -sum(r["verdict"] == HOLDS for r in by_model[m]), m))
-    return best, by_model, everywhere
+    if not by_model:
+        return None
+    judged = [_judged(rows) for rows in by_model.values()]
+    return min(judged, key=lambda c: (c.verdict != HOLDS, c.largest, c.row["model"]))
 
 
-def _worst(rows: list[dict]) -> dict:
-    """The row of the largest finite ``|mean error|`` (the first row where none is finite)."""
-    finite = [r for r in rows if math.isfinite(float(r["mean_error"]))]
-    return max(finite, key=lambda r: abs(float(r["mean_error"]))) if finite else rows[0]
+def _cell_text(choice: Choice | None, quantity: str) -> str:
+    if choice is None:
+        return "not reached"
+    row, mark = choice.row, SYMBOLS[choice.verdict]
+    mean, low, high = (float(row[k]) for k in ("mean_error", "low", "high"))
+    where = (f"holds on {choice.held} of {choice.families} families, worst "
+             f"{family_text(row)}" if choice.families > 1 else family_text(row))
+    if not math.isfinite(mean):
+        return f"{_label(row)}: error not known {mark} ({where})"
+    interval = (f" ({error_text(low, quantity, unit=False)}, {error_text(high, quantity, unit=False)})"
+                if math.isfinite(low) and math.isfinite(high) else "")
+    return f"**{_label(row)}** {error_text(mean, quantity)}{interval} {mark} ({where})"
 
 
-def _use_part(regime: str, fractions, quantity: str, rows: list[dict]) -> str:
-    """The chosen model's part of the sentence: "use" it only where it holds at every cell it
-    is compared at; otherwise it is only the closest, and the sentence says how often it holds."""
-    held = sum(r["verdict"] == HOLDS for r in rows)
-    failed = sum(r["verdict"] == FAILS for r in rows)
-    verb = ("use" if held == len(rows) else "none holds, closest" if failed == len(rows)
-            else "closest")
-    where = f"at {_PHRASES[regime]} ({_fraction_text(fractions)}) {verb}"
-    means = [float(r["mean_error"]) for r in rows if math.isfinite(float(r["mean_error"]))]
-    if not means:
-        return f"{where} {_label(rows[0])}, whose error is not known there"
-    low, high = error_text(min(means), quantity), error_text(max(means), quantity)
-    text = f"{where} {_label(rows[0])} (mean error {low}" + (f" to {high}" if high != low else "")
-    lows = [float(r["low"]) for r in rows]
-    highs = [float(r["high"]) for r in rows]
-    if all(map(math.isfinite, lows + highs)):
-        text += (f", intervals within {error_text(min(lows), quantity)} to "
-                 f"{error_text(max(highs), quantity)}")
-    if verb == "closest":
-        text += f"; holds at {held} of {len(rows)} cells"
-    return text + ")"
+def _at(row: dict, fraction: float) -> bool:
+    return math.isclose(float(row["area_fraction"]), fraction, rel_tol=1e-9)
 
 
-def _other_text(row: dict, quantity: str, everywhere: set[str]) -> str:
-    where = "" if row["model"] in everywhere else ", not compared everywhere"
-    return f"{error_text(float(row['mean_error']), quantity)} ({_label(row)}{where})"
+def decision_table(rows: list[dict], frame: str) -> list[str]:
+    """One frame's decision table (Markdown lines, empty where the frame has no headline row):
+    its title and columns, a row per quantity, a column per regime of :data:`COLUMNS` that
+    some load path reaches. ``rows``: headline rows at each scene's largest tolerance."""
+    rows = [r for r in rows if (r.get("frame") or "finite") == frame]
+    quantities = [q for q in SUMMARY_QUANTITIES if any(r["quantity"] == q for r in rows)]
+    columns = [(regime, f) for regime, f in COLUMNS if any(_at(r, f) for r in rows)]
+    if not quantities or not columns:
+        return []
+    missing = [f"{regime} ({fraction_text(f)})" for regime, f in COLUMNS
+               if (regime, f) not in columns]
+    named = ", ".join(f"{regime} contact = {fraction_text(f)}" for regime, f in columns)
+    caption = (f"**{FRAME_TITLES[frame]}.** The theory to use; columns: {named} of the nominal "
+               f"area in contact (the {FRAME_LABELS[frame]} reference's contact-area fraction)"
+               + (f"; {' and '.join(missing)} not reached by this run's load paths"
+                  if missing else "") + ".\n")
+    header = ["quantity"] + [f"{regime}: {fraction_text(f)}" for regime, f in columns]
+    lines = [caption, "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for quantity in quantities:
+        cells = [_cell_text(choose([r for r in rows if r["quantity"] == quantity and _at(r, f)]),
+                            quantity) for _, f in columns]
+        lines.append("| " + " | ".join([_NAMES[quantity]] + cells) + " |")
+    return lines + [""]
 
 
-def _quantity_sentences(quantity: str, rows: list[dict]) -> list[str]:
-    name = _NAMES[quantity]
-    cells = [r for r in rows if r["quantity"] == quantity]
-    if not cells:
-        return [f"{name}: not compared in this run."]
-    uses, others, missing = [], [], []
-    for regime, fractions in REGIMES:
-        held = [r for r in cells if r["regime"] == regime]
-        if not held:
-            missing.append(f"{_PHRASES[regime]} ({_fraction_text(fractions)})")
-            continue
-        best, by_model, everywhere = _choose(held)
-        reached = sorted({float(r["area_fraction"]) for r in held})
-        uses.append(_use_part(regime, reached, quantity, by_model[best]))
-        rest = sorted((w for w in (_worst(by_model[m]) for m in by_model if m != best)
-                       if math.isfinite(float(w["mean_error"]))),
-                      key=lambda r: abs(float(r["mean_error"])))
-        if rest:
-            span = _other_text(rest[0], quantity, everywhere)
-            if len(rest) > 1:
-                span += " to " + _other_text(rest[-1], quantity, everywhere)
-            others.append(f"at {_PHRASES[regime]} {span}")
-    use = f"{name}: " + "; ".join(uses)
-    if missing:
-        use += "; " + " and ".join(missing) + " not reached by this run's load paths"
-    sentences = [use + "."]
-    if others:
-        sentences.append(f"{name}, the others' largest mean errors: " + "; ".join(others) + ".")
-    return sentences
+def _claim_tally(rows: list[dict]) -> str:
+    """A claim's verdicts over its surface families, counted; the ranges of those reproduced
+    over a range."""
+    counts: dict[str, int] = defaultdict(int)
+    for row in rows:   # a claim the run could not test is said so, not "undecided"
+        counts["not tested" if str(row.get("evidence", "")).startswith("not tested")
+               else row["verdict"]] += 1
+    ranged = [r for r in rows if r["verdict"] == RANGED and r.get("reproduced_from", "") != ""]
+
+    def span(column: str) -> str:
+        values = sorted(float(r[column]) for r in ranged)
+        low, high = fraction_text(values[0]), fraction_text(values[-1])
+        return low if low == high else f"{low.removesuffix(' %')}–{high}"
+
+    parts = []
+    for verdict, count in sorted(counts.items(), key=lambda item: (-item[1], item[0])):
+        text = f"{verdict} on {count}" if len(rows) > 1 else verdict
+        if verdict == RANGED and ranged:
+            text += (f" (its lower end at {span('reproduced_from')}, its upper end at "
+                     f"{span('reproduced_to')} contact)")
+        parts.append(text)
+    return ", ".join(parts) + (f" of {len(rows)}" if len(rows) > 1 else "")
 
 
 def _findings_sentence(findings: list[dict]) -> str | None:
@@ -208,19 +237,8 @@ def _findings_sentence(findings: list[dict]) -> str | None:
             by_key[row["finding"]].append(row)
     if not by_key:
         return None
-    parts = []
-    for key in sorted(by_key):
-        rows = by_key[key]
-        counts: dict[str, int] = defaultdict(int)
-        for row in rows:   # a claim the run could not test is said so, not "undecided"
-            counts["not tested" if str(row.get("evidence", "")).startswith("not tested")
-                   else row["verdict"]] += 1
-        if len(rows) == 1:   # one surface family (one scan): the verdict alone
-            parts.append(f"({key}) {rows[0]['claim']}: {next(iter(counts))}")
-            continue
-        tally = ", ".join(f"{verdict} on {count}" for verdict, count in
-                          sorted(counts.items(), key=lambda item: (-item[1], item[0])))
-        parts.append(f"({key}) {rows[0]['claim']}: {tally} of {len(rows)}")
+    parts = [f"({key}) {by_key[key][0]['claim']}: {_claim_tally(by_key[key])}"
+             for key in sorted(by_key)]
     return "The paper's claims, per surface family checked: " + "; ".join(parts) + "."
 
 
@@ -232,16 +250,17 @@ def _precision_sentence(rows: list[dict]) -> str | None:
     middle = len(widths) // 2
     median = widths[middle] if len(widths) % 2 else 0.5 * (widths[middle - 1] + widths[middle])
     worst = max(cells, key=lambda r: float(r["half_width"]))
-    member = ", ".join(f"{k} = {worst[k]}" for k in ("D", "H") if worst[k] != "")
-    where = (f"{_label(worst)}, {worst['quantity']} at {_fraction_text([worst['area_fraction']])}"
-             f" on {worst['scene']}" + (f", {member}" if member else ""))
+    frame = FRAME_LABELS.get(worst.get("frame") or "", "")
+    where = (f"{_label(worst)}{f' [{frame}]' if frame else ''}, {worst['quantity']} at "
+             f"{fraction_text(float(worst['area_fraction']))} on {family_text(worst)}")
     return (f"The headline's intervals (relative, in σ, or ln for leakage) have a median "
             f"half-width of {number_text(median, False)} and at worst "
             f"{number_text(float(worst['half_width']), False)} ({where}).")
 
 
 def summary_sentences(headline: list[dict], findings: list[dict]) -> list[str]:
-    """The summary, at most :data:`MAX_SENTENCES` sentences (module docstring).
+    """The sentences under the tables, at most :data:`MAX_SENTENCES`: the paper's claims and
+    the headline's precision.
 
     Parameters
     ----------
@@ -250,8 +269,16 @@ def summary_sentences(headline: list[dict], findings: list[dict]) -> list[str]:
         (:func:`validation.report.tables.records`).
     """
     rows = _largest_tolerance_rows(headline)
-    if not rows:
+    sentences = [_findings_sentence(findings), _precision_sentence(rows) if rows else None]
+    return [s for s in sentences if s][:MAX_SENTENCES]
+
+
+def summary_lines(headline: list[dict], findings: list[dict]) -> list[str]:
+    """The summary's Markdown lines after its heading (empty where the run has no headline):
+    a decision table per frame (:func:`decision_table`), :data:`RULE`, then the sentences."""
+    rows = _largest_tolerance_rows(headline)
+    tables = [line for frame in FRAMES for line in decision_table(rows, frame)]
+    if not tables:
         return []
-    sentences = [s for q in SUMMARY_QUANTITIES for s in _quantity_sentences(q, rows)]
-    sentences += [s for s in (_findings_sentence(findings), _precision_sentence(rows)) if s]
-    return sentences[:MAX_SENTENCES]
+    return (tables + [RULE + "\n"]
+            + [f"- {sentence}" for sentence in summary_sentences(headline, findings)] + [""])

@@ -54,7 +54,9 @@ TABLES = {
                      "holds", "fails", "undecided", "reference_band_max", "unconverged",
                      "reference_field", "holds_per_surface", "fails_per_surface",
                      "undecided_per_surface", "sealing_disagreements"],
-    "findings.csv": ["scene", "D", "H", "L", "finding", "claim", "evidence", "verdict"],
+    "findings.csv": ["scene", "D", "H", "L", "finding", "claim", "evidence", "verdict",
+                     "tested_from", "tested_to", "reproduced_from", "reproduced_to",
+                     "points_reproduced", "points_contradicted", "points_undecided"],
     "theory.csv": ["C", "m", "separation", "effective_separation", "gw_pressure",
                    "improved_pressure", "gw_stiffness", "effective_stiffness",
                    "improved_stiffness"],
@@ -224,10 +226,10 @@ def table_rows(analyses) -> dict[str, list[list]]:
             rows[name] += more
         surface = analysis.result.scene.surface
         rows["findings.csv"] += [[analysis.result.scene.name, *_sweep(surface.at(value)), f.key,
-                                  f.claim, f.evidence, f.verdict]
+                                  f.claim, f.evidence, f.verdict, *f.range_cells()]
                                  for value, found in analysis.findings.items() for f in found]
         rows["findings.csv"] += [[analysis.result.scene.name, *_scene_sweep(surface), f.key,
-                                  f.claim, f.evidence, f.verdict]
+                                  f.claim, f.evidence, f.verdict, *f.range_cells()]
                                  for f in analysis.scene_findings]
         rows["theory.csv"] += _theory_rows(analysis)
         for name, more in sampling.table_rows(analysis).items():

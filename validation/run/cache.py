@@ -245,7 +245,7 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "report/sealing_figures.py", "judge/errors.py",
                                  "report/layout.py", "judge/decide.py", "common/verdicts.py",
                                  "judge/headline.py", "judge/frames.py", "judge/bands.py",
-                                 "report/front.py", "report/summary.py",
+                                 "report/front.py", "report/summary.py", "judge/claims.py",
                                  "report/atlas.py", "check/__init__.py", "check/command.py",
                                  "check/figure.py", "check/physical.py", "check/request.py",
                                  "check/resolution.py", "check/units.py", "check/glance.py",
