@@ -185,10 +185,14 @@ def test_the_range_is_the_run_free_of_contradiction_with_the_most_support():
     # equal support: the wider run in area fraction wins
     decided = decide_over_range(FRACTIONS, *_points("✔✔✘✔?✔✘?"))
     assert (decided.reproduced_from, decided.reproduced_to) == (FRACTIONS[3], FRACTIONS[5])
-    # supported at one point only, never contradicted: a range of one point, said as such
+    # supported at one point only: one point is no range (undecided; contradicted where some
+    # point contradicts it)
     one = decide_over_range(FRACTIONS, *_points("?✔??????"))
-    assert one.verdict == RANGED
-    assert one.verdict_text == f"reproduced at {fraction_text(FRACTIONS[1])} contact"
+    assert one.verdict == UNDECIDED and np.isnan(one.reproduced_from)
+    assert decide_over_range(FRACTIONS, *_points("?✔✘✘✘✘✘?")).verdict == CONTRADICTED
+    two = decide_over_range(FRACTIONS, *_points("?✔✔?????"))
+    assert two.verdict == RANGED and (two.reproduced_from, two.reproduced_to) == (
+        FRACTIONS[1], FRACTIONS[2])
 
 
 def test_a_claim_nowhere_supported_is_contradicted_or_undecided():

@@ -9,8 +9,8 @@ verdict and the range over which the claim is reproduced (:data:`RANGE_RULE`):
 * *reproduced over a range*: some point supports it, but some point contradicts it or fewer
   than half support it; the range is the run of consecutive points free of contradiction that
   holds the most supporting points (ties: the wider in area fraction, then the lighter), from
-  its first to its last supporting point;
-* *contradicted*: no point supports it and some point contradicts it;
+  its first to its last supporting point, and at least :data:`MIN_RANGE_POINTS` of them;
+* *contradicted*: no such run, and some point contradicts it;
 * *undecided*: no point decides it either way.
 
 A claim over several quantities (or several models, samplings) is decided on the points
@@ -24,12 +24,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["CONTRADICTED", "RANGED", "RANGE_RULE", "REPRODUCED", "UNDECIDED", "ClaimRange",
+__all__ = ["CONTRADICTED", "MIN_RANGE_POINTS", "RANGED", "RANGE_RULE", "REPRODUCED", "UNDECIDED", "ClaimRange",
            "combine_points", "decide_over_range", "fraction_text"]
 
 REPRODUCED, CONTRADICTED, UNDECIDED = "reproduced", "contradicted", "undecided"
 #: The verdict of a claim reproduced over part of the contact-area range tested.
 RANGED = "reproduced over a range"
+#: Fewest supporting points a stated range holds (one point is no range).
+MIN_RANGE_POINTS = 2
 #: How a claim is decided over its points (Markdown, part of the findings' rules).
 RANGE_RULE = """A claim over a load path is decided over the contact-area range of its points
 (the finite window's BEM contact-area fraction, mean over realizations): each point supports
@@ -38,8 +40,9 @@ least half of the points support it (the whole range tested); *reproduced over a
 some point supports it but some contradicts it, or fewer than half support it: the range is
 the run of consecutive points without a contradicting one that holds the most supporting
 points (ties: the wider, then the lighter), from its first to its last supporting point, and
-the report says "reproduced from a % to b % contact"; *contradicted* where no point supports
-it and some contradicts it; *undecided* where no point decides it. A claim over several
+the report says "reproduced from a % to b % contact" (a range holds at least two supporting
+points); *contradicted* where no run free of contradiction holds two supporting points and
+some point contradicts it; *undecided* where no point decides it. A claim over several
 quantities is decided on the points combined: a point supports it where every quantity
 supports it and contradicts it where any contradicts it."""
 
@@ -166,6 +169,9 @@ def decide_over_range(fraction: np.ndarray, support: np.ndarray, against: np.nda
 
     first, last = max(_runs(~against), key=key)
     held = np.flatnonzero(support[first:last + 1]) + first
+    if held.size < MIN_RANGE_POINTS:     # one point is no range
+        return ClaimRange(CONTRADICTED if against.any() else UNDECIDED, *tested, *nowhere,
+                          *counts)
     return ClaimRange(RANGED, *tested, *_span(fraction[[held[0], held[-1]]]), *counts)
 
 
