@@ -167,7 +167,9 @@ class InterfaceModel(BoundaryElementModel):
 
     Loads, areas, contacts and stiffness refer to the map's own nominal area ``N M h^2``. With
     ``error_estimate`` and the mirror extension, every ``<quantity>_error`` extra also holds
-    the mirror method's bound (:func:`method_error`, eq. T50). Extra ``extension``: the method, for the record.
+    the mirror method's bound, with ``<quantity>_method_error`` (the bound) and
+    ``<quantity>_method_bias`` (its bias) beside it (:func:`method_error`, eq. T50). Extra
+    ``extension``: the method, for the record.
     """
 
     name = "bem_interface"

@@ -18,11 +18,13 @@ periodic solution's contact-area fraction (:data:`BIN_EDGES`); per quantity and 
   the bound stated, the larger of 1.25 times it and the one-sided 95 %/95 % normal tolerance
   limit ``mean + k s`` of the surfaces' largest |error| in the bin (what one surface carries).
 
-Prints both tables per H and pooled; ``bem.interface.MIRROR_BIAS`` and ``MIRROR_BOUND`` hold
-the pooled ones.
+Prints both tables per H and pooled, and their envelope, the tables of ``bem.interface``
+(``MIRROR_BIAS``, ``MIRROR_BOUND``): per bin the largest over the H and the pooled ensemble (a
+scene's realizations share one H, and the bias depends on it). ``--save`` keeps the errors,
+``--load`` prints the tables from them without solving.
 
     python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8] [--window]
-        [--save errors.npz]
+        [--save errors.npz] [--load errors.npz]
 """
 
 from __future__ import annotations
@@ -100,6 +102,20 @@ def print_tables(label: str, records) -> None:
         print(f"  {edges:12s} {row['n']:3d}  | " + " | ".join(cells), flush=True)
 
 
+def print_envelope(tables: list[dict]) -> None:
+    """The tables of ``bem.interface``: per bin, the largest bias bound and bound over the
+    tables given (each H's and the pooled one). A scene's realizations share one H, and the
+    bias depends on it (the stiffness's changes sign with H): the pooled mean would hide it."""
+    print("\nenvelope over H and pooled (bem.interface.MIRROR_BIAS, MIRROR_BOUND): area, "
+          "mean gap/h_rms, stiffness")
+    for b in tables[0]:
+        bias = np.max([t[b]["bias"] for t in tables if b in t], axis=0)
+        bound = np.max([t[b]["bound"] for t in tables if b in t], axis=0)
+        centre = 100 * np.sqrt(BIN_EDGES[b] * BIN_EDGES[b + 1])
+        print(f"  {centre:6.3g} %  bias " + " ".join(f"{v:.4f}" for v in bias)
+              + " | bound " + " ".join(f"{v:.4f}" for v in bound), flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=256)
@@ -109,13 +125,24 @@ def main() -> None:
     parser.add_argument("--tol", type=float, default=1e-8)
     parser.add_argument("--window", action="store_true", help="compare the finite window too")
     parser.add_argument("--save", default="", help="write the mirror's errors to this .npz")
+    parser.add_argument("--load", default="", help="tables from the errors saved in this .npz")
     args = parser.parse_args()
     n, spacing = args.n, 1.0 / args.n
     print(f"grid {n}^2, pressures {PRESSURES[0]:.1e}-{PRESSURES[-1]:.1e} E*, tol {args.tol:g}; "
           f"bins {', '.join(f'{100 * e:g}' for e in BIN_EDGES)} % (periodic solution's "
           "fraction); per surface: largest |error| in 0.3-30 %: area (rel), mean gap (h_rms), "
           "stiffness (rel)")
-    pooled, saved = [], {}
+    pooled, saved, tables = [], {}, []
+    if args.load:
+        with np.load(args.load) as data:
+            for hurst, stack in data.items():
+                records = [(row[0], row[1:]) for row in stack]
+                print_tables(f"H {hurst}", records)
+                tables.append(bin_statistics(records))
+                pooled += records
+        print_tables("pooled", pooled)
+        print_envelope(tables + [bin_statistics(pooled)])
+        return
     for hurst in (float(h) for h in args.hurst.split(",")):
         records = []
         seconds = {"periodic": 0.0, "mirror": 0.0, "window": 0.0}
@@ -146,11 +173,13 @@ def main() -> None:
         print(f"H {hurst:g} time per seed: " + ", ".join(
             f"{k} {v / args.seeds:.1f} s" for k, v in seconds.items() if v), flush=True)
         print_tables(f"H {hurst:g}", records)
+        tables.append(bin_statistics(records))
         pooled += records
         if args.save:
             saved[f"{hurst:g}"] = np.stack([np.vstack([f, e]) for f, e in records])
             np.savez(args.save, **saved)
     print_tables("pooled", pooled)
+    print_envelope(tables + [bin_statistics(pooled)])
 
 
 if __name__ == "__main__":
