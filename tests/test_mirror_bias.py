@@ -184,3 +184,14 @@ def test_the_bands_hold_the_mirror_methods_error_on_surfaces_the_calibration_nev
     half = stats.t.ppf(0.975, np.maximum(count - 1, 1)) * spread / np.sqrt(np.maximum(count, 1))
     assert np.all((np.abs(mean) <= band["mean"].mean(axis=0) + half)[judged])
     assert np.all((np.abs(mean) <= band["bias"].mean(axis=0) + half)[judged])
+
+
+def test_the_headline_judges_single_surfaces_with_the_band_one_surface_carries():
+    from validation.judge.headline import headline_numbers
+
+    errors = (0.1 + 0.01 * np.sin(np.arange(12)))[:, None]
+    numbers = headline_numbers(errors, np.array([0.02]), (0.2,), surface_band=np.array([0.09]))
+    assert numbers["verdicts"][0, 0] == HOLDS
+    assert numbers["surface_verdicts"][0, 0] == UNDECIDED
+    alike = headline_numbers(errors, np.array([0.02]), (0.2,))
+    assert alike["surface_verdicts"][0, 0] == HOLDS
