@@ -3,16 +3,28 @@
 On periodic self-affine surfaces (``validation.self_affine_surface`` without a window: rms slope
 0.1, rolloff L/4, L = 1) the exact interface is the periodic BEM of the surface itself. The
 mirror method (:class:`bem.InterfaceModel` with ``extension="mirror"``, what a measured scan or
-any non-periodic window gets) and the finite window (:class:`bem.BoundaryElementModel`,
-``periodic=False``, the finite-nominal-contact reference) are solved on the same map at the same
-mean pressures, and each is compared with the periodic solution: area (relative), mean gap (in
-units of the rms height; for the window its mean gap, for the interface d = u-bar) and stiffness
-per unit area (relative), at the points with 0.5-30 % contact in the periodic solution.
+any non-periodic window gets) is solved on the same map at the same mean pressures and compared
+with the periodic solution: area (relative), mean gap (in units of the rms height; d = u-bar)
+and stiffness per unit area (relative). With ``--window`` the finite window
+(:class:`bem.BoundaryElementModel`, ``periodic=False``) is compared as well.
 
-Prints one row per (H, seed) with the largest |error| of each method and a summary per H;
-``bem.interface.MIRROR_ERROR`` is set from the summary (docs/theory.md, eq. T50).
+The calibration of the method error (docs/theory.md, eq. T50): the points are binned by the
+periodic solution's contact-area fraction (:data:`BIN_EDGES`); per quantity and bin
 
-    python benchmarks/bench_interface.py [--n 256] [--seeds 8] [--hurst 0.3,0.5,0.8]
+* the **bias**: the mean over surfaces of each surface's mean signed error in the bin, and its
+  95 % confidence bound ``|mean| + t_{0.975, n-1} s / sqrt(n)`` (what a verdict on the mean over
+  realizations must allow: the scatter is in each realization's error already);
+* the **bound**: the largest |error| of one surface at one point (the empirical maximum), and
+  the bound stated, the larger of 1.25 times it and the one-sided 95 %/95 % normal tolerance
+  limit ``mean + k s`` of the surfaces' largest |error| in the bin (what one surface carries).
+
+Prints both tables per H and pooled, and their envelope, the tables of ``bem.interface``
+(``MIRROR_BIAS``, ``MIRROR_BOUND``): per bin the largest over the H and the pooled ensemble (a
+scene's realizations share one H, and the bias depends on it). ``--save`` keeps the errors,
+``--load`` prints the tables from them without solving.
+
+    python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8] [--window]
+        [--save errors.npz] [--load errors.npz]
 """
 
 from __future__ import annotations
@@ -21,61 +33,153 @@ import argparse
 import time
 
 import numpy as np
+from scipy import stats
 
 from bem import BoundaryElementModel, InterfaceModel
 from validation.surfaces.self_affine import self_affine_surface
 
-PRESSURES = np.geomspace(2e-4, 3e-2, 9)   # mean pressure / E*
+PRESSURES = np.geomspace(1.5e-4, 2.5e-2, 14)   # mean pressure / E*: about 0.25-32 % contact
 QUANTITIES = ("area", "stiffness")
+NAMES = ("area", "mean_gap", "stiffness")
+#: Contact-area fraction bins of the calibration (the periodic solution's fraction).
+BIN_EDGES = np.array([0.003, 0.01, 0.03, 0.10, 0.30])
+#: Inflation of the largest one-surface |error| measured, and the tolerance coverage.
+INFLATION, COVERAGE, CONFIDENCE = 1.25, 0.95, 0.95
 
 
 def errors(curve, exact, rms_height: float) -> np.ndarray:
-    """Rows area, mean gap, stiffness: the errors of ``curve`` against ``exact``."""
+    """Rows area, mean gap, stiffness: the signed errors of ``curve`` against ``exact``."""
     return np.vstack([curve.area_fraction / exact.area_fraction - 1.0,
                       (np.asarray(curve.extras["mean_gap"]) - exact.extras["mean_gap"]) / rms_height,
                       (curve.stiffness / curve.nominal_area) / (exact.stiffness / exact.nominal_area)
                       - 1.0])
 
 
+def tolerance_factor(n: int, coverage: float = COVERAGE, confidence: float = CONFIDENCE) -> float:
+    """One-sided normal tolerance factor k: ``mean + k s`` of n samples exceeds the
+    ``coverage`` quantile with probability ``confidence`` (noncentral t)."""
+    z = stats.norm.ppf(coverage)
+    return float(stats.nct.ppf(confidence, n - 1, z * np.sqrt(n)) / np.sqrt(n))
+
+
+def bin_statistics(records: list[tuple[np.ndarray, np.ndarray]]) -> dict:
+    """Per bin and quantity: bias (mean, its 95 % confidence bound), bound (max, stated).
+
+    ``records``: per surface (periodic area fractions, errors of shape (3, points)).
+    """
+    table = {}
+    for b in range(len(BIN_EDGES) - 1):
+        means, largest = [], []
+        for fraction, err in records:
+            inside = (fraction >= BIN_EDGES[b]) & (fraction < BIN_EDGES[b + 1])
+            if inside.any():
+                means.append(err[:, inside].mean(axis=1))
+                largest.append(np.abs(err[:, inside]).max(axis=1))
+        means, largest = np.array(means), np.array(largest)
+        n = len(means)
+        if n < 3:
+            continue
+        mean, spread = means.mean(axis=0), means.std(axis=0, ddof=1)
+        bias = np.abs(mean) + stats.t.ppf(0.975, n - 1) * spread / np.sqrt(n)
+        tolerance = largest.mean(axis=0) + tolerance_factor(n) * largest.std(axis=0, ddof=1)
+        bound = np.maximum(INFLATION * largest.max(axis=0), tolerance)
+        table[b] = dict(n=n, mean=mean, bias=bias, max=largest.max(axis=0),
+                        tolerance=tolerance, bound=bound)
+    return table
+
+
+def print_tables(label: str, records) -> None:
+    """Print the bias and bound tables of ``records`` (see :func:`bin_statistics`)."""
+    table = bin_statistics(records)
+    print(f"\n{label}: {len(records)} surfaces")
+    print("  bin [%]        n  | mean signed error (area, gap/h_rms, stiffness) | 95 % bias bound"
+          " | largest |error| | 95/95 tolerance | bound")
+    for b, row in table.items():
+        edges = f"{100 * BIN_EDGES[b]:g}-{100 * BIN_EDGES[b + 1]:g}"
+        cells = [" ".join(f"{v:+.4f}" for v in row["mean"])]
+        cells += [" ".join(f"{v:.4f}" for v in row[key])
+                  for key in ("bias", "max", "tolerance", "bound")]
+        print(f"  {edges:12s} {row['n']:3d}  | " + " | ".join(cells), flush=True)
+
+
+def print_envelope(tables: list[dict]) -> None:
+    """The tables of ``bem.interface``: per bin, the largest bias bound and bound over the
+    tables given (each H's and the pooled one). A scene's realizations share one H, and the
+    bias depends on it (the stiffness's changes sign with H): the pooled mean would hide it."""
+    print("\nenvelope over H and pooled (bem.interface.MIRROR_BIAS, MIRROR_BOUND): area, "
+          "mean gap/h_rms, stiffness")
+    for b in tables[0]:
+        bias = np.max([t[b]["bias"] for t in tables if b in t], axis=0)
+        bound = np.max([t[b]["bound"] for t in tables if b in t], axis=0)
+        centre = 100 * np.sqrt(BIN_EDGES[b] * BIN_EDGES[b + 1])
+        print(f"  {centre:6.3g} %  bias " + " ".join(f"{v:.4f}" for v in bias)
+              + " | bound " + " ".join(f"{v:.4f}" for v in bound), flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=256)
-    parser.add_argument("--seeds", type=int, default=8)
+    parser.add_argument("--seeds", type=int, default=24)
+    parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--hurst", default="0.3,0.5,0.8")
     parser.add_argument("--tol", type=float, default=1e-8)
+    parser.add_argument("--window", action="store_true", help="compare the finite window too")
+    parser.add_argument("--save", default="", help="write the mirror's errors to this .npz")
+    parser.add_argument("--load", default="", help="tables from the errors saved in this .npz")
     args = parser.parse_args()
     n, spacing = args.n, 1.0 / args.n
     print(f"grid {n}^2, pressures {PRESSURES[0]:.1e}-{PRESSURES[-1]:.1e} E*, tol {args.tol:g}; "
-          "largest |error| over the points with 0.5-30 % contact: area (rel), mean gap (h_rms), "
+          f"bins {', '.join(f'{100 * e:g}' for e in BIN_EDGES)} % (periodic solution's "
+          "fraction); per surface: largest |error| in 0.3-30 %: area (rel), mean gap (h_rms), "
           "stiffness (rel)")
+    pooled, saved, tables = [], {}, []
+    if args.load:
+        with np.load(args.load) as data:
+            for hurst, stack in data.items():
+                records = [(row[0], row[1:]) for row in stack]
+                print_tables(f"H {hurst}", records)
+                tables.append(bin_statistics(records))
+                pooled += records
+        print_tables("pooled", pooled)
+        print_envelope(tables + [bin_statistics(pooled)])
+        return
     for hurst in (float(h) for h in args.hurst.split(",")):
-        worst = {"mirror": np.zeros(3), "window": np.zeros(3)}
+        records = []
         seconds = {"periodic": 0.0, "mirror": 0.0, "window": 0.0}
-        for seed in range(args.seeds):
+        for seed in range(args.first_seed, args.first_seed + args.seeds):
             z = self_affine_surface(n, hurst=hurst, rms_slope=0.1, rolloff=0.25, seed=seed)
             loads = PRESSURES * n * n * spacing**2
+            models = [("periodic", InterfaceModel(z, spacing, extension="periodic", tol=args.tol)),
+                      ("mirror", InterfaceModel(z, spacing, extension="mirror", tol=args.tol))]
+            if args.window:
+                models.append(("window", BoundaryElementModel(z, spacing, periodic=False,
+                                                              tol=args.tol)))
             solved = {}
-            for name, model in (
-                    ("periodic", InterfaceModel(z, spacing, extension="periodic", tol=args.tol)),
-                    ("mirror", InterfaceModel(z, spacing, extension="mirror", tol=args.tol)),
-                    ("window", BoundaryElementModel(z, spacing, periodic=False, tol=args.tol))):
+            for name, model in models:
                 start = time.perf_counter()
                 solved[name] = model.at_load(loads, quantities=QUANTITIES)
                 seconds[name] += time.perf_counter() - start
             exact = solved["periodic"]
-            inside = (exact.area_fraction >= 0.005) & (exact.area_fraction <= 0.30)
+            fraction = np.asarray(exact.area_fraction)
+            inside = (fraction >= BIN_EDGES[0]) & (fraction < BIN_EDGES[-1])
             row = []
-            for name in ("mirror", "window"):
-                largest = np.max(np.abs(errors(solved[name], exact, float(np.std(z)))[:, inside]),
-                                 axis=1)
-                worst[name] = np.maximum(worst[name], largest)
-                row.append(f"{name} {largest[0]:.3f} {largest[1]:.3f} {largest[2]:.3f}")
-            print(f"H {hurst:g} seed {seed}: " + " | ".join(row), flush=True)
-        print(f"H {hurst:g} largest over {args.seeds} seeds: "
-              + " | ".join(f"{k} area {v[0]:.3f} gap {v[1]:.3f} stiffness {v[2]:.3f}"
-                           for k, v in worst.items())
-              + "; time per seed: " + ", ".join(f"{k} {v / args.seeds:.1f} s"
-                                                 for k, v in seconds.items()), flush=True)
+            for name in solved.keys() - {"periodic"}:
+                err = errors(solved[name], exact, float(np.std(z)))
+                if name == "mirror":
+                    records.append((fraction, err))
+                largest = np.max(np.abs(err[:, inside]), axis=1)
+                row.append(f"{name} " + " ".join(f"{v:.3f}" for v in largest))
+            print(f"H {hurst:g} seed {seed}: " + " | ".join(sorted(row)), flush=True)
+        print(f"H {hurst:g} time per seed: " + ", ".join(
+            f"{k} {v / args.seeds:.1f} s" for k, v in seconds.items() if v), flush=True)
+        print_tables(f"H {hurst:g}", records)
+        tables.append(bin_statistics(records))
+        pooled += records
+        if args.save:
+            saved[f"{hurst:g}"] = np.stack([np.vstack([f, e]) for f, e in records])
+            np.savez(args.save, **saved)
+    print_tables("pooled", pooled)
+    print_envelope(tables + [bin_statistics(pooled)])
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import bem
-from bem.interface import MIRROR_ERROR, mirror_extension
+from bem.interface import mirror_error, mirror_extension
 from bem.reference import UNIFORM_SQUARE_MEAN_DEFLECTION
 from validation.common import models
 from validation.scenes.reader import parse_scene
@@ -87,9 +87,10 @@ def test_the_interface_of_a_scan_agrees_with_the_periodic_solution(periodic_solu
 def test_the_band_of_the_mirror_method_holds_its_own_error(periodic_solutions):
     for z, exact, mirror, _ in periodic_solutions:
         rms = float(np.std(z))
-        np.testing.assert_array_less(MIRROR_ERROR["separation"] * rms - 1e-15,
+        fraction = mirror.area_fraction
+        np.testing.assert_array_less(mirror_error("separation", fraction) * rms - 1e-15,
                                      mirror.extras["separation_error"])
-        np.testing.assert_array_less(MIRROR_ERROR["area"] * mirror.area - 1e-15,
+        np.testing.assert_array_less(mirror_error("area", fraction) * mirror.area - 1e-15,
                                      mirror.extras["area_error"] + 1e-300)
         inside = (exact.area_fraction >= 0.005) & (exact.area_fraction <= 0.30)
         assert np.all(np.abs(mirror.area - exact.area)[inside]
@@ -246,7 +247,8 @@ def test_the_interface_reference_is_refined_where_its_band_decides_keeping_its_m
     refined = np.flatnonzero(np.asarray(curve.extras["grid"]) == 64)
     assert refined.size
     np.testing.assert_allclose(curve.extras["area_method_error"][refined],
-                               MIRROR_ERROR["area"] * curve.area[refined])
+                               mirror_error("area", curve.area_fraction[refined])
+                               * curve.area[refined])
     assert np.all(curve.extras["area_error"][refined]
                   >= curve.extras["area_method_error"][refined])
     # the finer solve is the interface's: the periodic mirror extension of the 64^2 sample

@@ -16,8 +16,13 @@ tolerance is the longest run of "holds". Beside it, a verdict on single surfaces
 tolerance interval of the same errors (:mod:`validation.judge.tolerance`): holds per surface
 where at least 90 % of surfaces are within the tolerance, with the same confidence.
 
+The two readings have two reference bands (:mod:`validation.judge.bands`, docs/theory.md T50):
+the verdict on the mean carries the mirror method's bias (``band``), the one per surface its
+whole bound (``surface_band``, the band one surface carries); they are equal where the
+reference has no method error of its own (the finite window's, a periodic surface's).
+
 A scene of one realization (one measured scan) is one surface, not a sample of a population:
-its verdicts come from its error and the reference band alone
+its verdicts come from its error and the band one surface carries alone
 (:func:`validation.judge.verdicts.one_surface_verdicts`), and it has no per-surface reading.
 """
 
@@ -38,23 +43,11 @@ from validation.judge.bands import NOT_ESTIMATED, _band
 from validation.judge.frames import judged_frame, references_of, source_key
 from validation.judge.tolerance import (SurfaceInterval, classify_per_surface, surface_interval,
                                         surface_reasons)
-from validation.judge.verdicts import (
-    CONFIDENCE,
-    FAILS,
-    HOLDS,
-    REFERENCE_BAND,
-    UNDECIDED,
-    ErrorInterval,
-    ValidityRange,
-    classify,
-    confidence_interval,
-    one_surface_reasons,
-    one_surface_verdicts,
-    undecided_reasons,
-    validity_range,
-    verdict_counts,
-    verdict_range,
-)
+from validation.judge.verdicts import (CONFIDENCE, FAILS, HOLDS, REFERENCE_BAND, UNDECIDED,
+                                       ErrorInterval, ValidityRange, classify,
+                                       confidence_interval, one_surface_reasons,
+                                       one_surface_verdicts, undecided_reasons, validity_range,
+                                       verdict_counts, verdict_range)
 
 __all__ = [
     "ABSOLUTE_QUANTITIES",
@@ -110,7 +103,9 @@ class ModelComparison:
     # not reach the reference's load (``unreachable`` of them)
     unconverged: int = 0
     interval: ErrorInterval | None = None
-    band: np.ndarray | None = None                    # reference band per point
+    # reference band per point of the verdicts: on a population the mean's (the mirror method's
+    # bias in it), on one surface the band one surface carries (its bound in it; eq. T50)
+    band: np.ndarray | None = None
     verdicts: tuple[np.ndarray, ...] = ()             # per tolerance, one verdict per point
     tolerances: tuple[float, ...] = ()
     reference_field: str = ""                         # the reference field compared with
@@ -130,6 +125,9 @@ class ModelComparison:
     frame: str = "finite"
     reference_model: str = ""
     area_fraction: np.ndarray | None = None
+    # reference band per point one surface carries (the method's bound in it): the band of the
+    # per-surface verdicts and of one surface's; None: the same as ``band``
+    surface_band: np.ndarray | None = None
 
     @property
     def one_surface(self) -> bool:
@@ -150,7 +148,8 @@ class ModelComparison:
         :func:`validation.judge.tolerance.surface_reasons`)."""
         if self.surface is None or self.interval is None:
             return np.full(np.shape(self.verdicts[index]), "")
-        band = np.full(self.interval.mean.shape, np.nan) if self.band is None else self.band
+        band = self.band if self.surface_band is None else self.surface_band
+        band = np.full(self.interval.mean.shape, np.nan) if band is None else band
         return self._sealing_reasons(
             surface_reasons(self.surface, band, self.tolerances[index],
                             count=self.interval.count, complete=self.complete),
@@ -237,15 +236,19 @@ def _sealing_counts(results, model: str, reference_model: str, field_name: str
     return (np.sum([p[0] for p in pairs], axis=0), np.sum([p[1] for p in pairs], axis=0))
 
 
-def _model_comparison(results, model, quantity, errors, band, reference_model, load,
+def _model_comparison(results, model, quantity, errors, bands, reference_model, load,
                       area_fraction, tolerances, field_name, confidence) -> ModelComparison:
+    """``bands``: the reference band of the mean and the one one surface carries."""
     interval = confidence_interval(errors, confidence)
+    band, surface_band = bands
     reached = np.vstack([reached_points(r.curves[model], r.curves[reference_model])
                          for r in results])
     complete = np.all(np.vstack([converged_points(r.curves[model])
                                  & converged_points(r.curves[reference_model])
                                  for r in results]) & reached, axis=0)
     single = errors.shape[0] == 1   # one surface: judged by the reference band alone
+    if single:
+        band = surface_band         # one surface carries the method's whole bound (eq. T50)
     verdicts = tuple(one_surface_verdicts(errors[0], band, tol) if single
                      else classify(interval, band, tol, complete=complete) for tol in tolerances)
     sealing = resolved = None
@@ -260,7 +263,8 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
         surface = surface_interval(interval.mean, interval.std, interval.count,
                                    confidence=confidence,
                                    floor=-1.0 if quantity in RELATIVE_QUANTITIES else -np.inf)
-        surface_verdicts = tuple(classify_per_surface(surface, band, tol, complete=complete)
+        surface_verdicts = tuple(classify_per_surface(surface, surface_band, tol,
+                                                      complete=complete)
                                  for tol in tolerances)
     if sealing is not None:
         # an infinite error of some surface: per surface, nothing holds where sealing disagrees
@@ -275,7 +279,7 @@ def _model_comparison(results, model, quantity, errors, band, reference_model, l
                            _unconverged(results, model, reference_model), interval, band,
                            verdicts, tuple(tolerances), field_name, complete,
                            int(np.count_nonzero(~reached)), surface, surface_verdicts,
-                           surface_ranges, sealing, resolved, errors)
+                           surface_ranges, sealing, resolved, errors, surface_band=surface_band)
 
 
 def _unconverged(results, model: str, reference_model: str) -> int:
@@ -357,6 +361,7 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
         fields = tuple(dict.fromkeys(mapping.get(m, {}).get(q, q) for m in judged
                                      for q in quantities))
         bands = {name: _band(results, name, reference) for name in fields}
+        means = {name: _band(results, name, reference, part="mean")[0] for name in fields}
         sources.update({source_key(k, frame, primary_frame): v[1] for k, v in bands.items()})
         area_fraction = paths[frame].mean(axis=0)
         for model in judged:
@@ -365,7 +370,8 @@ def compare_realizations(results, *, tolerances=(0.05, 0.2), reference_model: st
             for name, stack in errors.items():
                 field_name = own.get(name, name)
                 entries[(model, name)] = replace(_model_comparison(
-                    results, model, name, stack, bands[field_name][0], reference, load,
+                    results, model, name, stack, (means[field_name], bands[field_name][0]),
+                    reference, load,
                     area_fraction, tolerances, field_name, confidence),
                     frame=frame, reference_model=reference, area_fraction=area_fraction)
     loads = np.vstack([_dimensionless_load(r, primary) for r in results])

@@ -88,9 +88,13 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
         if quantity not in COMPARED_QUANTITIES or entry.band is None \
                 or entry.reference_model != reference:
             continue
-        # only the discretisation part: a finer grid does not narrow the method's own bound
-        method = method_band(results, entry.reference_field or quantity, reference)
-        band = np.asarray(entry.band, dtype=float) - method
+        # only the discretisation part: a finer grid does not narrow the method's own error
+        # (its bias in the mean's band, its bound in the band one surface carries; eq. T50)
+        field_name = entry.reference_field or quantity
+        method = method_band(results, field_name, reference)
+        bias = method if entry.one_surface else method_band(results, field_name, reference,
+                                                              part="bias")
+        band = np.asarray(entry.band, dtype=float) - bias
         mask = held.setdefault(quantity, np.zeros(comparison.load.shape, bool))
         for index, tolerance in enumerate(entry.tolerances):
             open_ = entry.verdicts[index] == UNDECIDED
@@ -99,7 +103,8 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
             # one surface: an open cell is held by its band, whatever its size
             floor = 0.0 if entry.one_surface else REFERENCE_ACCURACY * tolerance
             with np.errstate(invalid="ignore"):
-                holds_open = open_ & (band > floor) & decidable(entry, method, tolerance)
+                holds_open = open_ & (band > floor) & decidable(entry, method, tolerance,
+                                                                mean_floor=bias)
             mask |= holds_open
             smallest = np.fmin(smallest, np.where(holds_open, band, np.inf))
     mask = (np.any(np.stack(list(held.values())), axis=0) if held
@@ -107,11 +112,14 @@ def band_decides(scene, results: list, confidence: float, reference: str = "bem"
     return mask, np.where(np.isfinite(smallest), smallest, np.nan), held
 
 
-def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
+def decidable(entry, band_floor: np.ndarray, tolerance: float, *,
+              mean_floor: np.ndarray | None = None) -> np.ndarray:
     """Points whose open cells at ``tolerance`` a finer grid could decide: against the best
     reference a finer grid can give, its band down to ``band_floor``, the reference method's
-    own bound that no grid narrows (zero for the window's reference, eq. T50). Where even that
-    leaves a cell open, a finer solve is futile for it (docs/theory.md 11.3).
+    own bound that no grid narrows (zero for the window's reference, eq. T50), in the band one
+    surface carries; on the mean down to ``mean_floor``, the method's bias (default: the
+    bound). Where even that leaves a cell open, a finer solve is futile for it
+    (docs/theory.md 11.3).
 
     One surface: the error judged with the band at its floor decides it (or the error is not
     known: an unconverged reference point, say, may be known on a finer grid). A population,
@@ -129,14 +137,19 @@ def decidable(entry, band_floor: np.ndarray, tolerance: float) -> np.ndarray:
         error = np.asarray(entry.errors[0], dtype=float)
         return (one_surface_verdicts(error, floor, tolerance) != UNDECIDED) | np.isnan(error)
     band = np.asarray(entry.band, dtype=float)
+    surface_band = getattr(entry, "surface_band", None)
+    surface_band = band if surface_band is None else np.asarray(surface_band, dtype=float)
+    mean_floor = floor if mean_floor is None else np.asarray(mean_floor, dtype=float)
     index = list(entry.tolerances).index(tolerance)
-    readings = [(entry.verdicts[index], entry.interval.low, entry.interval.high)]
+    readings = [(entry.verdicts[index], entry.interval.low, entry.interval.high, band,
+                 mean_floor)]
     if entry.surface_verdicts:
-        readings.append((entry.surface_verdicts[index], entry.surface.low, entry.surface.high))
-    can_hold = floor <= REFERENCE_ACCURACY * tolerance
-    reach = tolerance + 2.0 * floor
+        readings.append((entry.surface_verdicts[index], entry.surface.low, entry.surface.high,
+                         surface_band, floor))
     result = np.zeros(np.shape(band), bool)
-    for verdict, low, high in readings:
+    for verdict, low, high, band, floor in readings:
+        can_hold = floor <= REFERENCE_ACCURACY * tolerance
+        reach = tolerance + 2.0 * floor
         with np.errstate(invalid="ignore"):
             # NaN anywhere makes the comparison false: decidable
             within = (np.asarray(low) - band >= -reach) & (np.asarray(high) + band <= reach)

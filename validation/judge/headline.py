@@ -183,7 +183,8 @@ class HeadlineCell:
 
 def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
                      one_surface: bool = False, confidence: float = CONFIDENCE,
-                     floor: float | np.ndarray = -np.inf) -> dict[str, np.ndarray]:
+                     floor: float | np.ndarray = -np.inf,
+                     surface_band: np.ndarray | None = None) -> dict[str, np.ndarray]:
     """The numbers and verdicts of headline cells from the errors at their fraction.
 
     Parameters
@@ -191,7 +192,8 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
     errors : array, shape (realizations, cells)
         Each realization's error at the fraction, one column per cell (NaN where unknown).
     band : array, shape (cells,)
-        The reference band of each cell (NaN: not estimated).
+        The reference band of each cell (NaN: not estimated): on a population the mean's, on
+        one surface the one it carries (docs/theory.md, eq. T50).
     tolerances : sequence of float
         The tolerances to judge at.
     one_surface : bool
@@ -201,6 +203,8 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
     floor : float or array, shape (cells,)
         The least error of any surface per cell (-1 for relative errors), the lower end of the
         per-surface interval at least (:func:`validation.judge.tolerance.surface_interval`).
+    surface_band : array, shape (cells,), optional
+        The band one surface carries, of the per-surface verdicts (default: ``band``).
 
     Returns
     -------
@@ -226,13 +230,15 @@ def headline_numbers(errors: np.ndarray, band: np.ndarray, tolerances, *,
                     reasons=np.array([one_surface_reasons(error, band, t) for t in tolerances]))
     interval = confidence_interval(errors, confidence)
     complete = known == errors.shape[0]
+    surface_band = band if surface_band is None else np.broadcast_to(
+        np.asarray(surface_band, dtype=float), band.shape)
     surface = surface_interval(interval.mean, interval.std, interval.count,
                                confidence=confidence, floor=floor)
     return dict(realizations=known, mean=interval.mean, low=interval.low, high=interval.high,
                 surface_low=surface.low, surface_high=surface.high, band=band,
                 verdicts=np.array([classify(interval, band, t, complete=complete)
                                    for t in tolerances]),
-                surface_verdicts=np.array([classify_per_surface(surface, band, t,
+                surface_verdicts=np.array([classify_per_surface(surface, surface_band, t,
                                                                 complete=complete)
                                            for t in tolerances]),
                 reasons=np.array([undecided_reasons(interval, band, t, complete=complete)
@@ -268,8 +274,13 @@ def _frame_cells(comparison: Comparison, entries, frame: str, fractions) -> list
         band = np.array([np.nan if e.band is None
                          else np.mean(along_path(e.band, before, after, weight))
                          for e in entries])
+        surface_band = np.array([
+            np.nan if (e.band if e.surface_band is None else e.surface_band) is None
+            else np.mean(along_path(e.band if e.surface_band is None else e.surface_band,
+                                    before, after, weight)) for e in entries])
         # the entries of one comparison share its realizations and tolerances
         numbers = headline_numbers(errors, band, entries[0].tolerances,
+                                   surface_band=surface_band,
                                    one_surface=entries[0].one_surface,
                                    confidence=comparison.confidence,
                                    floor=np.array([-1.0 if e.quantity in RELATIVE_QUANTITIES

@@ -57,7 +57,9 @@ def conventions(populations: bool = True, one_scan: bool = False) -> list[str]:
         "mean and its 95 % confidence interval, mean ± t₀.₉₇₅,ₙ₋₁ · s/√n (Student t, s the "
         "sample standard deviation, n the realizations that converged there). The interval is "
         "widened on both sides by the reference band, the BEM's own error at that point in the "
-        "same measure. A model **holds** (✔) where the widened interval lies inside ± the "
+        "same measure (for the interface of a non-periodic window, solved through its mirror "
+        "image, the mirror method's bias is in it: its scatter from surface to surface is in "
+        "the realizations' errors already; docs/theory.md, eq. T50). A model **holds** (✔) where the widened interval lies inside ± the "
         "tolerance, the band is at most a quarter of the tolerance and every realization "
         "converged; it **fails** (✘) where the widened interval lies wholly outside; otherwise "
         "the point is **undecided** (?). A validity range is the longest run of ✔. Contact "
@@ -67,7 +69,8 @@ def conventions(populations: bool = True, one_scan: bool = False) -> list[str]:
         "error over realizations. The verdict **per surface** asks whether the model holds on "
         "single surfaces: it holds per surface where, with the same confidence, at least 90 % "
         "of surfaces have an error within the tolerance (the normal tolerance interval "
-        "m ± k₂ s of 90 % content, widened by the reference band, inside ± the tolerance); it "
+        "m ± k₂ s of 90 % content, widened by the band one surface carries, with the mirror "
+        "method's whole bound in it, inside ± the tolerance); it "
         "fails per surface where, with that confidence, more than 10 % of surfaces miss "
         '(docs/theory.md, "Per-surface validity"). A scene with a realization budget looks '
         "at its data up to three times, adding realizations while cells are undecided, and "
@@ -76,7 +79,8 @@ def conventions(populations: bool = True, one_scan: bool = False) -> list[str]:
         '(docs/theory.md, "Sequential realizations").\n',
         "**One surface.** A scene of one realization (one measured scan) is judged on that "
         "surface alone: the BEM solves that very surface, so the only open thing is the BEM's "
-        "own band b. A point **holds** where |error| + b ≤ the tolerance, **fails** where "
+        "own band b (the band one surface carries: for a scan's interface, the mirror method's "
+        "whole bound in it). A point **holds** where |error| + b ≤ the tolerance, **fails** where "
         "|error| − b > the tolerance, and is undecided only where the band straddles the "
         "tolerance (reason: reference band); no interval over realizations and no per-surface "
         "reading.\n",

@@ -38,7 +38,8 @@ TABLES = {
     "errors.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "reference_field", "point",
                    "Load",
                    "area_fraction_reference", "mean_error", "ci95_low", "ci95_high", "std_error",
-                   "realizations", "reference_band", "reference_band_source", "confidence",
+                   "realizations", "reference_band", "reference_band_surface",
+                   "reference_band_source", "confidence",
                    "surfaces90_low", "surfaces90_high", "sealing_disagreements",
                    "sealing_resolved"],
     "verdicts.csv": ["scene", "D", "H", "L", "model", "frame", "quantity", "point", "Load", "tolerance",
@@ -139,6 +140,9 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                 [(int(a), int(b)) for a, b in zip(e.sealing, e.sealing_resolved)]
             # a band that could not be estimated is written as such, never as a number
             cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in band]
+            # the band one surface carries (the per-surface readings'; eq. T50)
+            surface_band = band if e.surface_band is None else e.surface_band
+            surface_cells = [float(b) if np.isfinite(b) else NOT_ESTIMATED for b in surface_band]
             reasons = [e.reasons(i) for i in range(len(e.tolerances))]
             nan = np.full(c.load.shape, math.nan)
             low, high = (nan, nan) if e.surface is None else (e.surface.low, e.surface.high)
@@ -155,7 +159,7 @@ def _comparison_rows(analysis) -> dict[str, list[list]]:
                                           e.reference_field, k, c.load[k], fraction[k],
                                           e.interval.mean[k], *spread,
                                           int(e.interval.count[k]), cells[k],
-                                          c.band_source_of(e),
+                                          surface_cells[k], c.band_source_of(e),
                                           c.confidence, low[k], high[k], *sealing[k]])
                 out["verdicts.csv"] += [[name, *sweep, model, e.frame, quantity, k, c.load[k], t,
                                          v[k],
