@@ -195,7 +195,7 @@ def test_file_scene_end_to_end_and_cache_follows_the_content(tmp_path, scan):
     write_report([result], tmp_path / "report")
     markdown = report_text(tmp_path / "report")
     assert "measured map `scan.txt`" in markdown
-    assert "4 non-overlapping tile(s) of 32 × 32" in markdown
+    assert "4 non-overlapping tiles of 32 × 32" in markdown
     assert (tmp_path / "report" / "scene-errors.png").stat().st_size > 5_000
     assert {r["seed"] for r in rows(tmp_path / "report" / "curves.csv")} == {"0", "1", "2", "3"}
     # the same bytes under another path: every expensive result comes from the cache
@@ -266,7 +266,7 @@ def test_rectangular_map_runs_through_the_report_uncropped(tmp_path, wide):
     assert main(["report", str(scene), "--quick", "--no-cache", "--jobs", "1", "--quiet",
                  "--out", str(tmp_path / "out")]) == 0
     text = report_text(tmp_path / "out")
-    assert "48 × 80 (uncropped) pixels" in text and "tile(s) of 48 × 80 pixels" in text
+    assert "48 × 80 (uncropped) pixels" in text and "the whole map as one surface, 48 × 80 pixels" in text
     curves = rows(tmp_path / "out" / "curves.csv")
     assert {r["n"] for r in curves} == {"48x80"}
     bem = [r for r in curves if r["model"] == "bem"]
