@@ -25,6 +25,7 @@ from validation.surfaces.wm import wm_amplitude, wm_surface
 from validation.surfaces.self_affine import radial_power_spectrum, self_affine_surface
 from validation.surfaces.topography import Topography, read_topography
 from validation.surfaces.cutoff import short_wavelength_cutoff
+from validation.surfaces.descriptors import SurfaceDescriptors, surface_descriptors
 from validation.scenes.scene import Scene, SceneError
 from validation.scenes.reader import builtin_scenes, load_scene, parse_scene
 from validation.judge.compare import compare_realizations, curve_errors, validity_range
@@ -36,7 +37,8 @@ __all__ = ["wm_surface", "wm_amplitude", "surface_statistics", "SurfaceStatistic
            "Scene", "SceneError", "builtin_scenes", "load_scene", "parse_scene", "run_scenes",
            "compare_realizations", "curve_errors", "validity_range", "write_report", "__version__",
            "self_affine_surface", "radial_power_spectrum", "read_topography", "Topography",
-           "short_wavelength_cutoff", "check_scan", "CheckResult"]
+           "short_wavelength_cutoff", "check_scan", "CheckResult", "surface_descriptors",
+           "SurfaceDescriptors"]
 
 
 def write_report(*args, **kwargs):
