@@ -1,5 +1,5 @@
 """The error model: each theory's relative error on one surface as a function of its descriptors
-and the load, with a 90 % prediction interval (docs/theory.md, section 12).
+and the load, with a 90 % prediction interval (docs/theory.md, "12.2 The atlas and the error model").
 
 For every model, frame and quantity of the atlas, the mean error is a least-squares fit in a
 small polynomial basis (:func:`basis`) of the scaled descriptors u = (H, log10 alpha, skewness)

@@ -21,9 +21,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from validation.atlas.model import interval_of, load_error_model, verdict_of
-from validation.check.library import check_scenes, make_request
+from validation.check.library import make_request
 from validation.check.request import CheckRequest
 from validation.common.labels import model_label
+from validation.scenes.scene import LoadPath
 from validation.surfaces.descriptors import SurfaceDescriptors, surface_descriptors
 
 __all__ = ["COLUMNS", "Prediction", "PredictedError", "outside_atlas", "predict_errors"]
@@ -151,9 +152,10 @@ def predict_errors(scan, *, e_star=None, pressures=None, short_cutoff=None, fill
                            fill=fill, resample=resample, physical_size=physical_size,
                            file_unit=file_unit, spacing=spacing, cache_dir=cache_dir)
     model = load_error_model(model_file)
-    scenes, _ = check_scenes(request)
-    loads = np.asarray(scenes[0].loads.values(), dtype=float)   # p / E*, the check's points
     heights = request.read("m")
+    low, high, count = request.loads(heights)   # p / E*: the check scene's load path
+    loads = np.array([low] if count == 1 else
+                     LoadPath(min=low, max=high, count=count, spacing="log").values())
     descriptors = surface_descriptors(heights.heights, heights.spacing)
     ratio = loads / descriptors.rms_slope
     outside = outside_atlas(descriptors, model["range"])

@@ -1,5 +1,5 @@
 """Descriptors of a rough surface read off its height map before any contact solve: what decides
-which contact theory holds on it (docs/theory.md, section 12).
+which contact theory holds on it (docs/theory.md, "12.1 Descriptors").
 
 Spectral moments and Nayak's bandwidth alpha by central finite differences (the moments every
 model of this project uses, :func:`validation.surface_statistics`); the Hurst exponent from the
