@@ -108,7 +108,7 @@ class Prediction:
             writer = csv.writer(stream)
             writer.writerow(COLUMNS)
             for r in self.rows:
-                writer.writerow([r.model, r.frame, r.quantity, r.point, f"{r.load:.9g}",
+                writer.writerow([r.model, r.frame, r.quantity, r.point, f"{r.load:.10g}",
                                  "" if math.isnan(r.pressure) else f"{r.pressure:.6g}",
                                  f"{r.error:.4g}", f"{r.low:.4g}", f"{r.high:.4g}",
                                  r.tolerance, r.verdict])
