@@ -1,7 +1,7 @@
 """Imports in each package follow its layers one way, bottom to top:
 
     validation: common (and _version) -> surfaces -> scenes -> run -> judge -> report -> check
-                -> cli, campaigns
+                -> atlas -> cli, campaigns
     bem:        common -> elastic -> leakage -> contact -> model, interface, reference
     asperity:   common -> gw -> spectral | discrete
 
@@ -33,6 +33,7 @@ LAYERS = {
         ("judge",),
         ("report",),
         ("check",),
+        ("atlas",),
         ("cli", "campaigns", "__main__", "__init__"),
     ),
     "bem": (

@@ -134,3 +134,23 @@ def test_bad_input_names_the_parameter(kwargs, name):
 
 def test_exported():
     assert validation.self_affine_surface is self_affine_surface
+
+
+def test_a_plateau_cuts_the_peaks_flat_and_keeps_the_slope():
+    from validation.scenes.scene import SurfaceSpec
+    from validation.surfaces.families import surface_heights, surface_identity
+
+    gaussian = SurfaceSpec(family="self-affine", hurst=(0.7,), rms_slope=0.1, window=1, n=64)
+    honed = SurfaceSpec(family="self-affine", hurst=(0.7,), rms_slope=0.1, window=1, n=64,
+                        plateau=0.8)
+    z, flat = surface_heights(gaussian, 3), surface_heights(honed, 3)
+    top = flat.max()
+    # a fifth of the points (up to the subsampling) sit on the plateau, the valleys stay
+    assert 0.1 < np.mean(np.isclose(flat, top, atol=1e-12 * np.ptp(flat))) < 0.3
+    skew = lambda h: np.mean((h - h.mean()) ** 3) / np.std(h) ** 3  # noqa: E731
+    assert skew(flat) < skew(z) - 0.3
+    assert validation.surface_statistics(flat, 1 / 64, periodic=True).rms_gradient == pytest.approx(0.1)
+    assert "plateau" not in surface_identity(gaussian, 3)
+    assert surface_identity(honed, 3)["plateau"] == 0.8
+    with pytest.raises(ValueError, match="plateau"):
+        SurfaceSpec(family="self-affine", hurst=(0.7,), plateau=1.0)

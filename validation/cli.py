@@ -1,4 +1,4 @@
-"""Command line: ``python -m validation {report,check,list,show,bench,stress}``.
+"""Command line: ``python -m validation {report,check,predict,atlas,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode, a preview of the published
 report: 8 realizations of each paper scene on 256 x 256 grids with 12 loads, and 4 per D of the
@@ -311,6 +311,12 @@ def build_parser() -> argparse.ArgumentParser:
     # one surface is one task: in this process, its FFTs on every core (tiles: one per worker)
     _run_options(check, jobs=0, jobs_default="1, or the CPU count with --tiles")
     check.set_defaults(handler=functools.partial(run_check, run_pipeline=run_pipeline))
+    from validation.atlas.command import add_parsers, run_atlas
+
+    _, atlas = add_parsers(sub)
+    _run_options(atlas)
+    atlas.set_defaults(handler=functools.partial(run_atlas, executor_of=_executor,
+                                                 interrupted=_interrupted))
     listing = sub.add_parser("list", help="list the built-in scenes")
     listing.set_defaults(handler=_list)
     show = sub.add_parser("show", help="print a scene file and its parsed form")

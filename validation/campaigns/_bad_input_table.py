@@ -29,6 +29,11 @@ NO_ROW = {
                              "own campaign (tests/test_bad_options.py, "
                              "tests/test_check_library.py); a valid extreme runs a whole check",
     "validation.CheckResult": "a result check_scan builds, not built by users",
+    "validation.predict_errors": "its arguments are the check's (validation.check.library."
+                                 "make_request, the same campaign as check_scan's; "
+                                 "tests/test_atlas.py)",
+    "validation.Prediction": "a result predict_errors builds, not built by users",
+    "validation.SurfaceDescriptors": "a result surface_descriptors builds, not built by users",
 }
 
 

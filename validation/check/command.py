@@ -26,7 +26,7 @@ from validation.check.library import check_scenes, make_request, run_request
 from validation.check.plausible import PlausibilityWarning
 from validation.check.request import CheckRequest
 
-__all__ = ["add_parser", "check_request", "run_check"]
+__all__ = ["add_parser", "add_scan_options", "check_request", "run_check"]
 
 
 def check_request(args: argparse.Namespace) -> CheckRequest:
@@ -99,6 +99,23 @@ def add_parser(sub) -> argparse.ArgumentParser:
         description="Run every model and the boundary-element reference on one height file "
                     "(any format read_topography reads) and say, pressure by pressure, where "
                     "each theory holds on this surface, in physical units.")
+    add_scan_options(check)
+    check.add_argument("--nominal-size", default=None, metavar="LENGTH",
+                       help="side of your square nominal contact (a seal's width), e.g. 10mm: "
+                            "adds the finite frame of that contact (the interface with that "
+                            "square's bulk sink) and improved GW (default: the interface frame "
+                            "alone)")
+    check.add_argument("--tiles", type=int, default=1,
+                       help="also answer on the scan cut into k x k tiles (4, 9, ...): how much "
+                            "the answer varies across the scan (default 1: the whole scan only)")
+    check.add_argument("--out", default=None,
+                       help="output folder (default: ./check-<scan name>)")
+    return check
+
+
+def add_scan_options(check: argparse.ArgumentParser) -> None:
+    """The options that say how to read a scan and which pressures to put on it (the check's,
+    shared by ``predict``)."""
     check.add_argument("scan", metavar="SCAN", help="height file (.di, .ibw, .x3p, .opd, .plu, "
                        ".sur, .gwy, .dat, .npy, text matrix, ...)")
     check.add_argument("--e-star", default=None, metavar="VALUE",
@@ -123,14 +140,3 @@ def add_parser(sub) -> argparse.ArgumentParser:
                             "'10um,7.8um' or two values: --physical-size 10um 7.8um)")
     check.add_argument("--file-unit", default=None, metavar="UNIT",
                        help="the unit of the file's heights (nm, um, ...) if it does not state it")
-    check.add_argument("--nominal-size", default=None, metavar="LENGTH",
-                       help="side of your square nominal contact (a seal's width), e.g. 10mm: "
-                            "adds the finite frame of that contact (the interface with that "
-                            "square's bulk sink) and improved GW (default: the interface frame "
-                            "alone)")
-    check.add_argument("--tiles", type=int, default=1,
-                       help="also answer on the scan cut into k x k tiles (4, 9, ...): how much "
-                            "the answer varies across the scan (default 1: the whole scan only)")
-    check.add_argument("--out", default=None,
-                       help="output folder (default: ./check-<scan name>)")
-    return check

@@ -234,7 +234,8 @@ class Cache:
 
 _SOURCE_VERSION: str | None = None
 #: Modules that only read results (comparison, verdicts, findings, figures, tables, command
-#: line, how many realizations run): editing them leaves every cached result valid, so they are
+#: line, how many realizations run, the error atlas's design, fit and prediction, the surface
+#: descriptors): editing them leaves every cached result valid, so they are
 #: not part of its hash. Paths relative to the ``validation`` folder.
 REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "judge/compare.py",
                                  "run/cost.py", "report/figures.py", "judge/findings.py",
@@ -251,7 +252,10 @@ REPORT_ONLY_MODULES = frozenset({"__main__.py", "cli.py", "judge/analysis.py", "
                                  "check/resolution.py", "check/units.py", "check/glance.py",
                                  "check/frames.py", "check/library.py", "check/result.py",
                                  "check/plausible.py", "check/scan_input.py",
-                                 "report/conventions.py"})
+                                 "report/conventions.py", "surfaces/descriptors.py",
+                                 "atlas/__init__.py", "atlas/build.py", "atlas/command.py",
+                                 "atlas/design.py", "atlas/fit.py", "atlas/model.py",
+                                 "atlas/predict.py", "atlas/report.py"})
 
 
 def report_version() -> str:

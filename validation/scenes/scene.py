@@ -16,7 +16,7 @@ file's tables and keys map onto them::
     [surface]  family, and the keys of the family (FAMILY_KEYS)   -> SurfaceSpec
                wm: D rms_slope G gamma M n_max L n wavelength sides periodic
                self-affine: hurst rms_slope rms_height long_cutoff rolloff short_cutoff
-                            window L n
+                            window plateau L n
                file: path physical_size file_unit unit detrend resample square
                      short_cutoff tiles, and
                      every other keyword of read_topography (fill channel reader ...)

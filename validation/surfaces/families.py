@@ -120,6 +120,8 @@ def _self_affine(s, n: int, seed: int, slope_grid: int) -> np.ndarray:
                                   long_cutoff=s.long_cutoff, rolloff=s.rolloff,
                                   short_cutoff=short_cutoff,
                                   window=s.window * fine if s.window > 1 else None, seed=seed)
+    if s.plateau is not None:   # a plateau-honed finish: the peaks cut flat
+        heights = np.minimum(heights, np.quantile(heights, s.plateau))
     coarse = heights[::2, ::2]
     statistics = surface_statistics(coarse, spacing, periodic=s.window == 1)
     measured = statistics.rms_height if s.rms_slope is None else statistics.rms_gradient
@@ -155,10 +157,13 @@ def surface_identity(surface, seed: int, slope_grid: int | None = None) -> dict:
             identity["periodic"] = True
         return identity
     if s.family == "self-affine":
-        return dict(family=s.family, hurst=s.hurst[0], rms_slope=s.rms_slope,
-                    rms_height=s.rms_height, long_cutoff=s.long_cutoff, rolloff=s.rolloff,
-                    short_cutoff=s.short_cutoff, window=s.window, L=s.L, n=s.n, seed=seed,
-                    slope_grid=grid)
+        identity = dict(family=s.family, hurst=s.hurst[0], rms_slope=s.rms_slope,
+                        rms_height=s.rms_height, long_cutoff=s.long_cutoff, rolloff=s.rolloff,
+                        short_cutoff=s.short_cutoff, window=s.window, L=s.L, n=s.n, seed=seed,
+                        slope_grid=grid)
+        if s.plateau is not None:  # absent for Gaussian surfaces: their cache keys stay
+            identity["plateau"] = s.plateau
+        return identity
     identity = dict(family=s.family, sha256=file_digest(s.path), physical_size=s.physical_size,
                     file_unit=s.file_unit, unit=s.unit, detrend=s.detrend, tiles=s.tiles,
                     tile=seed, n=s.n)

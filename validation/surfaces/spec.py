@@ -27,7 +27,7 @@ FAMILY_KEYS = {
     "wm": ("D", "rms_slope", "G", "gamma", "M", "n_max", "L", "n", "wavelength", "sides",
            "periodic"),
     "self-affine": ("hurst", "rms_slope", "rms_height", "long_cutoff", "rolloff", "short_cutoff",
-                    "window", "L", "n"),
+                    "window", "plateau", "L", "n"),
     "file": ("path", "physical_size", "file_unit", "unit", "detrend", "resample", "square",
              "short_cutoff", "tiles", "n"),
 }
@@ -73,7 +73,9 @@ class SurfaceSpec:
     H in (0, 1] required (a tuple sweeps it); at most one of ``rms_slope`` and ``rms_height``
     (default rms slope 0.1); cut-off wavelengths ``long_cutoff`` (default L), ``rolloff``
     (default long_cutoff) and ``short_cutoff`` (default 2 L/n) [length]; the L x L window is
-    cut from a periodic surface ``window`` times larger per side (default 2; 1: periodic).
+    cut from a periodic surface ``window`` times larger per side (default 2; 1: periodic);
+    ``plateau``, a quantile q in (0, 1): the heights above their q-quantile are cut flat before
+    the amplitude is fixed (a plateau-honed finish, non-Gaussian heights; default none).
 
     ``"file"``: a measured height map (:func:`validation.read_topography`); ``path`` (read when
     the spec is made), ``physical_size`` and ``file_unit`` when the file does not state them,
@@ -114,6 +116,7 @@ class SurfaceSpec:
     rolloff: float | None = None
     short_cutoff: float | str | None = None
     window: int = 2
+    plateau: float | None = None
     path: str | None = None
     physical_size: float | str | tuple[float, float] | None = None
     file_unit: str | None = None
@@ -176,6 +179,7 @@ class SurfaceSpec:
         for key in ("long_cutoff", "rolloff", "short_cutoff"):
             check.number(self, key, above=0.0, optional=True)
         check.integer(self, "window", 1)
+        check.number(self, "plateau", above=0.0, below=1.0, optional=True)
         long_cutoff = self.L if self.long_cutoff is None else self.long_cutoff
         rolloff = long_cutoff if self.rolloff is None else self.rolloff
         short_cutoff = 2 * self.spacing if self.short_cutoff is None else self.short_cutoff

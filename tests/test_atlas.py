@@ -1,0 +1,106 @@
+"""The error atlas' model and prediction: a fit recovers a known error law, its interval covers
+left-out points, predictions use the check's load points and say when a scan is outside."""
+
+import json
+
+import numpy as np
+import pytest
+
+import validation
+from validation.atlas.design import atlas_design, atlas_scene, design
+from validation.atlas.model import fit_error_model, interval_of, verdict_of
+from validation.check.library import check_scenes, make_request
+
+
+def synthetic_model(tmp_path, noise=0.02):
+    """A model fitted to errors that follow a known law of the descriptors and the load."""
+    rng = np.random.default_rng(0)
+    points = 30
+    hurst, nayak = rng.uniform(0.3, 0.9, points), rng.uniform(1.0, 2.5, points)
+    skew = rng.uniform(-1.0, 0.2, points)
+    x = np.log10(np.geomspace(5e-4, 0.15, 12))
+    rows = [(h, a, s, xx, p) for p, (h, a, s) in enumerate(zip(hurst, nayak, skew))
+            for _ in range(2) for xx in x]
+    covariates = np.array([r[:4] for r in rows])
+    law = 0.3 * covariates[:, 0] - 0.1 * covariates[:, 1] + 0.05 * covariates[:, 3]
+    error = law + noise * rng.standard_normal(law.size)
+    keys = np.array(["gw/interface/area"] * law.size)
+    groups = np.array([r[4] for r in rows])
+    ranges = {"hurst": [0.3, 0.9], "nayak": [10.0, 300.0], "skewness": [-1.0, 0.2],
+              "magnification": [4.0, 128.0], "peak": [1.0, 5.0], "load_ratio": [5e-4, 0.15]}
+    model = fit_error_model(covariates, keys, error, groups,
+                            meta={"atlas_commit": "0" * 40, "grid": 64, "realizations": 2,
+                                  "design_points": points, "tolerance": 0.2,
+                                  "range": ranges})
+    path = tmp_path / "model.json"
+    path.write_text(json.dumps(model), encoding="utf-8")
+    return model, path, covariates, law
+
+
+def test_the_fit_recovers_a_known_law_and_its_interval_its_noise(tmp_path):
+    model, _, covariates, law = synthetic_model(tmp_path)
+    mean, low, high = interval_of(model, "gw/interface/area", covariates)
+    assert np.max(np.abs(mean - law)) < 0.02
+    width = high - low        # 90 % of a normal scatter of 0.02: 2 x 1.645 x 0.02
+    assert np.all((width > 0.04) & (width < 0.1))
+    assert np.all(low < mean) and np.all(mean < high)
+
+
+def test_verdicts_of_an_interval():
+    verdicts = verdict_of(np.array([-0.1, 0.25, -0.5, -0.1]), np.array([0.1, 0.4, -0.3, 0.3]),
+                          0.2)
+    assert verdicts.tolist() == ["holds", "fails", "fails", "undecided"]
+
+
+def test_prediction_uses_the_check_load_points_and_its_names(tmp_path):
+    _, path, _, _ = synthetic_model(tmp_path)
+    z = validation.self_affine_surface(128, hurst=0.6, rms_slope=0.1, rolloff=0.25, window=256,
+                                       seed=1) * 1e-6
+    prediction = validation.predict_errors(z, spacing="1um", e_star="100GPa", model_file=path,
+                                           cache=str(tmp_path / "cache"))
+    request = make_request(z, spacing="1um", e_star="100GPa", cache_dir=str(tmp_path / "c2"))
+    loads = check_scenes(request)[0][0].loads.values()
+    assert [r.load for r in prediction.rows] == pytest.approx(list(loads))
+    assert {(r.model, r.frame, r.quantity) for r in prediction.rows} == \
+        {("gw", "interface", "area")}
+    assert [r.pressure for r in prediction.rows] == pytest.approx([1e11 * p for p in loads])
+    assert prediction.descriptors.hurst == pytest.approx(0.6, abs=0.1)
+    report = prediction.write(tmp_path / "out")
+    text = report.read_text(encoding="utf-8")
+    assert "(predicted)" in text and "Hurst" in text
+    header = (tmp_path / "out" / "predicted.csv").read_text(encoding="utf-8").splitlines()[0]
+    assert header == "model,frame,quantity,point,Load,pressure_Pa,error,low,high,tolerance,verdict"
+
+
+def test_a_scan_outside_the_atlas_gets_no_verdict(tmp_path):
+    _, path, _, _ = synthetic_model(tmp_path)
+    rng = np.random.default_rng(2)
+    z = np.cumsum(rng.standard_normal((128, 128)), axis=1) * 1e-9   # H = 0.5 along x only
+    z = np.minimum(z, np.quantile(z, 0.3))                           # strongly skewed
+    prediction = validation.predict_errors(z, spacing="1um", model_file=path,
+                                           cache=str(tmp_path / "cache"))
+    assert prediction.outside
+    assert {r.verdict for r in prediction.rows} == {"outside atlas"}
+    assert "outside" in prediction.markdown()
+
+
+def test_the_design_is_space_filling_and_its_scenes_periodic():
+    points = design()
+    assert len(points) == 48 and len(atlas_design()) == 48
+    hurst = np.array([p.hurst for p in points if p.plateau is None])
+    # a Latin hypercube: one point in each of 40 strata of H
+    assert np.unique(np.floor((hurst - 0.3) / 0.6 * 40)).size == 40
+    scene = atlas_scene(points[-1], n=64)
+    assert scene.surface.periodic and scene.surface.plateau == points[-1].plateau
+    with pytest.raises(ValueError, match="gaussian"):
+        design(0)
+
+
+def test_the_stored_model_is_small_and_versioned():
+    from validation.atlas.model import MODEL_FILE, load_error_model
+
+    model = load_error_model()
+    assert MODEL_FILE.stat().st_size < 60_000
+    assert len(model["atlas_commit"]) == 40
+    assert {"gw", "persson", "bgt"} <= {key.split("/")[0] for key in model["entries"]}
+    assert 0.8 < model["validation"]["all"]["coverage"] <= 1.0

@@ -1,0 +1,80 @@
+"""Surface descriptors (validation.surface_descriptors) against surfaces of known H, rolloff and
+moments."""
+
+import math
+
+import numpy as np
+import pytest
+
+import validation
+from validation.surfaces.descriptors import surface_descriptors
+
+
+@pytest.mark.parametrize("hurst, rolloff", [(0.3, 0.25), (0.6, 0.1), (0.9, 1.0)])
+@pytest.mark.parametrize("window", [None, 512])
+def test_hurst_exponent_and_rolloff_of_a_self_affine_surface(hurst, rolloff, window):
+    z = validation.self_affine_surface(256, hurst=hurst, rms_slope=0.1, rolloff=rolloff,
+                                       window=window, seed=4)
+    d = surface_descriptors(z, 1 / 256, periodic=window is None)
+    assert d.hurst == pytest.approx(hurst, abs=max(0.04, 4 * d.hurst_error))
+    assert 0 < d.hurst_error < 0.03
+    if rolloff < 1:   # the rolloff found within one bin; none shown: the scan's side
+        assert d.rolloff_wavelength == pytest.approx(rolloff, rel=0.25)
+        assert d.magnification == pytest.approx(rolloff / (2 / 256), rel=0.25)
+    elif window is None:
+        assert d.rolloff_wavelength == pytest.approx(1.0)
+        assert d.magnification == pytest.approx(128.0)
+    assert d.short_wavelength == pytest.approx(2 / 256)
+    assert d.rms_slope == pytest.approx(0.1, rel=1e-6 if window is None else 0.1)
+    assert abs(d.skewness) < 0.4 and abs(d.kurtosis - 3) < 0.8
+
+
+def test_short_cutoff_is_found_where_the_spectrum_ends():
+    z = validation.self_affine_surface(256, hurst=0.7, rms_slope=0.1, rolloff=0.5,
+                                       short_cutoff=0.05, seed=2)
+    d = surface_descriptors(z, 1 / 256, periodic=True)
+    assert d.short_wavelength == pytest.approx(0.05, rel=0.15)
+    assert d.magnification == pytest.approx(10, rel=0.3)
+    assert d.hurst == pytest.approx(0.7, abs=0.1)
+
+
+def test_moments_of_a_sine_are_the_finite_difference_ones():
+    n, waves, amplitude = 64, 4, 3e-6
+    spacing = 1e-6
+    x = np.arange(n) * spacing
+    k = 2 * np.pi * waves / (n * spacing)
+    z = amplitude * np.sin(k * x)[None, :] * np.ones((n, 1))
+    d = surface_descriptors(z, spacing, periodic=True)
+    kh = k * spacing
+    m0 = amplitude ** 2 / 2
+    m2 = amplitude ** 2 * math.sin(kh) ** 2 / spacing ** 2 / 4     # <z_x^2> / 2
+    m4 = amplitude ** 2 * (2 - 2 * math.cos(kh)) ** 2 / spacing ** 4 / 4
+    assert d.m0 == pytest.approx(m0, rel=1e-9)
+    assert d.m2 == pytest.approx(m2, rel=1e-9)
+    assert d.m4 == pytest.approx(m4, rel=1e-9)
+    assert d.nayak == pytest.approx(m0 * m4 / m2 ** 2, rel=1e-9)
+    assert d.nayak == pytest.approx(2 * (2 - 2 * math.cos(kh)) ** 2 / math.sin(kh) ** 4)  # -> 2
+    assert d.rms_height == pytest.approx(math.sqrt(m0), rel=1e-9)
+    assert d.peak == pytest.approx(math.sqrt(2), rel=1e-9)
+    assert d.skewness == pytest.approx(0, abs=1e-9)
+    assert d.kurtosis == pytest.approx(1.5, rel=1e-9)   # <sin^4> / <sin^2>^2
+    assert d.shape == (n, n) and d.spacing == spacing
+    assert math.isnan(d.hurst)   # one wave has no spectral slope
+    assert d.short_wavelength == pytest.approx(n * spacing / waves, rel=0.1)
+
+
+def test_a_plateau_shows_in_the_height_distribution():
+    z = validation.self_affine_surface(128, hurst=0.8, rms_slope=0.1, seed=1)
+    honed = np.minimum(z, np.quantile(z, 0.7))
+    gaussian, plateau = (surface_descriptors(h, 1 / 128, periodic=True) for h in (z, honed))
+    assert plateau.skewness < gaussian.skewness - 0.5
+    assert plateau.peak < 0.8 * gaussian.peak
+
+
+def test_bad_input_is_named():
+    with pytest.raises(ValueError, match="heights"):
+        surface_descriptors(np.ones((4, 4)), 1.0)
+    with pytest.raises(ValueError, match="heights"):
+        surface_descriptors(np.ones((16, 16)), 1.0)
+    with pytest.raises((ValueError, TypeError), match="spacing"):
+        surface_descriptors(np.random.default_rng(0).standard_normal((16, 16)), -1.0)

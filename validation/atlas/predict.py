@@ -1,0 +1,191 @@
+"""Each theory's error on a scan predicted from its descriptors, without a boundary-element solve:
+:func:`predict_errors` and ``python -m validation predict SCAN``.
+
+The scan and the pressures are read exactly as :func:`validation.check_scan` reads them
+(:func:`validation.check.library.make_request`; the load points are those of the check's
+scene), the scan's descriptors computed (:func:`validation.surface_descriptors`, a few FFTs),
+and the stored error model (:mod:`.model`) evaluated at every load point: the predicted error of
+each theory, its 90 % prediction interval and the verdict that interval gives at the check's
+tolerance. Where a descriptor or the load lies outside the atlas, no verdict is given and the
+result says which.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import pathlib
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from validation.atlas.model import interval_of, load_error_model, verdict_of
+from validation.check.library import make_request
+from validation.check.request import CheckRequest
+from validation.common.labels import model_label
+from validation.scenes.scene import LoadPath
+from validation.surfaces.descriptors import SurfaceDescriptors, surface_descriptors
+
+__all__ = ["COLUMNS", "Prediction", "PredictedError", "outside_atlas", "predict_errors"]
+
+#: Columns of ``predicted.csv``.
+COLUMNS = ("model", "frame", "quantity", "point", "Load", "pressure_Pa", "error", "low", "high",
+           "tolerance", "verdict")
+#: Verdict of a point outside the atlas.
+OUTSIDE = "outside atlas"
+
+
+@dataclass(frozen=True)
+class PredictedError:
+    """One theory's predicted error at one load point (a row of ``predicted.csv``)."""
+
+    model: str
+    frame: str
+    quantity: str
+    point: int
+    load: float            # p / E*
+    pressure: float        # p [Pa], NaN without E*
+    error: float           # predicted relative error
+    low: float             # 90 % prediction interval
+    high: float
+    tolerance: float
+    verdict: str           # holds / fails / undecided / outside atlas
+
+
+def outside_atlas(descriptors: SurfaceDescriptors, ranges: dict) -> list[str]:
+    """The descriptors of a scan outside the atlas' range, each as a sentence."""
+    out = []
+    for name, label in (("hurst", "Hurst exponent H"), ("nayak", "Nayak's alpha"),
+                        ("skewness", "skewness"), ("magnification", "magnification")):
+        value = getattr(descriptors, name)
+        low, high = ranges[name]
+        if not (low <= value <= high):
+            out.append(f"{label} = {value:.3g} is outside the atlas' {low:.3g} to {high:.3g}")
+    return out
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """A scan's predicted errors (:func:`predict_errors`).
+
+    Attributes
+    ----------
+    request : CheckRequest
+        The scan and pressures, as the check reads them.
+    descriptors : SurfaceDescriptors
+        The scan's descriptors.
+    rows : tuple of PredictedError
+        Per model, frame, quantity and load point.
+    outside : tuple of str
+        The descriptors outside the atlas (then every verdict is "outside atlas").
+    model : dict
+        What the error model says of itself (atlas commit, grid, range, validation).
+    seconds : float
+        Time of the prediction [s].
+    """
+
+    request: CheckRequest
+    descriptors: SurfaceDescriptors
+    rows: tuple[PredictedError, ...]
+    outside: tuple[str, ...]
+    model: dict
+    seconds: float
+
+    def markdown(self) -> str:
+        """The short report: the descriptors, where the scan sits in the atlas, and per theory
+        a strip of predicted verdicts."""
+        from validation.atlas.report import prediction_lines
+
+        return "\n".join(prediction_lines(self))
+
+    def write(self, folder: str | pathlib.Path) -> pathlib.Path:
+        """Write ``predicted.csv`` and ``report.md`` into ``folder``; returns the report's
+        path."""
+        folder = pathlib.Path(folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        with open(folder / "predicted.csv", "w", newline="", encoding="utf-8") as stream:
+            writer = csv.writer(stream)
+            writer.writerow(COLUMNS)
+            for r in self.rows:
+                writer.writerow([r.model, r.frame, r.quantity, r.point, f"{r.load:.10g}",
+                                 "" if math.isnan(r.pressure) else f"{r.pressure:.6g}",
+                                 f"{r.error:.4g}", f"{r.low:.4g}", f"{r.high:.4g}",
+                                 r.tolerance, r.verdict])
+        path = folder / "report.md"
+        path.write_text(self.markdown() + "\n", encoding="utf-8")
+        return path
+
+
+def predict_errors(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=None,
+                   resample=None, physical_size=None, file_unit=None, spacing=None,
+                   models=None, cache=None, model_file=None) -> Prediction:
+    """Each theory's error on ``scan`` predicted by the atlas' error model, no solve.
+
+    Parameters
+    ----------
+    scan, e_star, pressures, short_cutoff, fill, resample, physical_size, file_unit, spacing
+        As for :func:`validation.check_scan`: the load points are the check's.
+    models : sequence of str, optional
+        The theories to predict (default: every one the error model has).
+    cache : path, True/None or False
+        Where a height array is written to be read as the check reads it (as for
+        :func:`validation.check_scan`).
+    model_file : path, optional
+        Another error model file (default the package's).
+
+    Returns
+    -------
+    Prediction
+
+    Raises
+    ------
+    ValueError, TypeError
+        Naming the argument, as :func:`validation.check_scan` does.
+    """
+    from validation.run.cache import default_cache_dir
+
+    start = time.perf_counter()
+    cache_dir = None if cache is False else str(default_cache_dir() if cache in (None, True)
+                                                else cache)
+    request = make_request(scan, e_star=e_star, pressures=pressures, short_cutoff=short_cutoff,
+                           fill=fill, resample=resample, physical_size=physical_size,
+                           file_unit=file_unit, spacing=spacing, cache_dir=cache_dir)
+    model = load_error_model(model_file)
+    heights = request.read("m")
+    low, high, count = request.loads(heights)   # p / E*: the check scene's load path
+    loads = np.array([low] if count == 1 else
+                     LoadPath(min=low, max=high, count=count, spacing="log").values())
+    descriptors = surface_descriptors(heights.heights, heights.spacing)
+    ratio = loads / descriptors.rms_slope
+    outside = outside_atlas(descriptors, model["range"])
+    low_load, high_load = model["range"]["load_ratio"]
+    inside_load = (ratio >= low_load * (1 - 1e-9)) & (ratio <= high_load * (1 + 1e-9))
+    covariates = np.column_stack([np.full(loads.shape, descriptors.hurst),
+                                  np.full(loads.shape, math.log10(descriptors.nayak)),
+                                  np.full(loads.shape, descriptors.skewness), np.log10(ratio)])
+    tolerance = float(model["tolerance"])
+    known = {key.split("/")[0] for key in model["entries"]}
+    if models is not None:
+        models = (models,) if isinstance(models, str) else tuple(models)
+        unknown = [m for m in models if m not in known]
+        if unknown or not models:
+            raise ValueError(f"models must name models of the error model ({', '.join(sorted(known))}), "
+                             f"got {list(models)!r}")
+    rows = []
+    for key in model["entries"]:
+        name, frame, quantity = key.split("/")
+        if models is not None and name not in models:
+            continue
+        mean, low, high = interval_of(model, key, covariates)
+        verdicts = verdict_of(low, high, tolerance)
+        for k in range(loads.size):
+            verdict = OUTSIDE if outside or not inside_load[k] else str(verdicts[k])
+            pressure = loads[k] * request.e_star if request.e_star is not None else math.nan
+            rows.append(PredictedError(name, frame, quantity, k, float(loads[k]), pressure,
+                                       float(mean[k]), float(low[k]), float(high[k]),
+                                       tolerance, verdict))
+    rows.sort(key=lambda r: (model_label(r.model), r.quantity, r.point))
+    return Prediction(request, descriptors, tuple(rows), tuple(outside),
+                      {k: v for k, v in model.items() if k != "entries"},
+                      time.perf_counter() - start)
