@@ -91,7 +91,7 @@ def test_the_design_is_space_filling_and_its_scenes_periodic():
     # a Latin hypercube: one point in each of 40 strata of H
     assert np.unique(np.floor((hurst - 0.3) / 0.6 * 40)).size == 40
     scene = atlas_scene(points[-1], n=64)
-    assert scene.surface.periodic and scene.surface.plateau == points[-1].plateau
+    assert scene.surface.one_period and scene.surface.plateau == points[-1].plateau
     with pytest.raises(ValueError, match="gaussian"):
         design(0)
 
