@@ -3,6 +3,9 @@ left-out points, predictions use the check's load points and say when a scan is 
 
 import json
 
+import csv
+import math
+
 import numpy as np
 import pytest
 
@@ -82,6 +85,12 @@ def test_a_scan_outside_the_atlas_gets_no_verdict(tmp_path):
     assert prediction.outside
     assert {r.verdict for r in prediction.rows} == {"outside atlas"}
     assert "outside" in prediction.markdown()
+    # the model is not extrapolated: no number either, in the rows and in predicted.csv
+    assert all(math.isnan(r.error) and math.isnan(r.low) and math.isnan(r.high)
+               for r in prediction.rows)
+    prediction.write(tmp_path / "out")
+    with open(tmp_path / "out" / "predicted.csv", newline="", encoding="utf-8") as stream:
+        assert {row["error"] for row in csv.DictReader(stream)} == {""}
 
 
 def test_the_design_is_space_filling_and_its_scenes_periodic():

@@ -38,6 +38,20 @@ def test_short_cutoff_is_found_where_the_spectrum_ends():
     assert d.hurst == pytest.approx(0.7, abs=0.1)
 
 
+@pytest.mark.parametrize("hurst", [0.4, 0.8])
+def test_a_known_cutoff_ends_the_fit_where_a_windowed_spectrum_shows_none(hurst):
+    """A non-periodic window low-pass filtered at 8 pixels (what the check does to a scan):
+    the window's leakage beyond the cutoff is no power law of the surface; told the cutoff,
+    the fit stops short of it, and the shortest wavelength is the cutoff's."""
+    z = validation.self_affine_surface(256, hurst=hurst, rms_slope=0.1, window=1024, seed=5)
+    filtered = validation.short_wavelength_cutoff(z, 1 / 256, 8 / 256)
+    told = surface_descriptors(filtered, 1 / 256, short_cutoff=8 / 256)
+    assert told.hurst == pytest.approx(hurst, abs=0.12)
+    assert told.short_wavelength == pytest.approx(8 / 256)
+    with pytest.raises(ValueError, match="short_cutoff"):
+        surface_descriptors(filtered, 1 / 256, short_cutoff=-1.0)
+
+
 def test_moments_of_a_sine_are_the_finite_difference_ones():
     n, waves, amplitude = 64, 4, 3e-6
     spacing = 1e-6

@@ -26,6 +26,7 @@ from validation.check.request import CheckRequest
 from validation.common.labels import model_label
 from validation.scenes.scene import LoadPath
 from validation.surfaces.descriptors import SurfaceDescriptors, surface_descriptors
+from validation.surfaces.units import parse_length
 
 __all__ = ["COLUMNS", "Prediction", "PredictedError", "outside_atlas", "predict_errors"]
 
@@ -110,7 +111,8 @@ class Prediction:
             for r in self.rows:
                 writer.writerow([r.model, r.frame, r.quantity, r.point, f"{r.load:.10g}",
                                  "" if math.isnan(r.pressure) else f"{r.pressure:.6g}",
-                                 f"{r.error:.4g}", f"{r.low:.4g}", f"{r.high:.4g}",
+                                 *("" if math.isnan(v) else f"{v:.4g}"
+                                   for v in (r.error, r.low, r.high)),
                                  r.tolerance, r.verdict])
         path = folder / "report.md"
         path.write_text(self.markdown() + "\n", encoding="utf-8")
@@ -156,7 +158,9 @@ def predict_errors(scan, *, e_star=None, pressures=None, short_cutoff=None, fill
     low, high, count = request.loads(heights)   # p / E*: the check scene's load path
     loads = np.array([low] if count == 1 else
                      LoadPath(min=low, max=high, count=count, spacing="log").values())
-    descriptors = surface_descriptors(heights.heights, heights.spacing)
+    cutoff = None if request.short_cutoff is None else parse_length(
+        "short_cutoff", request.short_cutoff)[0]            # "7.8e-09 m", metres
+    descriptors = surface_descriptors(heights.heights, heights.spacing, short_cutoff=cutoff)
     ratio = loads / descriptors.rms_slope
     outside = outside_atlas(descriptors, model["range"])
     low_load, high_load = model["range"]["load_ratio"]
@@ -180,11 +184,14 @@ def predict_errors(scan, *, e_star=None, pressures=None, short_cutoff=None, fill
         mean, low, high = interval_of(model, key, covariates)
         verdicts = verdict_of(low, high, tolerance)
         for k in range(loads.size):
-            verdict = OUTSIDE if outside or not inside_load[k] else str(verdicts[k])
+            away = bool(outside) or not inside_load[k]
+            verdict = OUTSIDE if away else str(verdicts[k])
             pressure = loads[k] * request.e_star if request.e_star is not None else math.nan
+            # outside the atlas the model is not extrapolated: no number, no verdict
+            numbers = (math.nan,) * 3 if away else (float(mean[k]), float(low[k]),
+                                                    float(high[k]))
             rows.append(PredictedError(name, frame, quantity, k, float(loads[k]), pressure,
-                                       float(mean[k]), float(low[k]), float(high[k]),
-                                       tolerance, verdict))
+                                       *numbers, tolerance, verdict))
     rows.sort(key=lambda r: (model_label(r.model), r.quantity, r.point))
     return Prediction(request, descriptors, tuple(rows), tuple(outside),
                       {k: v for k, v in model.items() if k != "entries"},

@@ -59,8 +59,9 @@ def prediction_lines(prediction) -> list[str]:
     for (name, quantity), points in strips.items():
         strip = "".join(MARKS[p.verdict] for p in points)
         middle = points[len(points) // 2]
-        lines.append(f"| {model_label(name)} | {quantity} | `{strip}` (predicted) | "
-                     f"{middle.error:+.2f} [{middle.low:+.2f}, {middle.high:+.2f}] |")
+        number = ("– (outside the atlas)" if math.isnan(middle.error) else
+                  f"{middle.error:+.2f} [{middle.low:+.2f}, {middle.high:+.2f}]")
+        lines.append(f"| {model_label(name)} | {quantity} | `{strip}` (predicted) | {number} |")
     check = model.get("validation", {}).get("all", {})
     if check and not math.isnan(check.get("coverage", math.nan)):
         lines += ["", f"On design points left out of the fit, {100 * check['coverage']:.0f} % "

@@ -25,6 +25,9 @@ __all__ = ["SurfaceDescriptors", "surface_descriptors"]
 
 #: Logarithmic bins of the radially averaged spectrum.
 SPECTRUM_BINS = 40
+#: A known short cutoff's wavevector times this ends the fitted range (the bins just below a
+#: sharp cutoff take power from beyond it through the window).
+CUTOFF_MARGIN = 0.8
 #: Bins whose power is below this share of the spectrum's largest carry none (rounding: a
 #: spectrum falling as q^-3.8 spans 1e8 over a magnification of 128).
 EMPTY_POWER = 1e-20
@@ -132,8 +135,8 @@ def _hinge_fit(log_q: np.ndarray, log_c: np.ndarray, weight: np.ndarray
     return start, float(coefficients[1]), math.sqrt(float(covariance[1, 1]))
 
 
-def surface_descriptors(heights, spacing: float, *, periodic: bool = False
-                        ) -> SurfaceDescriptors:
+def surface_descriptors(heights, spacing: float, *, periodic: bool = False,
+                        short_cutoff: float | None = None) -> SurfaceDescriptors:
     """The descriptors of a height map (:class:`SurfaceDescriptors`), in a few FFTs.
 
     Parameters
@@ -146,6 +149,11 @@ def surface_descriptors(heights, spacing: float, *, periodic: bool = False
     periodic : bool
         The map is one period of a periodic surface: derivatives wrap around and the spectrum
         takes no window; otherwise a Hann window keeps the edges' jump out of the spectrum.
+    short_cutoff : float, optional
+        A short-wavelength cutoff [length] the map was low-pass filtered at
+        (:func:`validation.short_wavelength_cutoff`): the shortest resolved wavelength, and the
+        end of the range the Hurst exponent is fitted over (the window's leakage beyond a sharp
+        cutoff is no power law of the surface).
 
     Returns
     -------
@@ -167,6 +175,9 @@ def surface_descriptors(heights, spacing: float, *, periodic: bool = False
     # the spectrum's range: the bins whose power is something next to its largest
     powered = np.flatnonzero(c > EMPTY_POWER * c.max())
     first, end = int(powered[0]), int(powered[-1]) + 1
+    if short_cutoff is not None:
+        cutoff_q = 2.0 * np.pi / checks.positive("short_cutoff", short_cutoff)
+        end = min(end, int(np.searchsorted(q, CUTOFF_MARGIN * cutoff_q)))
     if end - first >= 5:
         start, slope, slope_error = _hinge_fit(np.log(q[first:end]), np.log(c[first:end]),
                                                np.sqrt(modes[first:end].astype(float)))
@@ -176,7 +187,8 @@ def surface_descriptors(heights, spacing: float, *, periodic: bool = False
         start, hurst, hurst_error = first, math.nan, math.nan
     longest = 2.0 * np.pi / (max(z.shape) * spacing)
     rolloff_q = longest if start == 0 else float(q[start])
-    short_q = math.pi / spacing if end == len(q) else float(q[end - 1])
+    short_q = (math.pi / spacing if end == len(q) else float(q[end - 1])) \
+        if short_cutoff is None else min(math.pi / spacing, cutoff_q)
     deviation = z / sq
     return SurfaceDescriptors(
         m0=statistics.m0, m2=statistics.m2, m4=statistics.m4, nayak=statistics.nayak,
