@@ -214,7 +214,7 @@ def method_error(curve: ContactCurve, extras, rms_height, index=None) -> dict:
     bound in them (eq. T50), and its two parts beside them.
 
     At each point the bound and the bias (:func:`mirror_error` at the curve's contact-area
-    fraction) are scaled to the quantity: relative ones times |quantity|, height-like ones times
+    fraction) are scaled to the quantity: relative ones times ``|quantity|``, height-like ones times
     the map's rms height. ``<quantity>_error`` holds the discretisation's estimate plus the
     bound (the band one surface carries); ``<quantity>_method_error`` the bound alone (what a
     finer grid cannot narrow) and ``<quantity>_method_bias`` the bias (what the verdicts on the

@@ -1,7 +1,7 @@
 """The error model fitted to a computed atlas, and how well it predicts surfaces it has not seen.
 
 :func:`atlas_table` joins ``atlas.csv`` with each realization's descriptors (its surface made
-again from its seed: no solve); :func:`fit_atlas` fits the model (:mod:`.model`) and measures
+again from its seed: no solve); :func:`fit_atlas` fits the model (:mod:`validation.atlas.model`) and measures
 it: the design points are split into folds, each fold left out of a whole fit (its intervals
 included) and predicted, and the share of left-out errors inside their 90 % interval
 (coverage) and the agreement of the predicted verdicts with the atlas' own one-surface
@@ -72,8 +72,8 @@ def _covariates(table: dict) -> np.ndarray:
 
 
 def one_surface_verdict(error: np.ndarray, band: np.ndarray, tolerance: float) -> np.ndarray:
-    """The check's verdict on one surface: holds where |error| + band <= tolerance, fails
-    where |error| - band > tolerance (a band not estimated counts as 0)."""
+    """The check's verdict on one surface: holds where ``|error| + band <= tolerance``, fails
+    where ``|error| - band > tolerance`` (a band not estimated counts as 0)."""
     band = np.nan_to_num(band, nan=0.0)
     size = np.abs(error)
     return np.where(size + band <= tolerance, "holds",

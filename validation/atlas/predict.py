@@ -4,7 +4,7 @@
 The scan and the pressures are read exactly as :func:`validation.check_scan` reads them
 (:func:`validation.check.library.make_request`; the load points are those of the check's
 scene), the scan's descriptors computed (:func:`validation.surface_descriptors`, a few FFTs),
-and the stored error model (:mod:`.model`) evaluated at every load point: the predicted error of
+and the stored error model (:mod:`validation.atlas.model`) evaluated at every load point: the predicted error of
 each theory, its 90 % prediction interval and the verdict that interval gives at the check's
 tolerance. Where a descriptor or the load lies outside the atlas, no verdict is given and the
 result says which.

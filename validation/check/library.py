@@ -1,7 +1,7 @@
 """The check as a library call: :func:`check_scan` answers, on one measured scan, which theory
 to trust, and returns a :class:`validation.check.result.CheckResult`.
 
-``python -m validation check`` is a thin wrapper of the same steps (:mod:`.command`): the
+``python -m validation check`` is a thin wrapper of the same steps (:mod:`validation.check.command`): the
 arguments become a :class:`validation.check.request.CheckRequest` (numbers in SI units or
 strings with units, parsed as on the command line), the request becomes a scene
 (:func:`validation.check.request.scene_text`), and the scene runs as any report's does: first
@@ -79,7 +79,7 @@ def make_request(scan, *, e_star=None, pressures=None, short_cutoff=None, fill=N
     ------
     ValueError, TypeError
         Naming the argument and what it allows (the command line's option names are used
-        by the command, :mod:`.command`).
+        by the command, :mod:`validation.check.command`).
     """
     array_module(device, "--device")   # a GPU asked for where there is none: said first
     path, physical_size, file_unit, scratch = scan_source(scan, spacing, file_unit,

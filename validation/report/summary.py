@@ -124,7 +124,7 @@ def _size(row: dict) -> float:
 
 @dataclass(frozen=True)
 class Choice:
-    """The theory a cell names: its worst family's row (the largest known |mean error|; any
+    """The theory a cell names: its worst family's row (the largest known ``|mean error|``; any
     row where none is known), its mark over the families (holds / fails / undecided), and on
     how many of its families it holds."""
 
@@ -135,7 +135,7 @@ class Choice:
 
     @property
     def largest(self) -> float:
-        """Its largest |mean error| over the families (inf where none is known)."""
+        """Its largest ``|mean error|`` over the families (inf where none is known)."""
         return _size(self.row)
 
 
@@ -152,7 +152,7 @@ def _judged(rows: list[dict]) -> Choice:
 def choose(cells: list[dict]) -> Choice | None:
     """The theory to use among the headline rows of one frame, quantity and fraction (one row
     per theory and surface family): of those that hold on every family, the smallest largest
-    |mean error|; where none holds, the smallest largest |mean error| (``None``: no rows)."""
+    ``|mean error|``; where none holds, the smallest largest ``|mean error|`` (``None``: no rows)."""
     by_model: dict[str, list[dict]] = defaultdict(list)
     for row in cells:
         by_model[row["model"]].append(row)

@@ -51,7 +51,7 @@ class SurfaceDescriptors:
     rms_height : float
         Sq [length].
     rms_slope : float
-        h'_rms = sqrt(<|grad h|^2>) [-].
+        ``h'_rms = sqrt(<|grad h|^2>)`` [-].
     hurst : float
         Hurst exponent H from the power spectrum's slope, C(q) ~ q^-2(1+H) [-]; NaN where
         fewer than five bins of the spectrum carry power (a few waves have no slope).
