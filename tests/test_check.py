@@ -199,10 +199,14 @@ def test_one_cap_is_hertz_in_physical_units(checked):
         # the reference agrees with Hertz within its band and 3 % of discretisation
         bem, band = float(reference[k]["value"]), float(reference[k]["reference_band"])
         assert abs(bem - math.pi * a * a / nominal) <= band + 0.03 * bem
-        # one surface, judged by the band alone: Hertz holds
-        assert area_fraction[k]["verdict"] == "holds"
+        # a cap of a few pixels: its area changes by tens of per cent on every second pixel,
+        # so the area is not judged at this resolution, in physical.csv as in the glance
+        assert area_fraction[k]["verdict"] == "not judged"
     # GW's Gaussian of summit heights puts 40 % too little area at the lightest pressure
-    assert _values(out, "area", "gw")[0]["verdict"] == "fails"
+    gw = float(_values(out, "area", "gw")[0]["value"])
+    assert gw < 0.7 * float(_values(out, "area", "bem")[0]["value"])
+    assert "Area A/A0: not judged at this resolution" in (out / "report.md").read_text(
+        encoding="utf-8")
 
 
 def test_check_report_heads_with_the_surface_and_its_resolution(checked):

@@ -163,3 +163,17 @@ def test_the_sink_is_written_in_the_unit_that_reads_best():
     table = PhysicalTable("area", "A/A0", "", load, None, np.ones(2), np.zeros(2), {}, {}, 0.2)
     text = frame_lines([table], sigma=5.0, unit="nm", e_star=115e9, nominal_size=2e7)  # 20 mm
     assert "m p L/E* = 18.9 um = 3,786 σ" in text[0]
+
+
+def test_a_table_the_reference_cannot_judge_shows_its_values_without_marks():
+    from validation.check.physical import table_lines
+
+    table = _table("area", ["holds", "fails", "undecided"])
+    judged = "\n".join(table_lines(table))
+    assert "✔" in judged and "✘" in judged
+    from dataclasses import replace
+
+    plain = "\n".join(table_lines(replace(table, judged=False)))
+    rows = [line for line in plain.splitlines() if line.startswith("| ") and "%" in line]
+    assert rows and not any(mark in row for row in rows for mark in "✔✘?")
+    assert "not judged at this resolution" in plain

@@ -44,6 +44,8 @@ FIELDS = (("area", "Real contact-area fraction A/A0", "fraction"),
           ("conductance", "Interfacial stiffness per unit area K = S/A0", "stiffness"),
           ("leakage", "Effective hydraulic aperture h_eff (leak rate ∝ h_eff³)", "length"))
 _SYMBOLS = {HOLDS: "✔", FAILS: "✘"}
+#: The verdict of a field the reference cannot judge at the scan's resolution (physical.csv).
+NOT_JUDGED = "not judged"
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,7 @@ class PhysicalTable:
     tolerance: float
     tolerance_text: str = ""        # the tolerance in the field's measure, for the heading
     frame: str = "interface"        # of the reference and of the models judged against it
+    judged: bool = True             # False: not judged at the scan's resolution (no marks)
 
     def rows(self) -> list[dict]:
         """The table as rows of ``physical.csv`` (the reference as ``bem`` with its band)."""
@@ -75,7 +78,8 @@ class PhysicalTable:
                                      reference_band=float(self.band[k]), verdict=None,
                                      tolerance=None))
             out += [common | dict(model=model, value=float(values[k]), reference_band=None,
-                                  verdict=str(self.verdicts[model][k]), tolerance=self.tolerance)
+                                  verdict=str(self.verdicts[model][k]) if self.judged
+                                  else NOT_JUDGED, tolerance=self.tolerance)
                     for model, values in self.models.items()]
         return out
 
@@ -201,20 +205,26 @@ def _number(value: float) -> str:
 
 def table_lines(table: PhysicalTable) -> list[str]:
     """A Markdown table: one row per pressure, the reference with its band, then each model
-    with ✔ (holds), ✘ (fails) or ? (undecided) at the table's tolerance."""
+    with ✔ (holds), ✘ (fails) or ? (undecided) at the table's tolerance; a table not
+    ``judged`` (a field the reference cannot judge at the scan's resolution) has the values
+    alone, no mark."""
+    judged = table.judged
     percent = table.unit == ""
     shown = (lambda v: _number(100 * v) + " %") if percent else _number
     unit = f" [{table.unit}]" if table.unit else ""
     header = (["p"] if table.pressure is not None else []) + ["p/E*", f"BEM{unit}"] \
         + [model_label(m) for m in table.models]
-    lines = [f"**{table.heading}**{unit} (✔ holds, ✘ fails, ? undecided within "
-             f"{table.tolerance_text or f'{table.tolerance:g}'}):\n",
+    marks = (f"(✔ holds, ✘ fails, ? undecided within "
+             f"{table.tolerance_text or f'{table.tolerance:g}'})" if judged else
+             "(not judged at this resolution: the values without verdicts; see the glance)")
+    lines = [f"**{table.heading}**{unit} {marks}:\n",
              "| " + " | ".join(header) + " |",
              "|" + "---|" * len(header)]
     for k in range(table.load.size):
         row = ([format_pressure(table.pressure[k])] if table.pressure is not None else []) + \
             [f"{table.load[k]:.3g}", f"{shown(table.reference[k])} ± {shown(table.band[k])}"]
-        row += [f"{shown(values[k])} {_SYMBOLS.get(str(table.verdicts[m][k]), '?')}"
+        row += [shown(values[k]) + (f" {_SYMBOLS.get(str(table.verdicts[m][k]), '?')}"
+                                    if judged else "")
                 for m, values in table.models.items()]
         lines.append("| " + " | ".join(row) + " |")
     return lines + [""] + _notes(table)

@@ -14,7 +14,7 @@ from __future__ import annotations
 import pathlib
 import re
 import shutil
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -112,8 +112,9 @@ def check_sections(request: CheckRequest, result: SceneResult, sampled: SceneRes
               for field in ("area", "separation", "mean_gap", "stiffness", "conductance",
                             "leakage")}
     rows_ = resolution(half_grid, comparison, refined, method)
-    glance = glance_lines(tables, unjudged(rows_, spacing=s.spacing, unit=unit,
-                                           short_cutoff=request.short_cutoff))
+    not_judged = unjudged(rows_, spacing=s.spacing, unit=unit, short_cutoff=request.short_cutoff)
+    tables = [replace(t, judged=False) if t.field in not_judged else t for t in tables]
+    glance = glance_lines(tables, not_judged)
     lines += glance
     lines += ["Every model's value at each pressure, beside the reference with its band "
               "(`physical.csv` has them all):\n",
