@@ -1,7 +1,8 @@
 """The interface reference's own error: the mirror method against the periodic solution.
 
 On periodic self-affine surfaces (``validation.self_affine_surface`` without a window: rms slope
-0.1, rolloff L/4, L = 1) the exact interface is the periodic BEM of the surface itself. The
+0.1, rolloff L/4, L = 1), and with ``--wm`` on periodic WM surfaces (eq. T52), the exact
+interface is the periodic BEM of the surface itself. The
 mirror method (:class:`bem.InterfaceModel` with ``extension="mirror"``, what a measured scan or
 any non-periodic window gets) is solved on the same map at the same mean pressures and compared
 with the periodic solution: area (relative), mean gap (in units of the rms height; d = u-bar)
@@ -23,20 +24,22 @@ Prints both tables per H and pooled, and their envelope, the tables of ``bem.int
 scene's realizations share one H, and the bias depends on it). ``--save`` keeps the errors,
 ``--load`` prints the tables from them without solving.
 
-    python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8] [--window]
-        [--save errors.npz] [--load errors.npz]
+    python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8]
+        [--wm 2.05,2.95] [--window] [--save errors.npz] [--load errors.npz]
 """
 
 from __future__ import annotations
 
 import argparse
 import time
+from functools import partial
 
 import numpy as np
 from scipy import stats
 
 from bem import BoundaryElementModel, InterfaceModel
 from validation.surfaces.self_affine import self_affine_surface
+from validation.surfaces.wm import wm_surface
 
 PRESSURES = np.geomspace(1.5e-4, 2.5e-2, 14)   # mean pressure / E*: about 0.25-32 % contact
 QUANTITIES = ("area", "stiffness")
@@ -121,7 +124,11 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=256)
     parser.add_argument("--seeds", type=int, default=24)
     parser.add_argument("--first-seed", type=int, default=0)
-    parser.add_argument("--hurst", default="0.3,0.5,0.8")
+    parser.add_argument("--hurst", default="0.3,0.5,0.8",
+                        help="Hurst exponents of periodic self-affine surfaces ('' for none)")
+    parser.add_argument("--wm", default="",
+                        help="fractal dimensions D of periodic WM surfaces (eq. T52), e.g. "
+                             "2.05,2.5,2.95: the second family of the tables' envelope")
     parser.add_argument("--tol", type=float, default=1e-8)
     parser.add_argument("--window", action="store_true", help="compare the finite window too")
     parser.add_argument("--save", default="", help="write the mirror's errors to this .npz")
@@ -143,11 +150,15 @@ def main() -> None:
         print_tables("pooled", pooled)
         print_envelope(tables + [bin_statistics(pooled)])
         return
-    for hurst in (float(h) for h in args.hurst.split(",")):
+    families = [(f"H {float(h):g}", partial(self_affine_surface, hurst=float(h), rolloff=0.25))
+                for h in args.hurst.split(",") if h.strip()]
+    families += [(f"WM D {float(d):g}", partial(wm_surface, D=float(d), periodic=True))
+                 for d in args.wm.split(",") if d.strip()]
+    for label, surface in families:
         records = []
         seconds = {"periodic": 0.0, "mirror": 0.0, "window": 0.0}
         for seed in range(args.first_seed, args.first_seed + args.seeds):
-            z = self_affine_surface(n, hurst=hurst, rms_slope=0.1, rolloff=0.25, seed=seed)
+            z = surface(n, rms_slope=0.1, seed=seed)
             loads = PRESSURES * n * n * spacing**2
             models = [("periodic", InterfaceModel(z, spacing, extension="periodic", tol=args.tol)),
                       ("mirror", InterfaceModel(z, spacing, extension="mirror", tol=args.tol))]
@@ -169,14 +180,14 @@ def main() -> None:
                     records.append((fraction, err))
                 largest = np.max(np.abs(err[:, inside]), axis=1)
                 row.append(f"{name} " + " ".join(f"{v:.3f}" for v in largest))
-            print(f"H {hurst:g} seed {seed}: " + " | ".join(sorted(row)), flush=True)
-        print(f"H {hurst:g} time per seed: " + ", ".join(
+            print(f"{label} seed {seed}: " + " | ".join(sorted(row)), flush=True)
+        print(f"{label} time per seed: " + ", ".join(
             f"{k} {v / args.seeds:.1f} s" for k, v in seconds.items() if v), flush=True)
-        print_tables(f"H {hurst:g}", records)
+        print_tables(label, records)
         tables.append(bin_statistics(records))
         pooled += records
         if args.save:
-            saved[f"{hurst:g}"] = np.stack([np.vstack([f, e]) for f, e in records])
+            saved[label.removeprefix("H ")] = np.stack([np.vstack([f, e]) for f, e in records])
             np.savez(args.save, **saved)
     print_tables("pooled", pooled)
     print_envelope(tables + [bin_statistics(pooled)])
