@@ -34,7 +34,6 @@ from validation.common import models as registry
 from validation.scenes.reader import parse_scene
 from validation.surfaces.spec import MIN_TILE
 from validation.surfaces.units import LENGTH_UNITS
-from validation.surfaces.statistics import surface_statistics
 
 __all__ = ["check_scan", "check_scenes", "is_check_scene", "make_request", "request_of_scene",
            "run_request"]
@@ -128,11 +127,10 @@ def _plausible(request: CheckRequest) -> None:
     """The scan and the pressures checked for their units before any solve
     (:mod:`validation.check.plausible`); a flat scan is said first."""
     scan = request.read("m")
-    low, high, _ = request.loads(scan)
-    slope = surface_statistics(scan.heights, scan.spacing).rms_gradient
+    slope = request.rms_slope(scan)
+    loads = None if request.pressures is None else request.pressures.dimensionless(request.e_star)
     plausibility("the height array" if request.scratch else request.name, scan.heights,
-                 scan.spacing, scan.physical_size, slope,
-                 None if request.pressures is None else (low, high), request.e_star)
+                 scan.spacing, scan.physical_size, slope, loads, request.e_star)
 
 
 def _user_words(message: str) -> str:

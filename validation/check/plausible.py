@@ -72,7 +72,7 @@ def _unit_hint(slope: float) -> str:
     return "the heights' unit and the scan's size do not belong together"
 
 
-def _scan_refusals(name: str, slope: float, rms_height: float, spacing: float,
+def _scan_refusals(slope: float, rms_height: float, spacing: float,
                    size: tuple[float, float]) -> list[str]:
     """What makes a scan implausible in its units, one sentence each."""
     problems = []
@@ -168,11 +168,12 @@ def plausibility(name: str, heights: np.ndarray, spacing: float, size: tuple[flo
     PlausibilityWarning
         A map steeper than 1 on average, or a pressure range that reaches full contact.
     """
-    problems = _scan_refusals(name, slope, float(np.std(heights)), spacing, size)
+    problems = _scan_refusals(slope, float(np.std(heights)), spacing, size)
     if not problems and loads is not None:
         problems = _load_refusals(*loads, e_star, slope, heights.size)
     if problems:
-        raise ValueError(f"{name}: " + "; and ".join(problems) + ".")
+        text = "; and ".join(problems)
+        raise ValueError(f"{name}: {text}" + ("" if text.endswith("?") else "."))
     if slope > 1.0:
         warnings.warn(f"{name}: its rms slope is {slope:.3g}, above 1: every model and the "
                       f"reference assume small slopes; if the heights' unit is right, a "

@@ -143,8 +143,8 @@ class CheckRequest:
                               square="keep", **options)
         return float(np.std(scan.heights)) <= 1e-9 * float(np.std(raw.heights))
 
-    def loads(self, scan: Topography) -> tuple[float, float, int]:
-        """(lowest, highest p / E*, count) of the scene's load path.
+    def rms_slope(self, scan: Topography) -> float:
+        """The scan's rms slope h'_rms.
 
         Raises
         ------
@@ -155,6 +155,17 @@ class CheckRequest:
         if not slope > 0 or self._is_plane(scan):
             raise ValueError(f"{self.name}: the scan is flat after removing its mean plane "
                              f"(rms slope 0): there is no rough contact to check")
+        return slope
+
+    def loads(self, scan: Topography) -> tuple[float, float, int]:
+        """(lowest, highest p / E*, count) of the scene's load path.
+
+        Raises
+        ------
+        ValueError
+            For a scan that is a plane (nothing rough is left to press).
+        """
+        slope = self.rms_slope(scan)
         if self.pressures is not None:
             low, high = self.pressures.dimensionless(self.e_star)
             return low, high, self.pressures.count

@@ -114,9 +114,9 @@ def parse_size(name: str, value) -> tuple[float, float]:
             raise ValueError(f"{name} must be a length ('10um') or width and height ('10um x "
                              f"7.8um'), got {value!r}")
         if len(parts) == 2:
-            bare = [_is_bare(p) for p in parts]
-            if bare[0] and not bare[1]:    # "10 x 7.8 um": the unit once, for both
-                parts[0] = parts[0] + _length(name, parts[1])[1]
+            units = [_length(name, part)[1] for part in parts]
+            if units[0] is None and units[1] is not None:   # "10 x 7.8 um": one unit for both
+                parts[0] = parts[0] + units[1]
     else:
         parts = [value, value]
     sizes = []
@@ -126,14 +126,6 @@ def parse_size(name: str, value) -> tuple[float, float]:
             raise unitless(name, value if isinstance(value, str) else part)
         sizes.append(metres)
     return (sizes[0], sizes[-1])
-
-
-def _is_bare(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
 
 
 @dataclass(frozen=True)
