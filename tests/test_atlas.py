@@ -113,3 +113,53 @@ def test_the_stored_model_is_small_and_versioned():
     assert len(model["atlas_commit"]) == 40
     assert {"gw", "persson", "bgt"} <= {key.split("/")[0] for key in model["entries"]}
     assert 0.8 < model["validation"]["all"]["coverage"] <= 1.0
+
+
+def _rows(path):
+    with open(path, newline="", encoding="utf-8") as stream:
+        return list(csv.DictReader(stream))
+
+
+def test_the_check_prints_the_prediction_first_and_sets_it_against_the_solve(tmp_path, capsys):
+    import re
+
+    from validation.cli import main
+
+    z = validation.self_affine_surface(128, hurst=0.7, rms_slope=0.1, rolloff=0.25, seed=4)
+    np.save(tmp_path / "scan.npy", z * 1e-6)
+    out = tmp_path / "out"
+    assert main(["check", str(tmp_path / "scan.npy"), "--physical-size", "128um",
+                 "--file-unit", "m", "--out", str(out), "--cache", str(tmp_path / "cache"),
+                 "--jobs", "1"]) == 0
+    printed = capsys.readouterr().out
+    assert printed.index("predicted by the error atlas") < printed.index("report written")
+    assert "  original GW" in printed and "before the solve" in printed
+    # the coverage recounted from the files: the solved errors (errors.csv) of the fields the
+    # check judged (physical.csv) against the predicted intervals (predicted.csv)
+    judged = {(r["model"], r["field"]) for r in _rows(out / "physical.csv")
+              if r["verdict"] not in ("", "not judged")}
+    solved = {(r["model"], r["quantity"], r["point"]): float(r["mean_error"])
+              for r in _rows(out / "errors.csv") if r["frame"] == "interface"
+              and (r["model"], r["reference_field"]) in judged}
+    cells = inside = 0
+    for r in _rows(out / "predicted.csv"):
+        key = (r["model"], r["quantity"], r["point"])
+        if r["verdict"] != "outside atlas" and key in solved and math.isfinite(solved[key]):
+            cells += 1
+            inside += float(r["low"]) <= solved[key] <= float(r["high"])
+    assert cells > 50
+    sentence = re.search(r"interval at (\d+) of (\d+) cells", printed)
+    assert sentence and (int(sentence[1]), int(sentence[2])) == (inside, cells)
+    assert sentence[0] in (out / "prediction.md").read_text(encoding="utf-8")
+
+
+def test_a_prediction_that_cannot_be_made_never_stops_the_check(monkeypatch, capsys):
+    import validation.atlas.predict as predict
+    from validation.check.command import _prediction
+
+    def broken(request):
+        raise KeyError("entries")
+
+    monkeypatch.setattr(predict, "predict_request", broken)
+    assert _prediction(object(), quiet=False) is None
+    assert "no prediction before the solve (KeyError" in capsys.readouterr().err

@@ -28,7 +28,8 @@ from validation.scenes.scene import LoadPath
 from validation.surfaces.descriptors import SurfaceDescriptors, surface_descriptors
 from validation.surfaces.units import parse_length
 
-__all__ = ["COLUMNS", "Prediction", "PredictedError", "outside_atlas", "predict_errors"]
+__all__ = ["COLUMNS", "Prediction", "PredictedError", "outside_atlas", "predict_errors",
+           "predict_request"]
 
 #: Columns of ``predicted.csv``.
 COLUMNS = ("model", "frame", "quantity", "point", "Load", "pressure_Pa", "error", "low", "high",
@@ -100,9 +101,10 @@ class Prediction:
 
         return "\n".join(prediction_lines(self))
 
-    def write(self, folder: str | pathlib.Path) -> pathlib.Path:
-        """Write ``predicted.csv`` and ``report.md`` into ``folder``; returns the report's
-        path."""
+    def write(self, folder: str | pathlib.Path, report: str = "report.md",
+              extra: tuple[str, ...] = ()) -> pathlib.Path:
+        """Write ``predicted.csv`` and the report (``report``, with the lines ``extra`` at its
+        end) into ``folder``; returns the report's path."""
         folder = pathlib.Path(folder)
         folder.mkdir(parents=True, exist_ok=True)
         with open(folder / "predicted.csv", "w", newline="", encoding="utf-8") as stream:
@@ -114,8 +116,8 @@ class Prediction:
                                  *("" if math.isnan(v) else f"{v:.4g}"
                                    for v in (r.error, r.low, r.high)),
                                  r.tolerance, r.verdict])
-        path = folder / "report.md"
-        path.write_text(self.markdown() + "\n", encoding="utf-8")
+        path = folder / report
+        path.write_text("\n".join([self.markdown(), *extra]) + "\n", encoding="utf-8")
         return path
 
 
@@ -153,6 +155,15 @@ def predict_errors(scan, *, e_star=None, pressures=None, short_cutoff=None, fill
     request = make_request(scan, e_star=e_star, pressures=pressures, short_cutoff=short_cutoff,
                            fill=fill, resample=resample, physical_size=physical_size,
                            file_unit=file_unit, spacing=spacing, cache_dir=cache_dir)
+    return predict_request(request, models=models, model_file=model_file, start=start)
+
+
+def predict_request(request: CheckRequest, *, models=None, model_file=None,
+                    start: float | None = None) -> Prediction:
+    """The prediction of a check's request (:func:`validation.check.library.make_request`):
+    what :func:`predict_errors` returns, for a scan already read; ``start`` the
+    :func:`time.perf_counter` the prediction's time counts from (default now)."""
+    start = time.perf_counter() if start is None else start
     model = load_error_model(model_file)
     heights = request.read("m")
     low, high, count = request.loads(heights)   # p / E*: the check scene's load path

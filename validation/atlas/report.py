@@ -8,16 +8,39 @@ import math
 
 from validation.common.labels import model_label
 
-__all__ = ["MARKS", "prediction_lines"]
+__all__ = ["MARKS", "prediction_lines", "strips", "terminal_lines"]
 
 #: One mark per predicted verdict in a strip.
-MARKS = {"holds": "✓", "fails": "✗", "undecided": "?", "outside atlas": "·"}
+MARKS = {"holds": "✔", "fails": "✘", "undecided": "?", "outside atlas": "·"}
 
 
 def _range_line(name: str, label: str, value: float, ranges: dict, gate: bool = True) -> str:
     low, high = ranges[name]
     where = ("inside" if low <= value <= high else "**outside**") if gate else "(shown only)"
     return f"| {label} | {value:.3g} | {low:.3g} to {high:.3g} | {where} |"
+
+
+def strips(rows) -> dict[tuple[str, str], list]:
+    """The predicted rows per (model, quantity), lightest load first."""
+    out: dict[tuple[str, str], list] = {}
+    for r in rows:
+        out.setdefault((r.model, r.quantity), []).append(r)
+    return out
+
+
+def terminal_lines(prediction) -> list[str]:
+    """What the check prints before its solve: one strip of predicted verdicts per theory
+    and quantity (the glance's symbols), or why there is none."""
+    head = (f"predicted by the error atlas in {prediction.seconds:.2g} s, before the solve "
+            f"(90 % intervals, tolerance {prediction.model['tolerance']:g}, interface frame; "
+            "lightest pressure first, · outside the atlas):")
+    if prediction.outside:
+        return ["predicted by the error atlas: no verdict, the scan is outside it ("
+                + "; ".join(prediction.outside) + ")"]
+    width = max(len(model_label(name)) for name, _ in strips(prediction.rows))
+    return [head] + [f"  {model_label(name):{width}s}  {quantity:10s}  "
+                     + "".join(MARKS[p.verdict] for p in points)
+                     for (name, quantity), points in strips(prediction.rows).items()]
 
 
 def prediction_lines(prediction) -> list[str]:
@@ -49,14 +72,11 @@ def prediction_lines(prediction) -> list[str]:
     lines += [f"The atlas covers p / (E* h'_rms) from {low_load:.3g} to {high_load:.3g}; load "
               "points beyond it get no verdict (·).\n",
               "## Predicted verdicts (predicted)\n",
-              "One mark per load point, lightest first: ✓ holds, ✗ fails, ? undecided, "
+              "One mark per load point, lightest first: ✔ holds, ✘ fails, ? undecided, "
               "· outside the atlas. Interface frame.\n",
               "| theory | quantity | predicted verdicts | error at the middle load [90 % interval] |",
               "|---|---|---|---|"]
-    strips: dict[tuple[str, str], list] = {}
-    for r in rows:
-        strips.setdefault((r.model, r.quantity), []).append(r)
-    for (name, quantity), points in strips.items():
+    for (name, quantity), points in strips(rows).items():
         strip = "".join(MARKS[p.verdict] for p in points)
         middle = points[len(points) // 2]
         number = ("– (outside the atlas)" if math.isnan(middle.error) else

@@ -80,6 +80,7 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         print(f"error: {error}{_options_hint(str(error))}", file=sys.stderr)
         return 2
     command = "python -m validation " + shlex.join(args.argv)
+    prediction = _prediction(request, quiet=args.quiet)
 
     def work(executor, cache_dir):
         result = run_request(request, scenes, text, executor=executor, cache_dir=cache_dir,
@@ -87,9 +88,42 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         start = time.perf_counter()
         path = result.write_report(args.out, command=command, executor=executor,
                                    cache_dir=cache_dir)
+        if prediction is not None:
+            _write_prediction(prediction, result, args.out, quiet=args.quiet)
         return path, result.seconds, time.perf_counter() - start
 
     return run_pipeline(args, work)
+
+
+def _prediction(request: CheckRequest, quiet: bool):
+    """The atlas' prediction of the scan (:mod:`validation.atlas.predict`), printed before the
+    solve unless ``quiet``; None, said on stderr, where it cannot be made (a check never fails
+    for its prediction)."""
+    from validation.atlas.predict import predict_request
+    from validation.atlas.report import terminal_lines
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)   # said once, above
+            prediction = predict_request(request)
+    except Exception as error:   # noqa: BLE001 -- the check goes on without its prediction
+        print(f"note: no prediction before the solve ({type(error).__name__}: {error})",
+              file=sys.stderr)
+        return None
+    if not quiet:
+        print("\n".join(terminal_lines(prediction)), flush=True)
+    return prediction
+
+
+def _write_prediction(prediction, result, folder, quiet: bool) -> None:
+    """``predicted.csv`` and ``prediction.md`` beside the check's report, with the prediction
+    set against the solve (:func:`validation.atlas.against.against_check`)."""
+    from validation.atlas.against import against_check
+
+    sentence = against_check(prediction, result).sentence()
+    prediction.write(folder, report="prediction.md", extra=("", sentence))
+    if not quiet:
+        print(sentence)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
