@@ -95,14 +95,24 @@ def test_a_scan_outside_the_atlas_gets_no_verdict(tmp_path):
 
 def test_the_design_is_space_filling_and_its_scenes_periodic():
     points = design()
-    assert len(points) == 48 and len(atlas_design()) == 48
-    hurst = np.array([p.hurst for p in points if p.plateau is None])
+    assert len(points) == 60 and len(atlas_design()) == 60
+    hurst = np.array([p.hurst for p in points if p.plateau is None and p.family != "wm"])
     # a Latin hypercube: one point in each of 40 strata of H
     assert np.unique(np.floor((hurst - 0.3) / 0.6 * 40)).size == 40
     scene = atlas_scene(points[-1], n=64)
     assert scene.surface.one_period and scene.surface.plateau == points[-1].plateau
     with pytest.raises(ValueError, match="gaussian"):
         design(0)
+    with pytest.raises(ValueError, match="wm"):
+        design(wm=-1)
+    # the WM points: D over [2.05, 2.95] in 12 strata, n_max 4 to 11 on the 256 grid, periodic
+    wm = [p for p in points if p.family == "wm"]
+    d = np.array([3 - p.hurst for p in wm])
+    assert np.unique(np.floor((d - 2.05) / 0.9 * 12)).size == 12
+    assert {p.n_max for p in wm} <= set(range(4, 12)) and len({p.n_max for p in wm}) >= 6
+    scene = atlas_scene(wm[0], n=64)
+    assert scene.surface.family == "wm" and scene.surface.periodic
+    assert scene.surface.n_max == wm[0].n_max and 256 / 1.5 ** 11 > 2.9
 
 
 def test_the_stored_model_is_small_and_versioned():

@@ -96,7 +96,7 @@ def build_atlas(out: str | pathlib.Path, *, cache_dir: str | None, executor=None
     meta = {"commit": git_commit(), "seconds": time.perf_counter() - start,
             "n": scene.surface.n, "realizations": scene.realizations,
             "points": [dict(index=p.index, hurst=p.hurst, magnification=p.magnification,
-                            plateau=p.plateau) for p in points]}
+                            plateau=p.plateau, family=p.family) for p in points]}
     (out / "atlas.json").write_text(json.dumps(meta, indent=1), encoding="utf-8")
     return path
 

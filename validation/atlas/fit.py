@@ -35,9 +35,10 @@ RANGE_DESCRIPTORS = ("hurst", "nayak", "skewness", "magnification", "peak")
 def _descriptors(meta: dict) -> dict[tuple[int, int], object]:
     out = {}
     for p in meta["points"]:
-        point = DesignPoint(p["index"], p["hurst"], p["magnification"], p["plateau"])
+        point = DesignPoint(p["index"], p["hurst"], p["magnification"], p["plateau"],
+                            p.get("family", "self-affine"))
         scene = atlas_scene(point, n=meta["n"], realizations=meta["realizations"])
-        surface = scene.surface.at(point.hurst)
+        surface = scene.surface.at(scene.surface.sweep_values[0])
         for k in range(scene.realizations):
             seed = scene.seed + k
             out[(point.index, seed)] = surface_descriptors(surface_heights(surface, seed),
