@@ -165,11 +165,31 @@ def test_the_check_prints_the_prediction_first_and_sets_it_against_the_solve(tmp
 
 def test_a_prediction_that_cannot_be_made_never_stops_the_check(monkeypatch, capsys):
     import validation.atlas.predict as predict
-    from validation.check.command import _prediction
+    from validation.atlas.command import prediction_before
 
     def broken(request):
         raise KeyError("entries")
 
     monkeypatch.setattr(predict, "predict_request", broken)
-    assert _prediction(object(), quiet=False) is None
+    assert prediction_before(object(), quiet=False) is None
     assert "no prediction before the solve (KeyError" in capsys.readouterr().err
+
+
+def test_the_atlas_map_reads_the_fitted_law_and_the_report_shows_it(tmp_path):
+    from validation.atlas.figure import error_atlas_figure, report_section, verdict_map
+
+    model, _, _, _ = synthetic_model(tmp_path)
+    # the law 0.3 H - 0.1 log10 alpha + 0.05 log10 p/(E* h'), at alpha = sqrt(10 x 300):
+    # -0.25 at H 0.3 and the lightest load (fails beyond 0.2 with a 0.03 interval), +0.06 at
+    # H 0.9 and the heaviest (holds)
+    hurst, ratio = np.array([0.3, 0.9]), np.array([5e-4, 0.15])
+    verdicts = verdict_map(model, "gw/interface/area", hurst, ratio)
+    assert verdicts[0, 0] == "fails" and verdicts[1, 1] == "holds"
+    figure = error_atlas_figure(model, (0.4, 0.6))
+    assert len(figure.axes) == 1
+    lines, jobs = report_section(model)
+    assert "30 design points, with 2 periodic 64² realizations each" in lines[1]
+    model["families"] = {"self-affine": 20, "wm": 10}
+    assert "30 design points: 20 Gaussian self-affine and 10 WM, with" in \
+        report_section(model)[0][1]
+    assert "](error-atlas.png)" in lines[-2] and jobs[0][0] == "error-atlas.png"

@@ -57,6 +57,11 @@ def test_report_figures_and_tables_exist(report):
         assert f"]({name})" in text
     for name in ("curves.csv", "errors.csv", "verdicts.csv", "validity.csv", "findings.csv"):
         assert rows(report / name)
+    # the error atlas' section and figure: what is predicted before any solve
+    front = (report / "report.md").read_text()
+    assert "## Before the solve: the error atlas" in front and "](error-atlas.png)" in front
+    assert front.index("## Before the solve") < front.index("## Data")
+    assert (report / "error-atlas.png").stat().st_size > 10_000
 
 
 def test_csv_numbers_match_the_library(report):

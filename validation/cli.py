@@ -154,6 +154,7 @@ def _report(args: argparse.Namespace) -> int:
                        if len(names) == 1 and pathlib.Path(names[0]).is_file() else "")
 
     def work(executor, cache_dir: str | None) -> tuple:
+        from validation.atlas.figure import report_section
         from validation.check.library import is_check_scene, request_of_scene, run_request
         from validation.report.write import write_report
         from validation.judge.decide import run_scenes
@@ -169,9 +170,12 @@ def _report(args: argparse.Namespace) -> int:
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir,
                              progress=not args.quiet)
         seconds = time.perf_counter() - start
-        # the figures are drawn on the same workers (or read from the cache)
+        # the figures are drawn on the same workers (or read from the cache); the error
+        # atlas' section says what the atlas predicts before any solve
+        sections, jobs = report_section()
         path = write_report(results, args.out, seconds=seconds, mode=mode, command=command,
-                            executor=executor, cache_dir=cache_dir)
+                            executor=executor, cache_dir=cache_dir, sections=sections,
+                            figure_jobs=jobs)
         return path, seconds, time.perf_counter() - start - seconds
 
     return run_pipeline(args, work, "--publish" if args.publish else "--out")
@@ -305,12 +309,15 @@ def build_parser() -> argparse.ArgumentParser:
                         help="regenerate the published report in DIR (default docs/results): "
                              "full mode unless --quick, the previous report replaced")
     report.set_defaults(handler=_report)
+    from validation.atlas.command import prediction_after, prediction_before
     from validation.check.command import add_parser, run_check
 
     check = add_parser(sub)
     # one surface is one task: in this process, its FFTs on every core (tiles: one per worker)
     _run_options(check, jobs=0, jobs_default="1, or the CPU count with --tiles")
-    check.set_defaults(handler=functools.partial(run_check, run_pipeline=run_pipeline))
+    check.set_defaults(handler=functools.partial(
+        run_check, run_pipeline=run_pipeline,
+        prediction=(prediction_before, prediction_after)))
     from validation.atlas.command import add_parsers, run_atlas
 
     _, atlas = add_parsers(sub)

@@ -13,7 +13,7 @@ import warnings
 from validation.check.command import add_scan_options
 from validation.check.plausible import PlausibilityWarning
 
-__all__ = ["add_parsers", "run_atlas", "run_predict"]
+__all__ = ["add_parsers", "prediction_after", "prediction_before", "run_atlas", "run_predict"]
 
 
 def run_predict(args: argparse.Namespace) -> int:
@@ -42,6 +42,37 @@ def run_predict(args: argparse.Namespace) -> int:
         print(f"outside the atlas: {line}", file=sys.stderr)
     print(f"prediction written to {report} ({prediction.seconds:.1f} s, no solve)")
     return 0
+
+
+def prediction_before(request, quiet: bool):
+    """The check's prediction before its solve (:func:`validation.check.command.run_check`):
+    the atlas' prediction of the scan, printed unless ``quiet``; None, said on stderr, where it
+    cannot be made (a check never fails for its prediction)."""
+    from validation.atlas.predict import predict_request
+    from validation.atlas.report import terminal_lines
+
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)   # the check says them once
+            prediction = predict_request(request)
+    except Exception as error:   # noqa: BLE001 -- the check goes on without its prediction
+        print(f"note: no prediction before the solve ({type(error).__name__}: {error})",
+              file=sys.stderr)
+        return None
+    if not quiet:
+        print("\n".join(terminal_lines(prediction)), flush=True)
+    return prediction
+
+
+def prediction_after(prediction, result, folder, quiet: bool) -> None:
+    """``predicted.csv`` and ``prediction.md`` beside the check's report, with the prediction
+    set against the solve (:func:`validation.atlas.against.against_check`)."""
+    from validation.atlas.against import against_check
+
+    sentence = against_check(prediction, result).sentence()
+    prediction.write(folder, report="prediction.md", extra=("", sentence))
+    if not quiet:
+        print(sentence)
 
 
 def run_atlas(args: argparse.Namespace, executor_of, interrupted) -> int:

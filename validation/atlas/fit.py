@@ -128,12 +128,23 @@ def fit_atlas(folder: str | pathlib.Path, out: str | pathlib.Path | None = MODEL
                                   "realizations": meta["realizations"],
                                   "design_points": len(meta["points"]),
                                   "atlas_seconds": round(meta["seconds"]),
-                                  "tolerance": TOLERANCE, "range": meta["range"]})
+                                  "tolerance": TOLERANCE, "range": meta["range"],
+                                  "families": _families(meta["points"]),
+                                  "design_hurst": sorted(round(p["hurst"], 3)
+                                                         for p in meta["points"])})
     model["validation"] = validate(table)
     if out is not None:
         pathlib.Path(out).write_text(json.dumps(_rounded(model), indent=1) + "\n",
                                      encoding="utf-8")
     return model
+
+
+def _families(points: list[dict]) -> dict[str, int]:
+    """Design points per kind: Gaussian self-affine, plateau-honed, WM."""
+    kinds = ["wm" if p.get("family") == "wm" else "plateau" if p.get("plateau") is not None
+             else "self-affine" for p in points]
+    return {kind: kinds.count(kind) for kind in ("self-affine", "plateau", "wm")
+            if kind in kinds}
 
 
 def _rounded(value):

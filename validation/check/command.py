@@ -58,9 +58,13 @@ def _options_hint(message: str) -> str:
     return f" (on the command line: {', '.join(named)})" if named else ""
 
 
-def run_check(args: argparse.Namespace, run_pipeline) -> int:
+def run_check(args: argparse.Namespace, run_pipeline, prediction=None) -> int:
     """The ``check`` command (see the module docstring); ``run_pipeline`` is the command
-    line's way of running a report (:func:`validation.cli.run_pipeline`)."""
+    line's way of running a report (:func:`validation.cli.run_pipeline`). ``prediction``:
+    ``(before, after)``, ``before(request, quiet)`` called before the solve (it may print, and
+    returns what ``after(that, result, folder, quiet)`` gets once the report is written), or
+    None (the command line's: :func:`validation.atlas.command.prediction_before` and
+    :func:`validation.atlas.command.prediction_after`)."""
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", PlausibilityWarning)
@@ -80,7 +84,8 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         print(f"error: {error}{_options_hint(str(error))}", file=sys.stderr)
         return 2
     command = "python -m validation " + shlex.join(args.argv)
-    prediction = _prediction(request, quiet=args.quiet)
+    before, after = prediction or (None, None)
+    predicted = before(request, args.quiet) if before is not None else None
 
     def work(executor, cache_dir):
         result = run_request(request, scenes, text, executor=executor, cache_dir=cache_dir,
@@ -88,42 +93,11 @@ def run_check(args: argparse.Namespace, run_pipeline) -> int:
         start = time.perf_counter()
         path = result.write_report(args.out, command=command, executor=executor,
                                    cache_dir=cache_dir)
-        if prediction is not None:
-            _write_prediction(prediction, result, args.out, quiet=args.quiet)
+        if predicted is not None:
+            after(predicted, result, args.out, args.quiet)
         return path, result.seconds, time.perf_counter() - start
 
     return run_pipeline(args, work)
-
-
-def _prediction(request: CheckRequest, quiet: bool):
-    """The atlas' prediction of the scan (:mod:`validation.atlas.predict`), printed before the
-    solve unless ``quiet``; None, said on stderr, where it cannot be made (a check never fails
-    for its prediction)."""
-    from validation.atlas.predict import predict_request
-    from validation.atlas.report import terminal_lines
-
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", PlausibilityWarning)   # said once, above
-            prediction = predict_request(request)
-    except Exception as error:   # noqa: BLE001 -- the check goes on without its prediction
-        print(f"note: no prediction before the solve ({type(error).__name__}: {error})",
-              file=sys.stderr)
-        return None
-    if not quiet:
-        print("\n".join(terminal_lines(prediction)), flush=True)
-    return prediction
-
-
-def _write_prediction(prediction, result, folder, quiet: bool) -> None:
-    """``predicted.csv`` and ``prediction.md`` beside the check's report, with the prediction
-    set against the solve (:func:`validation.atlas.against.against_check`)."""
-    from validation.atlas.against import against_check
-
-    sentence = against_check(prediction, result).sentence()
-    prediction.write(folder, report="prediction.md", extra=("", sentence))
-    if not quiet:
-        print(sentence)
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

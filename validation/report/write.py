@@ -336,8 +336,8 @@ def _scene_page(figures: _Figures, analysis: Analysis, findings: bool = True) ->
 def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
                  seconds: float | None = None, mode: str = "", command: str | None = None,
                  executor=None, cache_dir: str | pathlib.Path | None = None,
-                 lead: list[str] | None = None, figure_jobs: list | None = None
-                 ) -> pathlib.Path:
+                 lead: list[str] | None = None, figure_jobs: list | None = None,
+                 sections: list[str] | None = None) -> pathlib.Path:
     """Write the CSV tables, then the scene pages and ``report.md`` with their PNG figures,
     into ``folder``.
 
@@ -354,7 +354,9 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
     ``figure_jobs`` are more figures to draw with the report's (on ``executor``, from the
     cache), as :class:`_Figures` holds them: ``(file name, draw, panels)``, ``draw()`` a
     picklable callable returning a matplotlib figure (a check's own figure, which ``lead``
-    shows). Returns the path of ``report.md``.
+    shows). ``sections`` (Markdown lines) follow the front page's, before the list of data
+    files (the error atlas' section, which may show a figure of ``figure_jobs``). Returns the
+    path of ``report.md``.
     """
     from validation.report.front import front_page, scene_page
     from validation.report.tables import table_rows, write_tables
@@ -374,6 +376,7 @@ def write_report(results: list[SceneResult], folder: str | pathlib.Path, *,
         page = _Figures(folder, [], figures.jobs)
         _scene_page(page, analysis, findings=not lead)
         pages[scene_page(analysis.result.scene.name)] = page.lines
+    figures.lines += list(sections or [])
     figures.lines += ["## Data\n"] + [f"- [`{name}`]({name})" for name in written] + [""]
     path = folder / "report.md"
     try:
