@@ -176,7 +176,7 @@ def test_a_prediction_that_cannot_be_made_never_stops_the_check(monkeypatch, cap
 
 
 def test_the_atlas_map_reads_the_fitted_law_and_the_report_shows_it(tmp_path):
-    from validation.atlas.figure import error_atlas_figure, report_section, verdict_map
+    from validation.atlas.report import error_atlas_figure, report_section, verdict_map
 
     model, _, _, _ = synthetic_model(tmp_path)
     # the law 0.3 H - 0.1 log10 alpha + 0.05 log10 p/(E* h'), at alpha = sqrt(10 x 300):

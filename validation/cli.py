@@ -154,7 +154,7 @@ def _report(args: argparse.Namespace) -> int:
                        if len(names) == 1 and pathlib.Path(names[0]).is_file() else "")
 
     def work(executor, cache_dir: str | None) -> tuple:
-        from validation.atlas.figure import report_section
+        from validation.atlas.report import report_section
         from validation.check.library import is_check_scene, request_of_scene, run_request
         from validation.report.write import write_report
         from validation.judge.decide import run_scenes

@@ -66,8 +66,8 @@ def prediction_before(request, quiet: bool):
 
 def prediction_after(prediction, result, folder, quiet: bool) -> None:
     """``predicted.csv`` and ``prediction.md`` beside the check's report, with the prediction
-    set against the solve (:func:`validation.atlas.against.against_check`)."""
-    from validation.atlas.against import against_check
+    set against the solve (:func:`validation.atlas.predict.against_check`)."""
+    from validation.atlas.predict import against_check
 
     sentence = against_check(prediction, result).sentence()
     prediction.write(folder, report="prediction.md", extra=("", sentence))
