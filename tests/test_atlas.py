@@ -193,3 +193,20 @@ def test_the_atlas_map_reads_the_fitted_law_and_the_report_shows_it(tmp_path):
     assert "30 design points: 20 Gaussian self-affine and 10 WM, with" in \
         report_section(model)[0][1]
     assert "](error-atlas.png)" in lines[-2] and jobs[0][0] == "error-atlas.png"
+
+
+def test_a_scan_too_finely_resolved_is_told_the_cutoff_that_brings_it_inside(tmp_path):
+    import re
+
+    _, path, _, _ = synthetic_model(tmp_path)
+    # a window of a wider surface: its rolloff beyond the scan, the magnification 181
+    z = validation.self_affine_surface(512, hurst=0.7, rms_slope=0.1, window=1024,
+                                       seed=3) * 1e-6
+    prediction = validation.predict_errors(z, spacing="1um", model_file=path, cache=False)
+    (sentence,) = [s for s in prediction.outside if s.startswith("magnification")]
+    hint = re.search(r"--short-cutoff (\d+)px, brings it to ([\d.]+)\)", sentence)
+    assert hint and float(hint[2]) <= 128
+    again = validation.predict_errors(z, spacing="1um", model_file=path, cache=False,
+                                      short_cutoff=f"{hint[1]}px")
+    assert again.descriptors.magnification == pytest.approx(float(hint[2]), rel=0.02)
+    assert not any(s.startswith("magnification") for s in again.outside)

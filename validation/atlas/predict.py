@@ -64,8 +64,20 @@ def outside_atlas(descriptors: SurfaceDescriptors, ranges: dict) -> list[str]:
         value = getattr(descriptors, name)
         low, high = ranges[name]
         if not (low <= value <= high):
-            out.append(f"{label} = {value:.3g} is outside the atlas' {low:.3g} to {high:.3g}")
+            out.append(f"{label} = {value:.3g} is outside the atlas' {low:.3g} to {high:.3g}"
+                       + (_cutoff_hint(descriptors, high) if name == "magnification"
+                          and value > high else ""))
     return out
+
+
+def _cutoff_hint(descriptors: SurfaceDescriptors, largest: float) -> str:
+    """How long a short cutoff brings the magnification to 90 % of the atlas' largest."""
+    wavelength = descriptors.short_wavelength * descriptors.magnification / (0.9 * largest)
+    pixels = math.ceil(wavelength / descriptors.spacing)
+    reached = descriptors.magnification * descriptors.short_wavelength / (pixels
+                                                                         * descriptors.spacing)
+    return (f" (a short cutoff of {pixels} pixels, --short-cutoff {pixels}px, brings it to "
+            f"{reached:.3g})")
 
 
 @dataclass(frozen=True)
