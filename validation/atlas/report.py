@@ -103,9 +103,11 @@ def prediction_lines(prediction) -> list[str]:
                       "of the errors fell inside their 90 % interval, and "
                       f"{100 * check['agreement']:.0f} % of the verdicts the interval decided "
                       "agreed with the solved surface's (docs/guide/prediction.md)."]
-    lines += ["", "Not covered: the finite frame (`--nominal-size`), the leakage and the "
-                  "contact count, scans far from periodic self-affine surfaces (measurement "
-                  "noise, several scales of roughness, strong anisotropy).",
+    leakage = any(key.endswith("/leakage") for key in prediction.model.get("quantities", ()))
+    lines += ["", "Not covered: the finite frame (`--nominal-size`), "
+                  + ("" if leakage else "the leakage, ") + "the contact count, scans far from "
+                  "the atlas' periodic self-affine and WM surfaces (measurement noise, several "
+                  "scales of roughness, strong anisotropy).",
               f"\nPredicted in {prediction.seconds:.2g} s."]
     return lines
 
