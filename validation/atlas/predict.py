@@ -7,7 +7,9 @@ scene), the scan's descriptors computed (:func:`validation.surface_descriptors`,
 and the stored error model (:mod:`validation.atlas.model`) evaluated at every load point: the predicted error of
 each theory, its 90 % prediction interval and the verdict that interval gives at the check's
 tolerance. Where a descriptor or the load lies outside the atlas, no verdict is given and the
-result says which.
+result says which. :func:`against_check` sets a prediction against the check of the same scan:
+how often the solved error lies inside the predicted interval, and how often the verdicts
+agree where both decide.
 """
 
 from __future__ import annotations
