@@ -20,7 +20,8 @@ import numpy as np
 
 
 def headline(path: str) -> dict:
-    """(scene, model, frame, quantity, area_fraction) -> (mean, low, high), one tolerance."""
+    """(scene, D, H, L, model, frame, quantity, area_fraction) -> (mean, low, high), at the
+    largest tolerance."""
     path = pathlib.Path(path)
     path = path / "headline.csv" if path.is_dir() else path
     with path.open(newline="", encoding="utf-8") as stream:
@@ -29,7 +30,8 @@ def headline(path: str) -> dict:
     out = {}
     for r in rows:
         if float(r["tolerance"]) == tolerance and r["mean_error"] not in ("", "nan"):
-            key = (r["scene"], r["model"], r["frame"], r["quantity"], r["area_fraction"])
+            key = (r["scene"], r["D"], r["H"], r["L"], r["model"], r["frame"], r["quantity"],
+                   r["area_fraction"])
             out[key] = tuple(float(r[k]) if r[k] not in ("", "nan") else np.nan
                              for k in ("mean_error", "low", "high"))
     return out
@@ -47,10 +49,11 @@ def main(argv=None) -> int:
     common = sorted(k for k in old.keys() & new.keys() if args.frame in (None, k[2]))
     changes = defaultdict(list)
     if args.rows:
-        print("| scene | model | frame | quantity | fraction | old | new |\n|---|---|---|---|---|---|---|")
+        print("| scene | D | H | L | model | frame | quantity | fraction | old | new |\n"
+              "|---|---|---|---|---|---|---|---|---|---|")
     for key in common:
         (a, a_low, a_high), (b, b_low, b_high) = old[key], new[key]
-        changes[key[0], key[2]].append(abs(b - a))
+        changes[key[0], key[5]].append(abs(b - a))
         if args.rows:
             print(f"| {' | '.join(key)} | {a:+.3f} ({a_low:+.3f}, {a_high:+.3f}) | "
                   f"{b:+.3f} ({b_low:+.3f}, {b_high:+.3f}) |")

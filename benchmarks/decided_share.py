@@ -38,13 +38,15 @@ def decided_table(rows: list[dict], tolerance: float) -> dict:
     return table
 
 
-def half_widths(rows: list[dict], tolerance: float) -> dict[str, float]:
-    """Median half-width of the headline's 95 % intervals per scene (their own units)."""
+def half_widths(rows: list[dict], tolerance: float) -> dict[tuple[str, str], float]:
+    """Median half-width of the headline's 95 % intervals per scene and frame, over every
+    quantity in its own measure (relative, σ, ln h_eff: the tolerance's), as the report's
+    precision section gives it."""
     widths = defaultdict(list)
     for row in rows:
         if row["half_width"] not in ("", "nan") and abs(float(row["tolerance"]) - tolerance) < 1e-9:
-            widths[row["scene"]].append(float(row["half_width"]))
-    return {scene: float(np.median(w)) for scene, w in widths.items()}
+            widths[row["scene"], row["frame"]].append(float(row["half_width"]))
+    return {key: float(np.median(w)) for key, w in widths.items()}
 
 
 def main(argv=None) -> int:
@@ -62,7 +64,7 @@ def main(argv=None) -> int:
     for (scene, frame), (cells, undecided, reasons) in sorted(table.items()):
         why = ", ".join(f"{reason} {100 * n / cells:.0f} %" for reason, n in reasons.most_common())
         print(f"| {scene} | {frame} | {cells} | {100 * undecided / cells:.0f} % | {why} | "
-              f"{widths.get(scene, float('nan')):.3f} |")
+              f"{widths.get((scene, frame), float('nan')):.3f} |")
     return 0
 
 

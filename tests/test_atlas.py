@@ -99,8 +99,9 @@ def test_the_design_is_space_filling_and_its_scenes_periodic():
     hurst = np.array([p.hurst for p in points if p.plateau is None and p.family != "wm"])
     # a Latin hypercube: one point in each of 40 strata of H
     assert np.unique(np.floor((hurst - 0.3) / 0.6 * 40)).size == 40
-    scene = atlas_scene(points[-1], n=64)
-    assert scene.surface.one_period and scene.surface.plateau == points[-1].plateau
+    honed = [p for p in points if p.plateau is not None][-1]
+    scene = atlas_scene(honed, n=64)
+    assert scene.surface.one_period and scene.surface.plateau == honed.plateau is not None
     with pytest.raises(ValueError, match="gaussian"):
         design(0)
     with pytest.raises(ValueError, match="wm"):
@@ -110,9 +111,15 @@ def test_the_design_is_space_filling_and_its_scenes_periodic():
     d = np.array([3 - p.hurst for p in wm])
     assert np.unique(np.floor((d - 2.05) / 0.9 * 12)).size == 12
     assert {p.n_max for p in wm} <= set(range(4, 12)) and len({p.n_max for p in wm}) >= 6
-    scene = atlas_scene(wm[0], n=64)
+    from validation.atlas.design import ATLAS_GRID, WM_GAMMA
+
+    scene = atlas_scene(wm[0], n=ATLAS_GRID)
     assert scene.surface.family == "wm" and scene.surface.periodic
-    assert scene.surface.n_max == wm[0].n_max and 256 / 1.5 ** 11 > 2.9
+    assert scene.surface.n_max == wm[0].n_max
+    # the shortest wavelength at least 2.9 grid steps, on the atlas' grid and a coarser one
+    assert ATLAS_GRID / WM_GAMMA ** max(p.n_max for p in wm) > 2.9
+    finest = max(wm, key=lambda p: p.n_max)
+    assert 64 / WM_GAMMA ** atlas_scene(finest, n=64).surface.n_max > 2.9
 
 
 def test_the_stored_model_is_small_and_versioned():
@@ -161,6 +168,21 @@ def test_the_check_prints_the_prediction_first_and_sets_it_against_the_solve(tmp
     sentence = re.search(r"interval at (\d+) of (\d+) cells", printed)
     assert sentence and (int(sentence[1]), int(sentence[2])) == (inside, cells)
     assert sentence[0] in (out / "prediction.md").read_text(encoding="utf-8")
+    # the verdicts recounted: the check's (physical.csv) against the predicted ones where both
+    # decide
+    decided = {(r["model"], r["field"], r["point"]): r["verdict"]
+               for r in _rows(out / "physical.csv") if r["verdict"] in ("holds", "fails")}
+    field = {"separation": "separation", "area": "area", "stiffness": "stiffness"}
+    both = agree = 0
+    for r in _rows(out / "predicted.csv"):
+        name = "mean_gap" if (r["model"], r["quantity"]) == ("persson", "separation") \
+            else field.get(r["quantity"], r["quantity"])
+        solved = decided.get((r["model"], name, r["point"]))
+        if solved and r["verdict"] in ("holds", "fails"):
+            both += 1
+            agree += solved == r["verdict"]
+    counted = re.search(r"agree at (\d+) of the (\d+) cells", printed)
+    assert (int(counted[1]), int(counted[2])) == (agree, both) if counted else both == 0
 
 
 def test_a_prediction_that_cannot_be_made_never_stops_the_check(monkeypatch, capsys):
@@ -182,9 +204,10 @@ def test_the_atlas_map_reads_the_fitted_law_and_the_report_shows_it(tmp_path):
     # the law 0.3 H - 0.1 log10 alpha + 0.05 log10 p/(E* h'), at alpha = sqrt(10 x 300):
     # -0.25 at H 0.3 and the lightest load (fails beyond 0.2 with a 0.03 interval), +0.06 at
     # H 0.9 and the heaviest (holds)
-    hurst, ratio = np.array([0.3, 0.9]), np.array([5e-4, 0.15])
+    hurst, ratio = np.array([0.3, 0.6, 0.9]), np.array([5e-4, 0.15])
     verdicts = verdict_map(model, "gw/interface/area", hurst, ratio)
-    assert verdicts[0, 0] == "fails" and verdicts[1, 1] == "holds"
+    assert verdicts.shape == (2, 3)             # rows: loads, columns: H
+    assert verdicts[0, 0] == "fails" and verdicts[1, 2] == "holds"
     figure = error_atlas_figure(model, (0.4, 0.6))
     assert len(figure.axes) == 1
     lines, jobs = report_section(model)
@@ -210,3 +233,35 @@ def test_a_scan_too_finely_resolved_is_told_the_cutoff_that_brings_it_inside(tmp
                                       short_cutoff=f"{hint[1]}px")
     assert again.descriptors.magnification == pytest.approx(float(hint[2]), rel=0.02)
     assert not any(s.startswith("magnification") for s in again.outside)
+
+
+def test_a_prediction_that_cannot_be_set_against_the_solve_leaves_the_check_whole(
+        tmp_path, monkeypatch, capsys):
+    import validation.atlas.predict as predict
+    from validation.cli import main
+
+    def broken(prediction, result):
+        raise ValueError("different load points")
+
+    monkeypatch.setattr(predict, "against_check", broken)
+    z = validation.self_affine_surface(64, hurst=0.7, rms_slope=0.1, rolloff=0.25, seed=5)
+    np.save(tmp_path / "scan.npy", z * 1e-6)
+    out = tmp_path / "out"
+    assert main(["check", str(tmp_path / "scan.npy"), "--physical-size", "64um",
+                 "--file-unit", "m", "--out", str(out), "--no-cache", "--jobs", "1",
+                 "--quiet"]) == 0
+    assert "not set against the solve (ValueError: different load points)" in \
+        capsys.readouterr().err
+    assert (out / "report.md").is_file() and not (out / "prediction.md").exists()
+
+
+def test_the_prediction_and_a_check_of_other_loads_are_not_compared(tmp_path):
+    from validation.atlas.predict import against_check, predict_request
+
+    z = validation.self_affine_surface(64, hurst=0.7, rms_slope=0.1, rolloff=0.25, seed=6)
+    request = make_request(z * 1e-6, spacing="1um", cache_dir=str(tmp_path / "c"))
+    prediction = predict_request(request)
+    result = validation.check_scan(z * 1e-6, spacing="1um", pressures="1e-5:1e-3:12",
+                                   cache=str(tmp_path / "c"))
+    with pytest.raises(ValueError, match="different load points"):
+        against_check(prediction, result)

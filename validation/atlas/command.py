@@ -69,8 +69,13 @@ def prediction_after(prediction, result, folder, quiet: bool) -> None:
     set against the solve (:func:`validation.atlas.predict.against_check`)."""
     from validation.atlas.predict import against_check
 
-    sentence = against_check(prediction, result).sentence()
-    prediction.write(folder, report="prediction.md", extra=("", sentence))
+    try:
+        sentence = against_check(prediction, result).sentence()
+        prediction.write(folder, report="prediction.md", extra=("", sentence))
+    except Exception as error:   # noqa: BLE001 -- the check's report is written: keep it
+        print(f"note: the prediction was not set against the solve ({type(error).__name__}: "
+              f"{error})", file=sys.stderr)
+        return
     if not quiet:
         print(sentence)
 
@@ -125,8 +130,8 @@ def add_parsers(sub) -> tuple[argparse.ArgumentParser, argparse.ArgumentParser]:
     predict.set_defaults(handler=run_predict)
     atlas = sub.add_parser(
         "atlas", help="compute the error atlas (cached, resumable) and fit its error model",
-        description="Run every design point of the error atlas (periodic self-affine and "
-                    "plateau-honed surfaces; validation.atlas.design) as a scene, write "
+        description="Run every design point of the error atlas (periodic self-affine, "
+                    "plateau-honed and WM surfaces; validation.atlas.design) as a scene, write "
                     "atlas.csv and atlas.json into --out, fit the error model and write it "
                     "(default: the package's error_model.json). Interrupted, the same command "
                     "resumes from the cache.")

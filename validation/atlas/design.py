@@ -35,7 +35,7 @@ from validation.scenes.reader import parse_scene
 from validation.scenes.scene import Scene
 
 __all__ = ["ATLAS_GRID", "ATLAS_POINTS", "ATLAS_QUANTITIES", "ATLAS_SLOPE", "DesignPoint",
-           "REALIZATIONS", "atlas_design", "atlas_scene", "design", "design_array"]
+           "REALIZATIONS", "atlas_design", "atlas_scene", "design"]
 
 #: Grid points per side of every atlas surface.
 ATLAS_GRID = 256
@@ -145,10 +145,12 @@ def atlas_scene(point: DesignPoint, *, n: int = ATLAS_GRID,
     """The scene of one design point (module docstring)."""
     low, high = (p * ATLAS_SLOPE for p in DEFAULT_PRESSURES)
     if point.family == "wm":
+        # the shortest wavelength L / gamma^n_max at least 2.9 grid steps on a coarser grid too
+        n_max = min(point.n_max, int(np.log(n / 2.9) / np.log(WM_GAMMA)))
         surface = {"family": "wm", "D": round(3.0 - point.hurst, 4), "rms_slope": ATLAS_SLOPE,
-                   "gamma": WM_GAMMA, "M": WM_RIDGES, "n_max": point.n_max, "L": 1.0, "n": n,
+                   "gamma": WM_GAMMA, "M": WM_RIDGES, "n_max": n_max, "L": 1.0, "n": n,
                    "periodic": True}
-        title = f"Error atlas: WM D = {surface['D']:g}, n_max {point.n_max}"
+        title = f"Error atlas: WM D = {surface['D']:g}, n_max {n_max}"
     else:
         spacing = 1.0 / n
         short_cutoff = 2.0 * spacing
@@ -170,9 +172,3 @@ def atlas_scene(point: DesignPoint, *, n: int = ATLAS_GRID,
             "bem": {"tol": CHECK_TOLERANCE},
             "tolerances": {"levels": [0.05, 0.2]}}
     return parse_scene(data, source=f"{point.name} (atlas design)")
-
-
-def design_array(points: tuple[DesignPoint, ...]) -> np.ndarray:
-    """(H, log10 magnification, plateau or 1) of each point, shape (points, 3)."""
-    return np.array([[p.hurst, np.log10(p.magnification), 1.0 if p.plateau is None
-                      else p.plateau] for p in points])

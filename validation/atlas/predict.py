@@ -226,8 +226,6 @@ def predict_request(request: CheckRequest, *, models=None, model_file=None,
                       time.perf_counter() - start)
 
 
-#: The comparison's quantity of a check table's field (Persson's mean gap is its separation).
-_QUANTITY = {"mean_gap": "separation", "conductance": "stiffness"}
 
 
 @dataclass(frozen=True)
@@ -265,7 +263,9 @@ class PredictionCheck:
     def sentence(self) -> str:
         """One sentence for the command line and the report."""
         if not self.cells:
-            return "The atlas predicted no cell the check judged (the scan is outside it)."
+            return ("Prediction against the solve: no cell both the atlas predicted and the "
+                    "check judged (the scan or its loads outside the atlas, or no field judged "
+                    "at the scan's resolution).")
         agreement = ("" if not self.decided else
                      f"; the verdicts agree at {self.agree} of the {self.decided} cells both "
                      f"decide ({100 * self.agreement:.0f} %)")
@@ -274,9 +274,11 @@ class PredictionCheck:
                 f"({100 * self.coverage:.0f} %){agreement}.")
 
 
-def _solved(run, tables) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray, float]]:
-    """Per (model, quantity) of the interface frame: the solved error of the scan at each
-    pressure, the check's verdict there and the tolerance of its table."""
+def _solved(run, tables) -> tuple[np.ndarray, dict]:
+    """The check's load points, and per (model, quantity) of the interface frame the solved
+    error of the scan at each of them, the check's verdict there and the tolerance of its table
+    (a table's field is the reference field the comparison compared with: Persson's mean gap
+    for its separation, an older scene's conductance for its stiffness)."""
     from validation.judge.analysis import analyse
 
     comparison = analyse(run).comparisons[0]
@@ -284,13 +286,13 @@ def _solved(run, tables) -> dict[tuple[str, str], tuple[np.ndarray, np.ndarray, 
     for table in tables:
         if table.frame != "interface" or not table.judged:
             continue
-        quantity = _QUANTITY.get(table.field, table.field)
-        for model, verdicts in table.verdicts.items():
-            found = comparison.models.get((model, quantity))
-            if found is not None and found.errors is not None and found.frame == "interface":
-                out[(model, quantity)] = (np.asarray(found.errors)[0], np.asarray(verdicts),
-                                          table.tolerance)
-    return out
+        for (model, quantity), found in comparison.models.items():
+            if model in table.verdicts and found.errors is not None \
+                    and found.frame == "interface" and found.reference_field == table.field:
+                out[(model, "stiffness" if quantity == "conductance" else quantity)] = (
+                    np.asarray(found.errors)[0], np.asarray(table.verdicts[model]),
+                    table.tolerance)
+    return np.asarray(comparison.load, dtype=float), out
 
 
 def against_check(prediction: Prediction, result) -> PredictionCheck:
@@ -302,14 +304,16 @@ def against_check(prediction: Prediction, result) -> PredictionCheck:
     ValueError
         Where the two have different load points.
     """
-    solved = _solved(result.runs[0], result.tables)
+    loads, solved = _solved(result.runs[0], result.tables)
+    predicted = np.array(sorted({(r.point, r.load) for r in prediction.rows}))
+    if predicted.size and (predicted[:, 0].max() >= loads.size or not np.allclose(
+            loads[predicted[:, 0].astype(int)], predicted[:, 1], rtol=1e-6)):
+        raise ValueError("the prediction and the check have different load points")
     cells = inside = decided = agree = 0
     for row in prediction.rows:
         if row.verdict == OUTSIDE or (row.model, row.quantity) not in solved:
             continue
         errors, verdicts, tolerance = solved[(row.model, row.quantity)]
-        if row.point >= errors.size:
-            raise ValueError("the prediction and the check have different load points")
         error, verdict = float(errors[row.point]), str(verdicts[row.point])
         if not math.isfinite(error):
             continue

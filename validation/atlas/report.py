@@ -169,7 +169,8 @@ def error_atlas_figure(model: dict, design_hurst: tuple[float, ...] = ()):
                               shading="nearest")
             ax.set_yscale("log")
             for h in design_hurst:
-                ax.axvline(h, ymin=0, ymax=0.04, color="k", lw=0.6)
+                if hurst[0] <= h <= hurst[-1]:
+                    ax.axvline(h, ymin=0, ymax=0.04, color="k", lw=0.6)
             if i == 0:
                 ax.set_title(quantity, fontsize=9)
             if j == 0:

@@ -62,9 +62,9 @@ def run_check(args: argparse.Namespace, run_pipeline, prediction=None) -> int:
     """The ``check`` command (see the module docstring); ``run_pipeline`` is the command
     line's way of running a report (:func:`validation.cli.run_pipeline`). ``prediction``:
     ``(before, after)``, ``before(request, quiet)`` called before the solve (it may print, and
-    returns what ``after(that, result, folder, quiet)`` gets once the report is written), or
-    None (the command line's: :func:`validation.atlas.command.prediction_before` and
-    :func:`validation.atlas.command.prediction_after`)."""
+    returns what ``after(that, result, folder, quiet)`` gets once the report is written; the
+    command line passes :func:`validation.atlas.command.prediction_before` and
+    :func:`validation.atlas.command.prediction_after`), or None: no prediction."""
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", PlausibilityWarning)
