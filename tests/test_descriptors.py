@@ -94,3 +94,19 @@ def test_bad_input_is_named():
         surface_descriptors(np.ones((16, 16)), 1.0)
     with pytest.raises((ValueError, TypeError), match="spacing"):
         surface_descriptors(np.random.default_rng(0).standard_normal((16, 16)), -1.0)
+
+
+def test_a_line_spectrum_has_a_slope_and_its_band():
+    """A periodic WM surface's spectrum is a set of lines with empty bins between them: the
+    Hurst exponent is read over the lines (it falls with D) and the magnification is the
+    lines' span gamma^n_max; with the empty bins in the fit it was meaningless (|H| of tens)."""
+    from validation import wm_surface
+
+    readings = {}
+    for dimension in (2.2, 2.5):
+        z = wm_surface(256, D=dimension, rms_slope=0.1, n_max=10, periodic=True, seed=1)
+        readings[dimension] = surface_descriptors(z, 1 / 256, periodic=True)
+    for d in readings.values():
+        assert d.hurst_error < 0.2 and -0.2 < d.hurst < 1.0
+        assert 0.6 * 1.5 ** 10 < d.magnification < 1.1 * 1.5 ** 10
+    assert readings[2.2].hurst - readings[2.5].hurst > 0.2

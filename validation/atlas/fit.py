@@ -82,9 +82,10 @@ def one_surface_verdict(error: np.ndarray, band: np.ndarray, tolerance: float) -
 
 
 def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
-             seed: int = 0) -> dict:
+             seed: int = 0, kinds: dict[int, str] | None = None) -> dict:
     """Coverage and verdict agreement on design points left out of the whole fit (module
-    docstring), overall and per ``model/frame/quantity``."""
+    docstring), overall, per ``model/frame/quantity`` and, with ``kinds`` (design point ->
+    kind), per kind of surface."""
     covariates, error = _covariates(table), table["error"]
     points = np.unique(table["point"])
     fold_of = dict(zip(np.random.default_rng(seed).permutation(points),
@@ -93,6 +94,8 @@ def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
     low, high = np.full(error.shape, np.nan), np.full(error.shape, np.nan)
     for f in range(folds):
         out = fold == f
+        if not out.any() or out.all():    # an empty fold, or nothing left to fit to
+            continue
         model = fit_error_model(covariates[~out], table["key"][~out], error[~out],
                                 table["point"][~out])
         for key in np.unique(table["key"][out]):
@@ -114,9 +117,11 @@ def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
                 "opposite": float(np.mean(predicted[both] != truth[both])) if both.any()
                 else float("nan")}
 
+    kind = np.array([(kinds or {}).get(int(p), "") for p in table["point"]])
     return {"folds": folds, "tolerance": tolerance, "all": summary(np.ones_like(seen)),
             "entries": {str(key): summary(table["key"] == key)
-                        for key in np.unique(table["key"])}}
+                        for key in np.unique(table["key"])},
+            "kinds": {str(k): summary(kind == k) for k in np.unique(kind) if k}}
 
 
 def fit_atlas(folder: str | pathlib.Path, out: str | pathlib.Path | None = MODEL_FILE) -> dict:
@@ -131,7 +136,7 @@ def fit_atlas(folder: str | pathlib.Path, out: str | pathlib.Path | None = MODEL
                                   "tolerance": TOLERANCE, "range": meta["range"],
                                   "families": _families(meta["points"]),
                                   "design_hurst": _measured_hurst(table)})
-    model["validation"] = validate(table)
+    model["validation"] = validate(table, kinds={p["index"]: _kind(p) for p in meta["points"]})
     if out is not None:
         pathlib.Path(out).write_text(json.dumps(_rounded(model), indent=1) + "\n",
                                      encoding="utf-8")
@@ -146,10 +151,15 @@ def _measured_hurst(table: dict) -> list[float]:
                   for p in np.unique(points))
 
 
+def _kind(point: dict) -> str:
+    """A design point's kind: "self-affine" (Gaussian), "plateau" (honed) or "wm"."""
+    return "wm" if point.get("family") == "wm" else \
+        "plateau" if point.get("plateau") is not None else "self-affine"
+
+
 def _families(points: list[dict]) -> dict[str, int]:
     """Design points per kind: Gaussian self-affine, plateau-honed, WM."""
-    kinds = ["wm" if p.get("family") == "wm" else "plateau" if p.get("plateau") is not None
-             else "self-affine" for p in points]
+    kinds = [_kind(p) for p in points]
     return {kind: kinds.count(kind) for kind in ("self-affine", "plateau", "wm")
             if kind in kinds}
 

@@ -4,7 +4,8 @@ which contact theory holds on it (docs/theory.md, "12.1 Descriptors").
 Spectral moments and Nayak's bandwidth alpha by central finite differences (the moments every
 model of this project uses, :func:`validation.surface_statistics`); the Hurst exponent from the
 slope of the radially averaged power spectrum over its self-affine range, found by a hinge fit
-(flat below the rolloff wavevector, a power law above it); the magnification, the rolloff
+(flat below the rolloff wavevector, a power law above it; the empty bins between the lines of a
+line spectrum, a WM surface's, left out); the magnification, the rolloff
 wavelength (or the longest resolved one, where the spectrum shows no rolloff) over the shortest
 resolved wavelength (the short cutoff, where the spectrum falls to nothing, or the Nyquist
 wavelength); and the shape of the height distribution.
@@ -31,6 +32,11 @@ CUTOFF_MARGIN = 0.8
 #: Bins whose power is below this share of the spectrum's largest carry none (rounding: a
 #: spectrum falling as q^-3.8 spans 1e8 over a magnification of 128).
 EMPTY_POWER = 1e-20
+#: A bin with less than this share of the largest power at shorter wavelengths lies between the
+#: lines of a line spectrum (a WM surface): it carries no power and no slope. A spectrum that
+#: falls with q never has such a bin (a bin's mean over its modes is not a millionth of the
+#: next bin's).
+HOLE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -172,6 +178,9 @@ def surface_descriptors(heights, spacing: float, *, periodic: bool = False,
     z = z - z.mean()
     sq = statistics.rms_height
     q, c, modes = _radial_spectrum(z, spacing, periodic)
+    shorter = np.append(np.maximum.accumulate(c[::-1])[::-1][1:], 0.0)
+    kept = c >= HOLE * shorter       # the bins between a line spectrum's lines left out
+    q, c, modes = q[kept], c[kept], modes[kept]
     # the spectrum's range: the bins whose power is something next to its largest
     powered = np.flatnonzero(c > EMPTY_POWER * c.max())
     first, end = int(powered[0]), int(powered[-1]) + 1
