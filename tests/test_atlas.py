@@ -130,6 +130,31 @@ def test_the_stored_model_is_small_and_versioned():
     assert len(model["atlas_commit"]) == 40
     assert {"gw", "persson", "bgt"} <= {key.split("/")[0] for key in model["entries"]}
     assert 0.8 < model["validation"]["all"]["coverage"] <= 1.0
+    # the stored model is the design's: every point, every kind, every quantity compared
+    assert model["design_points"] == len(atlas_design())
+    assert model["families"] == {"self-affine": 40, "plateau": 8, "wm": 12}
+    assert {key.split("/")[2] for key in model["entries"]} == \
+        {"area", "separation", "stiffness", "leakage"}
+    # each kind of surface covered by the interval on points left out of the fit
+    assert all(v["coverage"] > 0.85 for v in model["validation"]["kinds"].values())
+
+
+def test_the_interval_widens_where_the_residuals_scatter_more():
+    """The interval's scale: where one kind's residuals scatter ten times more, its interval is
+    wider than the other's, at the same load."""
+    rng = np.random.default_rng(3)
+    rows = 4000
+    covariates = np.column_stack([rng.uniform(0.3, 0.9, rows), rng.uniform(1, 2.5, rows),
+                                  rng.uniform(-1, 0.2, rows), rng.uniform(-3.3, -0.8, rows)])
+    wide = covariates[:, 2] < -0.4
+    error = 0.01 * rng.standard_normal(rows) * np.where(wide, 10.0, 1.0)
+    groups = np.arange(rows) // 8
+    model = fit_error_model(covariates, np.array(["gw/interface/area"] * rows), error, groups,
+                            kinds=np.where(wide, "honed", "gaussian"))
+    probe = np.array([[0.6, 1.7, -0.9, -2.0], [0.6, 1.7, 0.1, -2.0]])
+    _, low, high = interval_of(model, "gw/interface/area", probe)
+    assert (high - low)[0] > 4 * (high - low)[1]
+    assert 0.01 < (high - low)[1] < 0.06       # about 2 x 1.645 x 0.01
 
 
 def _rows(path):

@@ -87,6 +87,7 @@ def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
     docstring), overall, per ``model/frame/quantity`` and, with ``kinds`` (design point ->
     kind), per kind of surface."""
     covariates, error = _covariates(table), table["error"]
+    kind = np.array([(kinds or {}).get(int(p), "") for p in table["point"]])
     points = np.unique(table["point"])
     fold_of = dict(zip(np.random.default_rng(seed).permutation(points),
                        np.arange(points.size) % folds))
@@ -97,7 +98,7 @@ def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
         if not out.any() or out.all():    # an empty fold, or nothing left to fit to
             continue
         model = fit_error_model(covariates[~out], table["key"][~out], error[~out],
-                                table["point"][~out])
+                                table["point"][~out], kinds=kind[~out])
         for key in np.unique(table["key"][out]):
             rows = out & (table["key"] == key)
             _, low[rows], high[rows] = interval_of(model, key, covariates[rows])
@@ -117,7 +118,6 @@ def validate(table: dict, *, folds: int = FOLDS, tolerance: float = TOLERANCE,
                 "opposite": float(np.mean(predicted[both] != truth[both])) if both.any()
                 else float("nan")}
 
-    kind = np.array([(kinds or {}).get(int(p), "") for p in table["point"]])
     return {"folds": folds, "tolerance": tolerance, "all": summary(np.ones_like(seen)),
             "entries": {str(key): summary(table["key"] == key)
                         for key in np.unique(table["key"])},
@@ -128,7 +128,9 @@ def fit_atlas(folder: str | pathlib.Path, out: str | pathlib.Path | None = MODEL
     """Fit the error model to the atlas in ``folder``, validate it and write it to ``out``
     (default the package's ``error_model.json``; None: not written); returns the model."""
     table, meta = atlas_table(folder)
+    kinds = {p["index"]: _kind(p) for p in meta["points"]}
     model = fit_error_model(_covariates(table), table["key"], table["error"], table["point"],
+                            kinds=np.array([kinds[int(p)] for p in table["point"]]),
                             meta={"atlas_commit": meta["commit"], "grid": meta["n"],
                                   "realizations": meta["realizations"],
                                   "design_points": len(meta["points"]),
@@ -136,7 +138,7 @@ def fit_atlas(folder: str | pathlib.Path, out: str | pathlib.Path | None = MODEL
                                   "tolerance": TOLERANCE, "range": meta["range"],
                                   "families": _families(meta["points"]),
                                   "design_hurst": _measured_hurst(table)})
-    model["validation"] = validate(table, kinds={p["index"]: _kind(p) for p in meta["points"]})
+    model["validation"] = validate(table, kinds=kinds)
     if out is not None:
         pathlib.Path(out).write_text(json.dumps(_rounded(model), indent=1) + "\n",
                                      encoding="utf-8")
