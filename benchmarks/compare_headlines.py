@@ -46,7 +46,7 @@ def main(argv=None) -> int:
                                                             "summary")
     args = parser.parse_args(argv)
     old, new = headline(args.old), headline(args.new)
-    common = sorted(k for k in old.keys() & new.keys() if args.frame in (None, k[2]))
+    common = sorted(k for k in old.keys() & new.keys() if args.frame in (None, k[5]))
     changes = defaultdict(list)
     if args.rows:
         print("| scene | D | H | L | model | frame | quantity | fraction | old | new |\n"
