@@ -121,19 +121,6 @@ def _load_scene(name: str):
         raise SceneError(f"{name}: cannot read the scene file: {error.strerror}") from None
 
 
-def _atlas_section() -> tuple[list[str], list]:
-    """The report's section on the error atlas and its figure's job
-    (:func:`validation.atlas.report.report_section`); none, said on stderr, where the stored
-    error model cannot be read (a report never fails for it)."""
-    from validation.atlas.report import report_section
-
-    try:
-        return report_section()
-    except (OSError, ValueError, KeyError, TypeError) as error:
-        print(f"note: no error atlas section ({type(error).__name__}: {error})", file=sys.stderr)
-        return [], []
-
-
 def _report(args: argparse.Namespace) -> int:
     quick = args.quick or (not args.full and not args.scenes and not args.publish)
     names = args.scenes or [name for name in DEFAULT_SCENES
@@ -167,6 +154,7 @@ def _report(args: argparse.Namespace) -> int:
                        if len(names) == 1 and pathlib.Path(names[0]).is_file() else "")
 
     def work(executor, cache_dir: str | None) -> tuple:
+        from validation.atlas.command import atlas_section
         from validation.check.library import is_check_scene, request_of_scene, run_request
         from validation.report.write import write_report
         from validation.judge.decide import run_scenes
@@ -179,7 +167,7 @@ def _report(args: argparse.Namespace) -> int:
             path = result.write_report(args.out, command=command, executor=executor,
                                        cache_dir=cache_dir)
             return path, result.seconds, time.perf_counter() - start - result.seconds
-        sections, jobs = _atlas_section()
+        sections, jobs = atlas_section()
         results = run_scenes(scenes, executor=executor, cache_dir=cache_dir,
                              progress=not args.quiet)
         seconds = time.perf_counter() - start

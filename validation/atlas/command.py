@@ -13,7 +13,8 @@ import warnings
 from validation.check.command import add_scan_options
 from validation.check.plausible import PlausibilityWarning
 
-__all__ = ["add_parsers", "prediction_after", "prediction_before", "run_atlas", "run_predict"]
+__all__ = ["add_parsers", "atlas_section", "prediction_after", "prediction_before", "run_atlas",
+           "run_predict"]
 
 
 def run_predict(args: argparse.Namespace) -> int:
@@ -42,6 +43,19 @@ def run_predict(args: argparse.Namespace) -> int:
         print(f"outside the atlas: {line}", file=sys.stderr)
     print(f"prediction written to {report} ({prediction.seconds:.1f} s, no solve)")
     return 0
+
+
+def atlas_section() -> tuple[list[str], list]:
+    """The report's section on the error atlas and its figure's job
+    (:func:`validation.atlas.report.report_section`); none, said on stderr, where the stored
+    error model cannot be read (a report never fails for it)."""
+    from validation.atlas.report import report_section
+
+    try:
+        return report_section()
+    except (OSError, ValueError, KeyError, TypeError) as error:
+        print(f"note: no error atlas section ({type(error).__name__}: {error})", file=sys.stderr)
+        return [], []
 
 
 def prediction_before(request, quiet: bool):
