@@ -7,7 +7,7 @@ and the scaled load x = log10 p / (E* h'_rms), fitted to every realization's err
 is read from the residuals of the fit with each design point left out in turn (its realizations
 predicted by a fit to the other points), so that it covers a surface the fit has not seen: their
 size varies over the descriptors (a plateau-honed or a WM surface scatters more about the fit
-than a Gaussian self-affine one), so ln |residual| is fitted linearly in (u, x, x^2), the scale
+than a Gaussian self-affine one), so ``ln |residual|`` is fitted linearly in (u, x, x^2), the scale
 s(u, x) (:func:`scale_basis`), and the interval is the mean plus s times the 5 % and 95 %
 quantiles of the scaled residuals r / s in each third of the load range (the widest of the kinds
 of surface, so that each kind is covered), interpolated along the load.
@@ -49,15 +49,15 @@ def basis(u: np.ndarray) -> np.ndarray:
 
 
 def scale_basis(u: np.ndarray) -> np.ndarray:
-    """The basis of ln |residual| at scaled covariates ``u`` (rows, 4): constant, linear in all
+    """The basis of ``ln |residual|`` at scaled covariates ``u`` (rows, 4): constant, linear in all
     four, the load squared; shape (rows, 6)."""
     x = u[:, 3]
     return np.column_stack([np.ones_like(x), u, x * x])
 
 
 def _scale_fit(u: np.ndarray, residual: np.ndarray) -> np.ndarray:
-    """Coefficients of ln |residual| in :func:`scale_basis` (a floor of a thousandth of the
-    median |residual| keeps an exact zero finite)."""
+    """Coefficients of ``ln |residual|`` in :func:`scale_basis` (a floor of a thousandth of the
+    median ``|residual|`` keeps an exact zero finite)."""
     size = np.abs(residual)
     floor = 1e-3 * max(float(np.median(size)), 1e-12)
     return _fit(scale_basis(u), np.log(size + floor))
