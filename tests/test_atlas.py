@@ -233,7 +233,8 @@ def test_the_atlas_map_reads_the_fitted_law_and_the_report_shows_it(tmp_path):
     verdicts = verdict_map(model, "gw/interface/area", hurst, ratio)
     assert verdicts.shape == (2, 3)             # rows: loads, columns: H
     assert verdicts[0, 0] == "fails" and verdicts[1, 2] == "holds"
-    figure = error_atlas_figure(model, (0.4, 0.6))
+    model["design_hurst"] = [0.4, 0.6]
+    figure = error_atlas_figure(model)
     assert len(figure.axes) == 1
     lines, jobs = report_section(model)
     assert "30 design points, with 2 periodic 64² realizations each" in lines[1]

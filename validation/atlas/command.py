@@ -41,7 +41,7 @@ def run_predict(args: argparse.Namespace) -> int:
     report = prediction.write(out)
     for line in prediction.outside:
         print(f"outside the atlas: {line}", file=sys.stderr)
-    print(f"prediction written to {report} ({prediction.seconds:.1f} s, no solve)")
+    print(f"prediction written to {report} ({prediction.seconds:.2g} s, no solve)")
     return 0
 
 

@@ -97,8 +97,7 @@ class Prediction:
     outside : tuple of str
         The descriptors outside the atlas (then every verdict is "outside atlas").
     model : dict
-        What the error model says of itself (atlas commit, grid, range, validation), and
-        under "quantities" the keys "model/frame/quantity" it predicts.
+        What the error model says of itself (atlas commit, grid, range, validation).
     seconds : float
         Time of the prediction [s].
     """
@@ -221,8 +220,7 @@ def predict_request(request: CheckRequest, *, models=None, model_file=None,
                                        *numbers, tolerance, verdict))
     rows.sort(key=lambda r: (model_label(r.model), r.quantity, r.point))
     return Prediction(request, descriptors, tuple(rows), tuple(outside),
-                      {k: v for k, v in model.items() if k != "entries"}
-                      | {"quantities": tuple(model["entries"])},
+                      {k: v for k, v in model.items() if k != "entries"},
                       time.perf_counter() - start)
 
 

@@ -21,12 +21,14 @@ import numpy as np
 from validation.atlas.model import interval_of, verdict_of
 from validation.common.labels import model_label
 from validation.common.verdicts import FAILS, HOLDS, UNDECIDED
+from validation.judge.verdicts import SYMBOLS
 
-__all__ = ["ATLAS_FIGURE", "MARKS", "atlas_section", "design_hurst", "error_atlas_figure",
-           "prediction_lines", "report_section", "strips", "terminal_lines", "verdict_map"]
+__all__ = ["ATLAS_FIGURE", "MARKS", "atlas_section", "error_atlas_figure", "prediction_lines",
+           "report_section", "strips", "terminal_lines", "verdict_map"]
 
-#: One mark per predicted verdict in a strip.
-MARKS = {"holds": "✔", "fails": "✘", "undecided": "?", "outside atlas": "·"}
+#: One mark per predicted verdict in a strip: the glance's symbols, and one for a load point
+#: outside the atlas (:data:`validation.atlas.predict.OUTSIDE`).
+MARKS = {**SYMBOLS, "outside atlas": "·"}
 
 
 def _range_line(name: str, label: str, value: float, ranges: dict, gate: bool = True) -> str:
@@ -103,7 +105,7 @@ def prediction_lines(prediction) -> list[str]:
                       "of the errors fell inside their 90 % interval, and "
                       f"{100 * check['agreement']:.0f} % of the verdicts the interval decided "
                       "agreed with the solved surface's (docs/guide/prediction.md)."]
-    leakage = any(key.endswith("/leakage") for key in prediction.model.get("quantities", ()))
+    leakage = any(r.quantity == "leakage" for r in rows)
     lines += ["", "Not covered: the finite frame (`--nominal-size`), "
                   + ("" if leakage else "the leakage, ") + "the contact count, scans far from "
                   "the atlas' periodic self-affine and WM surfaces (measurement noise, several "
@@ -114,7 +116,6 @@ def prediction_lines(prediction) -> list[str]:
 
 #: File name of the figure in a report folder.
 ATLAS_FIGURE = "error-atlas.png"
-_COLORS = {HOLDS: "#4caf50", FAILS: "#e53935", UNDECIDED: "#bdbdbd"}
 _CODE = {HOLDS: 0, FAILS: 1, UNDECIDED: 2}
 
 
@@ -140,15 +141,12 @@ def verdict_map(model: dict, key: str, hurst: np.ndarray, load_ratio: np.ndarray
     return verdict_of(low, high, float(model["tolerance"])).reshape(h.shape)
 
 
-def design_hurst(model: dict) -> tuple[float, ...]:
-    """The H of the design points the model stores (``model["design_hurst"]``), else none."""
-    return tuple(model.get("design_hurst", ()))
-
-
-def error_atlas_figure(model: dict, design_hurst: tuple[float, ...] = ()):
-    """The figure (module docstring); ``design_hurst``: the design surfaces' H, as ticks."""
+def error_atlas_figure(model: dict):
+    """The figure (module docstring); its ticks the design surfaces' H as the model stores them
+    (``model["design_hurst"]``; none where it does not)."""
     from matplotlib.colors import ListedColormap
 
+    from validation.report.atlas import ATLAS_COLORS
     from validation.report.layout import figure
 
     theories, quantities = _entries(model)
@@ -158,7 +156,7 @@ def error_atlas_figure(model: dict, design_hurst: tuple[float, ...] = ()):
                        (2.1 * len(quantities) + 1.3, 1.45 * len(theories) + 1.0),
                        left=1.1, wspace=0.35, hspace=0.25)
     axes = np.atleast_2d(axes)
-    colours = ListedColormap([_COLORS[HOLDS], _COLORS[FAILS], _COLORS[UNDECIDED]])
+    colours = ListedColormap([ATLAS_COLORS[HOLDS], ATLAS_COLORS[FAILS], ATLAS_COLORS[UNDECIDED]])
     for i, theory in enumerate(theories):
         for j, quantity in enumerate(quantities):
             ax = axes[i, j]
@@ -168,7 +166,7 @@ def error_atlas_figure(model: dict, design_hurst: tuple[float, ...] = ()):
                 ax.pcolormesh(hurst, ratio, codes, cmap=colours, vmin=-0.5, vmax=2.5,
                               shading="nearest")
             ax.set_yscale("log")
-            for h in design_hurst:
+            for h in model.get("design_hurst", ()):
                 if hurst[0] <= h <= hurst[-1]:
                     ax.axvline(h, ymin=0, ymax=0.04, color="k", lw=0.6)
             if i == 0:
@@ -218,5 +216,5 @@ def report_section(model: dict | None = None) -> tuple[list[str], list[tuple]]:
     model = load_error_model() if model is None else model
     lines, caption = atlas_section(model)
     lines += [f"![{caption}]({ATLAS_FIGURE})\n", f"*{caption}*\n"]
-    draw = partial(error_atlas_figure, model, design_hurst(model))
+    draw = partial(error_atlas_figure, model)
     return lines, [(ATLAS_FIGURE, draw, len(model["entries"]))]
