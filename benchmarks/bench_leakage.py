@@ -10,9 +10,8 @@ aperture is solved for flow along x, periodic and not, by
   minimum-degree order on the symmetric pattern, no pivoting);
 * ``multigrid``: ``bem.hydraulic_aperture`` with every gap solved by conjugate gradients
   preconditioned by the multigrid of ``bem.leakage.flow_solver`` (2 x 2 blocks of pixels, split where
-  their connections are weak, as aggregates, piecewise-constant interpolation, Gauss-Seidel, sparse LU on the coarsest grid;
-  for a periodic gap the algebraic coarsening of ``amg-evo``; stopped when the dissipation is
-  known);
+  their connections are weak, as aggregates, piecewise-constant interpolation, Gauss-Seidel,
+  sparse LU on the coarsest grid; periodic or not; stopped when the dissipation is known);
 * ``amg-evo``: algebraic coarsening for comparison: pyamg smoothed aggregation with evolution
   strength on the Jacobi-scaled matrix, a sparse LU on the coarsest level, conjugate gradients
   to a relative residual of 1e-7.
@@ -20,7 +19,7 @@ aperture is solved for flow along x, periodic and not, by
 Each row gives the time (matrix assembly and the multigrid's setup included), the iterations
 where known and the aperture's relative difference from ``direct``. Solved gaps are cached in
 ``--cache`` (default bench-out/leakage-cache; not committed). ``bem.hydraulic_aperture`` solves
-gaps up to ``bem.leakage.flow_solver.DIRECT_SOLVE_LIMIT`` cells (128^2; periodic ones up to 1024^2)
+gaps up to ``bem.leakage.flow_solver.DIRECT_SOLVE_LIMIT`` cells (128^2, periodic or not)
 directly and larger ones by ``multigrid``; the measured rows are in docs/guide/benchmarks.md,
 "The leakage reference".
 
@@ -63,7 +62,7 @@ def project_solver(gap: np.ndarray, periodic: bool, direct: bool) -> float:
     (``direct``) or by its multigrid."""
     import bem.leakage.flow_solver
 
-    names = ("DIRECT_SOLVE_LIMIT", "PERIODIC_DIRECT_SOLVE_LIMIT")
+    names = ("DIRECT_SOLVE_LIMIT",)
     limits = [getattr(bem.leakage.flow_solver, name) for name in names]
     for name in names:
         setattr(bem.leakage.flow_solver, name, gap.size if direct else 0)

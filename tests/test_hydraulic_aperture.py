@@ -348,13 +348,13 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
     monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
     assert flow._together(large, {})
     monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
-    # a periodic gap above the LU's limit (coarsened algebraically) stays one at a time
+    # a periodic gap follows the same limits (the same multigrid)
     periodic = BackgroundLeakage(1.0, periodic=True)
     periodic._finishing = True
-    monkeypatch.setattr(bem.leakage.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40 - 1)
-    assert periodic._together(large, {})
-    monkeypatch.setattr(bem.leakage.background_flow, "PERIODIC_DIRECT_SOLVE_LIMIT", 40 * 40)
     assert not periodic._together(large, {})
+    monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40 - 1)
+    assert periodic._together(large, {})
+    monkeypatch.setattr(bem.leakage.background_flow, "FINAL_PARALLEL_LIMIT", 40 * 40)
     monkeypatch.setattr(bem.leakage.background_flow, "default_threads", lambda: 1)
     assert flow._together(large, {})
     assert BackgroundLeakage(1.0, parallel=False)._together(np.zeros((4, 4)), {})
@@ -379,10 +379,10 @@ def test_background_leakage_lets_the_caller_run_ahead_and_splits_the_final_gaps(
 @pytest.mark.parametrize("slow", [False, True])
 def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch, periodic, seed,
                                                                      slow):
-    """Above DIRECT_SOLVE_LIMIT cells (PERIODIC_DIRECT_SOLVE_LIMIT when periodic) the flow
-    system is solved by multigrid-preconditioned conjugate gradients; forced on smaller gaps
-    (about 16 % contact, g^3 over many decades near the contact edges), with three levels of
-    pixel blocks and two after a slow neighbour (algebraic coarsening when periodic), it must
+    """Above DIRECT_SOLVE_LIMIT cells, periodic or not, the flow system is solved by
+    multigrid-preconditioned conjugate gradients; forced on smaller gaps (about 16 % contact,
+    g^3 over many decades near the contact edges), with three levels of pixel blocks and two
+    after a slow neighbour, it must
     give the sparse LU's aperture to well within its tolerance (the dissipation's error is of
     second order in the pressure's)."""
     import bem.leakage.flow
@@ -393,7 +393,6 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     gap[gap > 0] **= 3   # a wider contrast of g^3 than the smooth gap alone
     direct = [hydraulic_aperture(gap, 1.0, direction=d, periodic=periodic) for d in "xy"]
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     used = []
     original = bem.leakage.flow_solver._hierarchy
     monkeypatch.setattr(bem.leakage.flow_solver, "_hierarchy",
@@ -402,12 +401,11 @@ def test_the_multigrid_solve_of_large_gaps_gives_the_direct_aperture(monkeypatch
     start = FlowStart(None, 1, slow)
     multigrid = [bem.leakage.flow._flow_solution(gap, 1.0, d, periodic, start)[0] for d in "xy"]
     # (96^2: the coarsest at most 24^2, a sixteenth of the grid, or 48^2 when slow)
-    assert used == [0 if periodic else 2 if slow else 3] * 2 and min(direct) > 0
+    assert used == [2 if slow else 3] * 2 and min(direct) > 0
     # the pixel blocks stop once the dissipation's estimated error is 1e-6 (the aperture's a
     # third of it; 1.2e-7 to 2.5e-7 measured here) and the residual 1e-6 (the residual alone at
-    # 1e-6 left 6e-6 here), the algebraic multigrid of a periodic gap at a residual of 1e-9
-    np.testing.assert_allclose(multigrid, direct,
-                               rtol=1e-8 if periodic else bem.leakage.flow_cg.DISSIPATION_TOLERANCE)
+    # 1e-6 left 6e-6 here)
+    np.testing.assert_allclose(multigrid, direct, rtol=bem.leakage.flow_cg.DISSIPATION_TOLERANCE)
 
 
 def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeypatch):
@@ -545,42 +543,44 @@ def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
 
 def test_the_multigrid_hierarchy_is_held_in_compressed_rows(monkeypatch):
     """The pixel blocks' coarse levels are built in CSR (the finest is the system held by its
-    faces, bem.leakage.face_matrix), the restriction a view of the interpolation;
-    smoothed aggregation (periodic gaps) builds its coarse levels as 1 x 1 BSR, which are
-    converted to CSR (faster products, and the form the compiled Gauss-Seidel sweeps take)."""
-    import pyamg
+    faces, bem.leakage.face_matrix, when not periodic), the restriction a view of the
+    interpolation; smoothed aggregation (the fall-back of a large gap whose pixel blocks stop
+    short) builds its coarse levels as 1 x 1 BSR, which are converted to CSR (faster products,
+    and the form the compiled Gauss-Seidel sweeps take)."""
     import scipy.sparse
 
     import bem.leakage.flow_solver
+    from bem.leakage.flow import _flow_system, spanning_cells
 
     gap = _random_gap(96, 1)
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
-    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
     built = []
-    blocks, algebraic = bem.leakage.flow_solver.block_hierarchy, pyamg.smoothed_aggregation_solver
+    blocks = bem.leakage.flow_solver.block_hierarchy
     monkeypatch.setattr(bem.leakage.flow_solver, "block_hierarchy",
                         lambda *args: built.append(blocks(*args)) or built[-1])
-    monkeypatch.setattr(pyamg, "smoothed_aggregation_solver",
-                        lambda *args, **kwargs: built.append(algebraic(*args, **kwargs))
-                        or built[-1])
+    hierarchies = []
     for periodic in (False, True):
         assert hydraulic_aperture(gap, 1.0, periodic=periodic) > 0.0
-        assert len(built[-1].levels) >= 2
-        levels = built[-1].levels
+        hierarchies.append(built[-1])
+    # the algebraic fall-back's hierarchy, of the same Jacobi-scaled system in CSR
+    k = (gap / gap.max()) ** 3
+    cells = spanning_cells(k > 0)
+    matrix = _flow_system(k, cells, False)[0].tocsr()
+    scale = 1.0 / np.sqrt(matrix.diagonal())
+    scaled = scipy.sparse.csr_array(matrix * scale[:, None] * scale[None, :])
+    algebraic = bem.leakage.flow_solver._hierarchy(scaled, scale, cells, 0)
+    # (a periodic system's aggregates are read from its compressed rows)
+    for hierarchy, faces in zip(hierarchies + [algebraic], (True, False, False)):
+        levels = hierarchy.levels
+        assert len(levels) >= 2
         # the pixel blocks' finest operator is the system held by its faces, as assembled
-        assert (levels[0].A.format == "faces") != periodic
+        assert (levels[0].A.format == "faces") == faces
         assert all(scipy.sparse.issparse(level.A) and level.A.format == "csr"
-                   for level in levels[0 if periodic else 1:])
-        for level in built[-1].levels[:-1]:
+                   for level in levels[1 if faces else 0:])
+        for level in levels[:-1]:
             # the restriction is the interpolation's transpose, a view of its arrays
             assert level.P.format == "csr" and level.R.format == "csc"
             assert np.shares_memory(level.R.data, level.P.data)
-            assert level.R.shape == level.P.shape[::-1]
-    # pyAMG builds the coarse levels in blocks of 1 x 1, which the compiled sweeps refuse
-    monkeypatch.setattr(bem.leakage.flow_solver, "_compressed_rows", lambda hierarchy: None)
-    with pytest.raises(TypeError, match="CSR"):
-        hydraulic_aperture(gap, 1.0, periodic=True)
-    assert built[-1].levels[1].A.format == "bsr"   # what the conversion undoes
 
 
 def test_the_energy_left_is_the_geometric_tail_of_the_last_decrements():
@@ -826,11 +826,12 @@ def test_a_path_goes_on_by_lu_after_a_slow_multigrid_solve(monkeypatch):
                                                 FlowStart(previous, iterations))
         assert (now.iterations is None) == switched
         assert aperture == pytest.approx(direct, rel=1e-12 if switched else 1e-6)
-    monkeypatch.setattr(bem.leakage.flow_solver, "PERIODIC_DIRECT_SOLVE_LIMIT", 0)
+    # a periodic gap switches alike
     periodic = bem.leakage.flow._flow_solution(gap, 1.0, "x", True, FlowStart(previous, None))[1]
+    assert periodic.iterations is None
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size - 1)
     large = bem.leakage.flow._flow_solution(gap, 1.0, "x", False, FlowStart(previous, None))[1]
-    assert periodic.iterations is not None and large.iterations is not None
+    assert large.iterations is not None
 
 
 def _random_systems(rng, shape, periodic):

@@ -22,7 +22,7 @@ from bem.common import checks
 from bem.common.background import BackgroundCall
 from bem.elastic.fft_threads import default_threads
 from bem.leakage.flow import FLOW_DIRECTIONS, FlowStart, _flow_solution, _mean_leak
-from bem.leakage.flow_solver import PERIODIC_DIRECT_SOLVE_LIMIT, solved_directly
+from bem.leakage.flow_solver import solved_directly
 
 __all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "PARALLEL_FACTOR_LIMIT",
            "QUEUED_CELLS", "BackgroundLeakage"]
@@ -32,9 +32,7 @@ __all__ = ["FINAL_PARALLEL_LIMIT", "PARALLEL_DIRECTIONS_LIMIT", "PARALLEL_FACTOR
 #: 0.6-0.9 GB, of a 2048^2 gap at 0.8-0.85 GB (a process solving one gap at 1-9 % contact).
 PARALLEL_DIRECTIONS_LIMIT = 768 * 768
 #: Once the caller waits for the results (:meth:`BackgroundLeakage.results`), gaps of up to
-#: this many cells still waiting (periodic ones: up to
-#: :data:`bem.leakage.flow_solver.PERIODIC_DIRECT_SOLVE_LIMIT`, above which their algebraic coarsening
-#: holds 2.8-3.0 GB at 2048^2) have their two directions solved at once where the process
+#: this many cells still waiting have their two directions solved at once where the process
 #: may use two CPUs: the caller's contact solves are over and their memory given back
 #: (:func:`bem.contact_curve`), and after a 2048^2 check's path its process held 0.79 GB
 #: between solves and 1.11-1.13 GB with one 2048^2 solve, against 1.86 GB on the path with one
@@ -120,14 +118,12 @@ class BackgroundLeakage:
             return not self.parallel
         cells = np.size(gap)
         if cells > PARALLEL_FACTOR_LIMIT and all(
-                solved_directly(cells, self.periodic, starts.get(direction))
+                solved_directly(cells, starts.get(direction))
                 for direction in FLOW_DIRECTIONS):
             return True
         if cells <= PARALLEL_DIRECTIONS_LIMIT:
             return False
-        # (a periodic gap above the LU's limit is coarsened algebraically: 2.8-3.0 GB at 2048^2)
-        limit = PERIODIC_DIRECT_SOLVE_LIMIT if self.periodic else FINAL_PARALLEL_LIMIT
-        return not (self._finishing and cells <= limit and default_threads() > 1)
+        return not (self._finishing and cells <= FINAL_PARALLEL_LIMIT and default_threads() > 1)
 
     def _work(self) -> None:
         """The worker: solve the waiting gaps in turn; return when none is left."""

@@ -75,6 +75,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     enough = tolerance * norm
     # stops whatever the estimate (and without one, the only rule)
     limit = enough if dissipation is None else min(RESIDUAL_LIMIT, tolerance) * norm
+    if math.sqrt(_dot(r, r)) <= limit:   # (e.g. b = 0: a periodic gap uniform along the flow)
+        return x, 0, True
     energy = dissipation(x) if dissipation is not None else math.nan
     decrements: list[float] = []
     confirmed = 0

@@ -19,8 +19,7 @@ from bem.common.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
            "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "FEWER_LEVELS_ITERATIONS", "FlowStart",
-           "MULTIGRID_LEVELS", "MULTIGRID_TOLERANCE", "PERIODIC_DIRECT_SOLVE_LIMIT",
-           "multigrid_levels", "next_start", "solved_directly"]
+           "MULTIGRID_LEVELS", "MULTIGRID_TOLERANCE", "multigrid_levels", "next_start", "solved_directly"]
 
 
 #: Gaps of up to this many cells are solved by sparse LU, larger ones by multigrid-preconditioned
@@ -28,12 +27,12 @@ __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
 #: half grid, 0.1-27 % contact) two levels took 3.8-4.5 s against 8.7-9.0 s for the LU, the
 #: apertures within 3e-7; at 512^2 the multigrid took 0.3-0.9 s against 0.6-1.9 s, at 1024^2
 #: 2.3-12 s against 3.8-10 s and 0.5 GB against 1.5 GB (one core; the LU faster only on rough
-#: gaps at heavy contact; docs/guide/benchmarks.md, "The leakage reference").
+#: gaps at heavy contact; docs/guide/benchmarks.md, "The leakage reference"). The same limit
+#: holds for periodic gaps: on the 16 periodic BEM gaps of a 512^2 WM path (D 2.05 and 2.95,
+#: 0.04-21 % contact) the multigrid took 0.26-0.57 s (9-16 iterations) against the LU's
+#: 0.9-4.0 s, at 1024^2 (self-affine, 1-28 % contact) 2.7-3.5 s (30-70 iterations) against
+#: 3.3-17 s, the apertures within 3e-8.
 DIRECT_SOLVE_LIMIT = 128 * 128
-#: Periodic gaps of up to this many cells are solved by sparse LU, larger ones by algebraic
-#: multigrid (:func:`_solve_pressure`): on a periodic gap the pixel-block multigrid needed 26-38
-#: iterations at two levels and 200-600 at three (1024^2, 6-16 % contact), the LU 5-13 s.
-PERIODIC_DIRECT_SOLVE_LIMIT = 1024 * 1024
 #: A gap is switched to the sparse LU after a slow multigrid neighbour
 #: (:data:`DIRECT_SWITCH_ITERATIONS`) up to this many cells only (a 2048^2 factor would hold
 #: several GB); above it a multigrid solve of the pixel blocks that stops short of its rule goes
@@ -57,9 +56,8 @@ MULTIGRID_LEVELS = 4
 #: error of 5e-7), the residual alone by a gap whose g^3 spans more decades (at 1e-6 it left
 #: 6e-6 in the aperture of the test gap).
 MULTIGRID_TOLERANCE = 1e-6
-#: Relative residual of the algebraic multigrid (periodic gaps above
-#: :data:`PERIODIC_DIRECT_SOLVE_LIMIT`; a gap above :data:`DIRECT_SWITCH_LIMIT` on which the
-#: pixel blocks stopped short), which
+#: Relative residual of the algebraic multigrid (a gap above :data:`DIRECT_SWITCH_LIMIT` on
+#: which the pixel blocks stopped short), which
 #: stops on it alone: at 1e-7 it left 1.8e-7 in the aperture of the test gap, at 1e-8 3e-6 on one
 #: whose g^3 spans more decades, and the estimate of :data:`~bem.leakage.flow_cg.DISSIPATION_TOLERANCE` with a residual
 #: of 1e-6 left 7e-6 there.
@@ -189,16 +187,16 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     aggregation with evolution strength, classical Ruge-Stueben) did not beat on these gaps:
     their setup alone took as long as this whole solve, and on 2048^2 gaps (1.8 / 22 %
     contact) 54-69 s against 13 s and more than 300 s against 195 s (whole blocks), at
-    2.8-3.0 GB against 1.3-1.8 GB. On a periodic gap these aggregates converge slowly (the
-    pressure fluctuation has no fixed edge: 200-600 iterations at three levels on 1024^2);
-    periodic gaps are solved by the LU up to :data:`PERIODIC_DIRECT_SOLVE_LIMIT` cells and
-    above it by algebraic coarsening: smoothed aggregation with the evolution strength of
-    connection, which follows the thin necks that carry the flow near percolation, with a
-    symmetric Gauss-Seidel sweep on either side, to a relative residual of
-    :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled there). A solve of the pixel
+    2.8-3.0 GB against 1.3-1.8 GB. A periodic gap (grounded at one cell per cluster) is
+    solved the same way: the split blocks converge there as on a window (9-16 iterations on
+    512^2 WM gaps, 30-70 on 1024^2 self-affine ones). A solve of the pixel
     blocks of more than :data:`DIRECT_SWITCH_LIMIT` cells that stops short of its rule goes on
-    from its last iterate so; a multigrid solve that stops short of its rule otherwise warns
-    (:class:`bem.common.warnings.ConvergenceWarning`) and returns its last iterate. ``start``, the
+    from its last iterate with algebraic coarsening: smoothed aggregation with the evolution
+    strength of connection, which follows the thin necks that carry the flow near percolation,
+    with a symmetric Gauss-Seidel sweep on either side, to a relative residual of
+    :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled there); a multigrid solve that
+    stops short of its rule otherwise warns (:class:`bem.common.warnings.ConvergenceWarning`)
+    and returns its last iterate. ``start``, the
     :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
     conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the
     residual relative to ``b``, the energy's decrements), except on a gap of more than
@@ -209,17 +207,16 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     it and 313 from the drop, and below that size a slow path goes on by the LU), and, when
     that solve took
     :data:`DIRECT_SWITCH_ITERATIONS` or more, or was itself switched to the LU, this gap is
-    solved by the LU (up to :data:`DIRECT_SWITCH_LIMIT` cells, not periodic): the gaps of a
+    solved by the LU (up to :data:`DIRECT_SWITCH_LIMIT` cells): the gaps of a
     load path close towards percolation, where the pixel blocks converge slowly. Returns the
     pressure of the unknowns and the multigrid's iterations (None for the LU).
     """
     import scipy.sparse.linalg   # where used (start-up of a warm report)
 
-    algebraic = periodic
-    levels = 0 if algebraic else multigrid_levels(
-        int(np.count_nonzero(cells)), cells.size, slow=start is not None and start.slow)
+    levels = multigrid_levels(int(np.count_nonzero(cells)), cells.size,
+                              slow=start is not None and start.slow)
     # (few unknowns on a large grid, one level: the LU is the whole solve)
-    if solved_directly(cells.size, periodic, start) or levels == 1:
+    if solved_directly(cells.size, start) or levels == 1:
         return scipy.sparse.linalg.splu(matrix.tocsc(), **_LU_OPTIONS).solve(rhs), None
     # D A D in place (the matrix held by its faces, bem.leakage.face_matrix)
     scale = 1.0 / np.sqrt(matrix.diagonal())
@@ -227,37 +224,32 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     scaled = matrix
     rhs *= scale
     previous = None if start is None else start.pressure
-    iterations, guess = 0, None
     # (each start is made after its V-cycle's coarsest factor, not beside that factor's peak)
-    if not algebraic:
-        solution, iterations, settled = _conjugate_gradients(
-            scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels),
-                                factor_options=_LU_OPTIONS),
-            lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE,
-            _start(previous, cells, periodic, scale))
-        if settled or cells.size <= DIRECT_SWITCH_LIMIT:
-            _warn_unsettled(settled, cells.size, iterations)
-            return solution * scale, iterations
-        guess = solution   # (above the switch's limit: on from here, coarsening algebraically)
+    solution, iterations, settled = _conjugate_gradients(
+        scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels), factor_options=_LU_OPTIONS),
+        lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE,
+        _start(previous, cells, periodic, scale))
+    if settled or cells.size <= DIRECT_SWITCH_LIMIT:
+        _warn_unsettled(settled, cells.size, iterations)
+        return solution * scale, iterations
+    # above the switch's limit: on from here, coarsening algebraically
     scaled = scaled.tocsr()   # (pyAMG's coarsening reads compressed rows)
     solution, extra, settled = _conjugate_gradients(
         scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, 0), symmetric=True,
-                            factor_options=_LU_OPTIONS), None,
-        ALGEBRAIC_TOLERANCE, _start(previous, cells, periodic, scale) if guess is None else guess)
+                            factor_options=_LU_OPTIONS), None, ALGEBRAIC_TOLERANCE, solution)
     iterations += extra
     _warn_unsettled(settled, cells.size, iterations)
     return solution * scale, iterations
 
 
-def solved_directly(size: int, periodic: bool, start: FlowStart | None) -> bool:
+def solved_directly(size: int, start: FlowStart | None) -> bool:
     """Whether the flow system of a gap of ``size`` grid cells is solved by sparse LU
-    (:func:`_solve_pressure`): up to :data:`DIRECT_SOLVE_LIMIT` cells
-    (:data:`PERIODIC_DIRECT_SOLVE_LIMIT` when ``periodic``), and up to
+    (:func:`_solve_pressure`): up to :data:`DIRECT_SOLVE_LIMIT` cells, and up to
     :data:`DIRECT_SWITCH_LIMIT` after a slow multigrid neighbour ``start`` (or one that was
-    itself solved so; non-periodic gaps)."""
-    if size <= (PERIODIC_DIRECT_SOLVE_LIMIT if periodic else DIRECT_SOLVE_LIMIT):
+    itself solved so)."""
+    if size <= DIRECT_SOLVE_LIMIT:
         return True
-    return not periodic and size <= DIRECT_SWITCH_LIMIT and start is not None and (
+    return size <= DIRECT_SWITCH_LIMIT and start is not None and (
         start.iterations is None or start.iterations >= DIRECT_SWITCH_ITERATIONS)
 
 
