@@ -1,7 +1,7 @@
 """The interface reference's own error: the mirror method against the periodic solution.
 
 On periodic self-affine surfaces (``validation.self_affine_surface`` without a window: rms slope
-0.1, rolloff L/4, L = 1), and with ``--wm`` on periodic WM surfaces (eq. T52), the exact
+0.1, rolloff L/4 or ``--rolloff``, L = 1), and with ``--wm`` on periodic WM surfaces (eq. T52), the exact
 interface is the periodic BEM of the surface itself. The
 mirror method (:class:`bem.InterfaceModel` with ``extension="mirror"``, what a measured scan or
 any non-periodic window gets) is solved on the same map at the same mean pressures and compared
@@ -25,7 +25,7 @@ scene's realizations share one H, and the bias depends on it). ``--save`` keeps 
 ``--load`` prints the tables from them without solving.
 
     python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8]
-        [--wm 2.05,2.95] [--window] [--save errors.npz] [--load errors.npz]
+        [--rolloff 0.25] [--wm 2.05,2.95] [--window] [--save errors.npz] [--load errors.npz]
 """
 
 from __future__ import annotations
@@ -126,6 +126,10 @@ def main() -> None:
     parser.add_argument("--first-seed", type=int, default=0)
     parser.add_argument("--hurst", default="0.3,0.5,0.8",
                         help="Hurst exponents of periodic self-affine surfaces ('' for none)")
+    parser.add_argument("--rolloff", type=float, default=0.25,
+                        help="rolloff wavelength of the self-affine surfaces over L (1: none, "
+                             "the longest waves span the map as in a scan that does not show "
+                             "its rolloff)")
     parser.add_argument("--wm", default="",
                         help="fractal dimensions D of periodic WM surfaces (eq. T52), e.g. "
                              "2.05,2.5,2.95: the second family of the tables' envelope")
@@ -150,7 +154,8 @@ def main() -> None:
         print_tables("pooled", pooled)
         print_envelope(tables + [bin_statistics(pooled)])
         return
-    families = [(f"H {float(h):g}", partial(self_affine_surface, hurst=float(h), rolloff=0.25))
+    families = [(f"H {float(h):g}", partial(self_affine_surface, hurst=float(h),
+                                            rolloff=args.rolloff))
                 for h in args.hurst.split(",") if h.strip()]
     families += [(f"WM D {float(d):g}", partial(wm_surface, D=float(d), periodic=True))
                  for d in args.wm.split(",") if d.strip()]

@@ -412,7 +412,7 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
     """Above DIRECT_SWITCH_LIMIT cells, a solve of the pixel blocks that stops short of its
     rule goes on from its last iterate with algebraic coarsening (no warning), to the LU's
     aperture (here from the very start: the algebraic solve alone), its iterations counted
-    with the first's; up to the limit it warns and returns its iterate."""
+    with the first's; up to the limit the sparse LU takes over."""
     import warnings
 
     import bem.leakage.flow
@@ -425,11 +425,12 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
     monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", 40 * 40)
     original, calls = bem.leakage.flow_solver._conjugate_gradients, []
 
-    def stalled_first(matrix, rhs, preconditioner, dissipation, tolerance, start=None):
+    def stalled_first(matrix, rhs, preconditioner, dissipation, tolerance, start=None,
+                      most=None):
         calls.append(preconditioner)
         if len(calls) == 1:   # the pixel blocks: their start back, after "1000 iterations"
-            return np.array(start), 1000, False
-        return original(matrix, rhs, preconditioner, dissipation, tolerance, start)
+            return np.array(start), most or 1000, False
+        return original(matrix, rhs, preconditioner, dissipation, tolerance, start, most=most)
 
     monkeypatch.setattr(bem.leakage.flow_solver, "_conjugate_gradients", stalled_first)
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", 0)
@@ -441,10 +442,13 @@ def test_a_large_gap_whose_pixel_blocks_stop_short_goes_on_algebraically(monkeyp
     assert solved.iterations > 1000
     assert aperture == pytest.approx(direct, rel=1e-8)
     calls.clear()
+    # up to the limit: the sparse LU instead, exact and without a warning
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", gap.size)
-    with pytest.warns(ConvergenceWarning, match="did not converge in 1000 iterations"):
-        bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
-    assert len(calls) == 1
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", ConvergenceWarning)
+        aperture, solved = bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
+    assert len(calls) == 1 and solved.iterations is None
+    assert aperture == pytest.approx(direct, rel=1e-12)
 
 
 def test_a_large_grid_with_few_open_cells_is_solved_directly(monkeypatch):
@@ -528,15 +532,33 @@ def test_multigrid_levels_halve_the_grid_down_to_the_coarsest_limit():
     assert multigrid_levels(128 * 128 + 1, 256 * 256, slow=True) == 2
 
 
-def test_a_multigrid_solve_that_stops_short_warns(monkeypatch):
+def test_a_multigrid_solve_that_stops_short_goes_on_by_lu_or_warns(monkeypatch):
+    """Up to DIRECT_SWITCH_LIMIT cells a multigrid solve that has not met its rule in
+    LU_FALLBACK_ITERATIONS is abandoned for the sparse LU: the LU's aperture, no warning, and
+    the path goes on by the LU; above it the algebraic solve takes over, and if that too
+    stops short, the last iterate is returned with a warning."""
+    import warnings
+
+    import bem.leakage.flow
     import bem.leakage.flow_solver
 
     gap = _random_gap(96, 3)
+    direct = hydraulic_aperture(gap, 1.0)
     monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SOLVE_LIMIT", 0)
     monkeypatch.setattr(bem.leakage.flow_solver, "COARSEST_LIMIT", 48 * 48)
+    monkeypatch.setattr(bem.leakage.flow_solver, "LU_FALLBACK_ITERATIONS", 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", bem.ConvergenceWarning)
+        aperture, solved = bem.leakage.flow._flow_solution(gap, 1.0, "x", False)
+    assert aperture == pytest.approx(direct, rel=1e-12)
+    assert solved.iterations is None and solved.slow
+    # (not abandoned when the solve needs no more than the fall-back allows)
+    monkeypatch.setattr(bem.leakage.flow_solver, "LU_FALLBACK_ITERATIONS", 1000)
+    assert bem.leakage.flow._flow_solution(gap, 1.0, "x", False)[1].iterations is not None
+    monkeypatch.setattr(bem.leakage.flow_solver, "DIRECT_SWITCH_LIMIT", 0)
     monkeypatch.setattr(bem.leakage.flow_cg, "MULTIGRID_MAX_ITERATIONS", 1)
     with pytest.warns(bem.ConvergenceWarning,
-                      match="multigrid solve of 9216 cells did not converge in 1 iterations"):
+                      match="multigrid solve of 9216 cells did not converge in 2 iterations"):
         value = hydraulic_aperture(gap, 1.0)
     assert value > 0 and np.isfinite(value)
 

@@ -47,8 +47,8 @@ MULTIGRID_MAX_ITERATIONS = 1000
 
 def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
                          dissipation: Callable[[np.ndarray], float] | None,
-                         tolerance: float,
-                         start: np.ndarray | None = None) -> tuple[np.ndarray, int, bool]:
+                         tolerance: float, start: np.ndarray | None = None, *,
+                         most: int | None = None) -> tuple[np.ndarray, int, bool]:
     """Preconditioned conjugate gradients for ``A x = b`` from ``x = start`` (default 0; a
     float64 ``start`` is the iterate, updated in place), stopped on the error of the quantity
     the solve is for: ``dissipation(x)`` = ``x.A x - 2 b.x`` + const, the energy the iteration
@@ -62,7 +62,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     :data:`ESTIMATE_CONFIRMATIONS` consecutive iterations, or once the
     relative residual is :data:`RESIDUAL_LIMIT` (``tolerance`` if lower) whatever the
     estimate; without ``dissipation``, at the residual ``tolerance`` alone. Returns
-    ``(x, iterations, settled)``, ``settled`` False after :data:`MULTIGRID_MAX_ITERATIONS`.
+    ``(x, iterations, settled)``, ``settled`` False after ``most`` iterations (default
+    :data:`MULTIGRID_MAX_ITERATIONS`).
     """
     if start is None:
         x, r = np.zeros_like(rhs), rhs.copy()
@@ -80,7 +81,8 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
     energy = dissipation(x) if dissipation is not None else math.nan
     decrements: list[float] = []
     confirmed = 0
-    for iteration in range(1, MULTIGRID_MAX_ITERATIONS + 1):
+    most = MULTIGRID_MAX_ITERATIONS if most is None else most
+    for iteration in range(1, most + 1):
         q = matrix @ p
         alpha = rz / _dot(p, q)
         residual = math.sqrt(_step(x, p, r, q, alpha))
@@ -103,7 +105,7 @@ def _conjugate_gradients(matrix, rhs: np.ndarray, preconditioner,
         p += z
         rz = rz_next
         del z
-    return x, MULTIGRID_MAX_ITERATIONS, False
+    return x, most, False
 
 
 def _remaining(decrements: list[float]) -> float:

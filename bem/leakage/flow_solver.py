@@ -19,6 +19,7 @@ from bem.common.warnings import ConvergenceWarning
 
 __all__ = ["ALGEBRAIC_TOLERANCE", "COARSEST_LIMIT", "DIRECT_SOLVE_LIMIT",
            "DIRECT_SWITCH_ITERATIONS", "DIRECT_SWITCH_LIMIT", "FEWER_LEVELS_ITERATIONS", "FlowStart",
+           "LU_FALLBACK_ITERATIONS",
            "MULTIGRID_LEVELS", "MULTIGRID_TOLERANCE", "multigrid_levels", "next_start", "solved_directly"]
 
 
@@ -62,6 +63,13 @@ MULTIGRID_TOLERANCE = 1e-6
 #: whose g^3 spans more decades, and the estimate of :data:`~bem.leakage.flow_cg.DISSIPATION_TOLERANCE` with a residual
 #: of 1e-6 left 7e-6 there.
 ALGEBRAIC_TOLERANCE = 1e-9
+#: A multigrid solve of a gap of at most :data:`DIRECT_SWITCH_LIMIT` cells that has not met its
+#: rule after this many iterations is abandoned for the sparse LU of the same system (exact),
+#: and the path goes on by the LU: a solve of 50 iterations costs about the LU's time
+#: (:data:`DIRECT_SWITCH_ITERATIONS`), so at most two factorisations' worth is spent first.
+#: Without it, a 512^2 gap near percolation of a WM path ran to the 1000 iterations of
+#: :data:`bem.leakage.flow_cg.MULTIGRID_MAX_ITERATIONS` and returned an unsettled iterate.
+LU_FALLBACK_ITERATIONS = 100
 #: A gap whose previous neighbour along a path (:class:`FlowStart`) took at least this many
 #: multigrid iterations, or was itself solved by LU in its place, is solved by sparse LU up to
 #: :data:`DIRECT_SWITCH_LIMIT` cells. Near percolation the pixel blocks converge slowly while
@@ -194,9 +202,10 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     from its last iterate with algebraic coarsening: smoothed aggregation with the evolution
     strength of connection, which follows the thin necks that carry the flow near percolation,
     with a symmetric Gauss-Seidel sweep on either side, to a relative residual of
-    :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled there); a multigrid solve that
-    stops short of its rule otherwise warns (:class:`bem.common.warnings.ConvergenceWarning`)
-    and returns its last iterate. ``start``, the
+    :data:`ALGEBRAIC_TOLERANCE` alone (the estimate was fooled there; if that too stops short,
+    it warns, :class:`bem.common.warnings.ConvergenceWarning`, and returns its last iterate);
+    up to that size, a multigrid solve that has not met its rule in
+    :data:`LU_FALLBACK_ITERATIONS` iterations is abandoned for the sparse LU (exact). ``start``, the
     :class:`FlowStart` of a neighbouring load's gap on the grid, gives the pressure where the
     conjugate gradients begin (:func:`_start`; the stopping rule is the same from any start: the
     residual relative to ``b``, the energy's decrements), except on a gap of more than
@@ -225,13 +234,18 @@ def _solve_pressure(matrix, rhs: np.ndarray, cells: np.ndarray, periodic: bool,
     rhs *= scale
     previous = None if start is None else start.pressure
     # (each start is made after its V-cycle's coarsest factor, not beside that factor's peak)
+    factorable = cells.size <= DIRECT_SWITCH_LIMIT
     solution, iterations, settled = _conjugate_gradients(
         scaled, rhs, VCycle(_hierarchy(scaled, scale, cells, levels), factor_options=_LU_OPTIONS),
         lambda pressure: dissipation(pressure, scale), MULTIGRID_TOLERANCE,
-        _start(previous, cells, periodic, scale))
-    if settled or cells.size <= DIRECT_SWITCH_LIMIT:
-        _warn_unsettled(settled, cells.size, iterations)
+        _start(previous, cells, periodic, scale),
+        most=LU_FALLBACK_ITERATIONS if factorable else None)
+    if settled:
         return solution * scale, iterations
+    if factorable:   # stopped short: the sparse LU of the same (scaled) system, exact
+        del solution
+        return (scipy.sparse.linalg.splu(scaled.tocsc(), **_LU_OPTIONS).solve(rhs) * scale,
+                None)
     # above the switch's limit: on from here, coarsening algebraically
     scaled = scaled.tocsr()   # (pyAMG's coarsening reads compressed rows)
     solution, extra, settled = _conjugate_gradients(
