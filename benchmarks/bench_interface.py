@@ -22,10 +22,13 @@ periodic solution's contact-area fraction (:data:`BIN_EDGES`); per quantity and 
 Prints both tables per H and pooled, and their envelope, the tables of ``bem.interface``
 (``MIRROR_BIAS``, ``MIRROR_BOUND``): per bin the largest over the H and the pooled ensemble (a
 scene's realizations share one H, and the bias depends on it). ``--save`` keeps the errors,
-``--load`` prints the tables from them without solving.
+``--load`` prints the tables from them without solving. ``--cover`` checks the tables instead
+on surfaces they were not measured on (other seeds): the share of one surface's points within
+the bound, and the mean signed error per bin against the bias.
 
     python benchmarks/bench_interface.py [--n 256] [--seeds 24] [--hurst 0.3,0.5,0.8]
         [--rolloff 0.25] [--wm 2.05,2.95] [--window] [--save errors.npz] [--load errors.npz]
+        [--first-seed 0] [--cover]
 """
 
 from __future__ import annotations
@@ -38,6 +41,7 @@ import numpy as np
 from scipy import stats
 
 from bem import BoundaryElementModel, InterfaceModel
+from bem.interface import mirror_error
 from validation.surfaces.self_affine import self_affine_surface
 from validation.surfaces.wm import wm_surface
 
@@ -119,6 +123,37 @@ def print_envelope(tables: list[dict]) -> None:
               + " | bound " + " ".join(f"{v:.4f}" for v in bound), flush=True)
 
 
+def print_coverage(label: str, records) -> None:
+    """How the tables of ``bem.interface`` hold on ``records`` (surfaces they were not measured
+    on): per quantity and bin, the share of one surface's points whose |error| is within the
+    bound at the point's fraction, and whether the mean signed error over the surfaces lies
+    within the bias (its 95 % interval reaching the bias)."""
+    print(f"\n{label}: {len(records)} surfaces against bem.interface's tables")
+    for q, name in enumerate(NAMES):
+        inside = total = 0
+        for fraction, err in records:
+            points = (fraction >= BIN_EDGES[0]) & (fraction < BIN_EDGES[-1])
+            bound = mirror_error(name, np.clip(fraction[points], 0.0, 1.0), "bound")
+            inside += int(np.count_nonzero(np.abs(err[q, points]) <= bound))
+            total += int(np.count_nonzero(points))
+        means = []
+        for b in range(len(BIN_EDGES) - 1):
+            values = [err[q, (f >= BIN_EDGES[b]) & (f < BIN_EDGES[b + 1])].mean()
+                      for f, err in records
+                      if np.any((f >= BIN_EDGES[b]) & (f < BIN_EDGES[b + 1]))]
+            centre = np.sqrt(BIN_EDGES[b] * BIN_EDGES[b + 1])
+            bias = float(mirror_error(name, centre, "bias"))
+            # the sample mean's own 95 % interval: the table is contradicted only where the
+            # whole interval lies beyond the bias
+            half = (stats.t.ppf(0.975, len(values) - 1) * np.std(values, ddof=1)
+                    / np.sqrt(len(values))) if len(values) > 1 else np.inf
+            means.append(f"{np.mean(values):+.4f} +- {half:.4f} (bias {bias:.4f}"
+                         f"{', BEYOND' if abs(np.mean(values)) - half > bias else ''})")
+        print(f"  {name:9s} within the bound: {inside} of {total} points "
+              f"({100 * inside / max(total, 1):.1f} %); mean signed error per bin: "
+              + ", ".join(means), flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=256)
@@ -137,6 +172,9 @@ def main() -> None:
     parser.add_argument("--window", action="store_true", help="compare the finite window too")
     parser.add_argument("--save", default="", help="write the mirror's errors to this .npz")
     parser.add_argument("--load", default="", help="tables from the errors saved in this .npz")
+    parser.add_argument("--cover", action="store_true",
+                        help="instead of new tables, how bem.interface's tables hold on these "
+                             "surfaces (use seeds the tables were not measured on)")
     args = parser.parse_args()
     n, spacing = args.n, 1.0 / args.n
     print(f"grid {n}^2, pressures {PRESSURES[0]:.1e}-{PRESSURES[-1]:.1e} E*, tol {args.tol:g}; "
@@ -188,12 +226,19 @@ def main() -> None:
             print(f"{label} seed {seed}: " + " | ".join(sorted(row)), flush=True)
         print(f"{label} time per seed: " + ", ".join(
             f"{k} {v / args.seeds:.1f} s" for k, v in seconds.items() if v), flush=True)
+        if args.cover:
+            print_coverage(label, records)
+            pooled += records
+            continue
         print_tables(label, records)
         tables.append(bin_statistics(records))
         pooled += records
         if args.save:
             saved[label.removeprefix("H ")] = np.stack([np.vstack([f, e]) for f, e in records])
             np.savez(args.save, **saved)
+    if args.cover:
+        print_coverage("pooled", pooled)
+        return
     print_tables("pooled", pooled)
     print_envelope(tables + [bin_statistics(pooled)])
 
