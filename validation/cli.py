@@ -1,18 +1,17 @@
 """Command line: ``python -m validation {report,check,predict,atlas,list,show,bench,stress}``.
 
 ``report`` with no scene runs the default scenes in quick mode, a preview of the published
-report: 8 realizations of each paper scene on 256 x 256 grids with 12 loads (up to 16 at
-D = 2.05 where cells stay undecided), and 4 per D of the validity map on 128 x 128 grids with
-12 loads (up to 8). Quick mode leaves to ``--full`` the self-affine map, the size scene ``sealing-size``, the paper scenes'
+report: 8 realizations of each paper scene on 256 x 256 grids with 12 loads, and 4 per D of the
+validity map on 128 x 128 grids with 12 loads (up to 8 where cells stay undecided). Quick mode
+leaves to ``--full`` the self-affine map, the size scene ``sealing-size``, the paper scenes'
 leakage and the finer reference: no load point is solved again on a finer grid where the
 reference band holds a cell, so the cells it holds stay undecided; the numbers to cite are the
 full report's. ``--full`` and ``--publish`` run the default scenes as written (25 realizations
-of each paper scene on 512 x 512 grids with 16 loads, the leakage included, up to 50 at
-D = 2.05 where cells stay undecided, 10 per D of the validity map on 256 x 256 grids with 16
-loads, 8 per H of the self-affine map on 256 x 256 grids with 12 loads, and 8 realizations of
-each window of ``sealing-size`` on 128 x 128 grids with 12 loads; where cells stay undecided,
-the D = 2.05 scene and the validity and self-affine maps add realizations up to their budgets,
-and the reference is solved again on finer grids up to each scene's
+of each paper scene on 512 x 512 grids with 16 loads, the leakage included, 10 per D of the
+validity map on 256 x 256 grids with 16 loads, 8 per H of the self-affine map on 256 x 256
+grids with 12 loads, and 8 realizations of each window of ``sealing-size`` on 128 x 128 grids
+with 12 loads; where cells stay undecided, the validity and self-affine maps add realizations
+up to their budgets, and the reference is solved again on finer grids up to each scene's
 limit, 1024 x 1024 for the paper scenes). What each run costs, measured with the command that
 measures it: the Benchmarks page of the documentation (docs/guide/benchmarks.md).
 Ctrl-C stops a report at once (exit status 130); what was finished stays in the cache, and the
@@ -299,7 +298,7 @@ def build_parser() -> argparse.ArgumentParser:
                              "earlier report, whose Markdown, figures and tables are replaced")
     report.add_argument("--full", action="store_true",
                         help="run the default scenes as written (25 realizations of each paper "
-                             "scene, up to 50 at D = 2.05, 10 per D of the validity map, 8 per H of the self-affine "
+                             "scene, 10 per D of the validity map, 8 per H of the self-affine "
                              "map, 8 per window of the size scene) instead of quick, with what "
                              "quick mode leaves out: the self-affine and size scenes, the "
                              "leakage and the finer reference where its band decides")
